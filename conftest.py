@@ -1,0 +1,5 @@
+# Repository root on sys.path, so tests import `model`, `tb`, `sim` as packages.
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))

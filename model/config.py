@@ -1,0 +1,324 @@
+"""Configurations: the single source of every width, count and mode.
+
+`load_config(name)` reads config/<name>.toml, checks it, and derives every
+internal word width from the input formats (each derivation is a worst-case
+magnitude bound, documented in docs/numerics.md). The golden model reads the
+result; `verilog_header(cfg)` writes the same numbers as Verilog parameters, so
+no width is typed twice.
+
+Run `python -m model.config NAME [OUT.vh]` to print or write the header.
+"""
+from __future__ import annotations
+
+import sys
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+CONFIG_DIR = ROOT / "config"
+CONFIG_NAMES = ("full", "reduced")
+
+
+class ConfigError(ValueError):
+    """A configuration file that is malformed or inconsistent (one-line message)."""
+
+
+# key -> (section, type, (lo, hi) or allowed values)
+_SCHEMA = {
+    "noise_terms": ("features", int, (0, 8)),
+    "blend": ("features", str, ("cubic", "linear")),
+    "transform": ("features", str, ("affine", "pow2")),
+    "filter": ("features", str, ("sat", "mip", "none")),
+    "noise_gradient": ("features", bool, (False, True)),
+    "pixels_per_clock": ("features", int, (1, 1)),
+    "s_w": ("formats", int, (4, 32)),
+    "s_frac": ("formats", int, (0, 24)),
+    "q_w": ("formats", int, (4, 32)),
+    "q_frac": ("formats", int, (0, 24)),
+    "j_w": ("formats", int, (4, 24)),
+    "je_w": ("formats", int, (3, 8)),
+    "t_w": ("formats", int, (4, 24)),
+    "t_frac": ("formats", int, (0, 20)),
+    "a_w": ("formats", int, (4, 24)),
+    "a_frac": ("formats", int, (0, 20)),
+    "p_frac": ("formats", int, (2, 16)),
+    "hash_bits": ("formats", int, (2, 10)),
+    "n_frac": ("formats", int, (2, 16)),
+    "f_frac": ("formats", int, (8, 20)),
+    "c_frac": ("formats", int, (4, 20)),
+    "norm_bits": ("formats", int, (4, 24)),
+    "w_cap_log2": ("formats", int, (1, 20)),
+    "n_log2_max": ("formats", int, (0, 10)),
+    "seed": ("hash", int, (0, 2**31 - 1)),
+}
+
+
+def bits_signed(maxabs: int) -> int:
+    """Width of a two's-complement word holding every integer in [-maxabs, maxabs]."""
+    return int(maxabs).bit_length() + 1
+
+
+def bits_unsigned(maxval: int) -> int:
+    return max(1, int(maxval).bit_length())
+
+
+def permutation(n: int, seed: int) -> np.ndarray:
+    """The lattice hash permutation of range(n): Fisher-Yates driven by a 32-bit LCG.
+
+    Plain integer arithmetic so that it never depends on numpy's generators.
+    """
+    p = list(range(n))
+    x = seed & 0xFFFFFFFF
+    for i in range(n - 1, 0, -1):
+        x = (1664525 * x + 1013904223) & 0xFFFFFFFF
+        j = (x >> 8) % (i + 1)
+        p[i], p[j] = p[j], p[i]
+    return np.array(p, dtype=np.int64)
+
+
+@dataclass
+class Config:
+    name: str
+    noise_terms: int
+    blend: str
+    transform: str
+    filter: str
+    noise_gradient: bool
+    pixels_per_clock: int
+    s_w: int
+    s_frac: int
+    q_w: int
+    q_frac: int
+    j_w: int
+    je_w: int
+    t_w: int
+    t_frac: int
+    a_w: int
+    a_frac: int
+    p_frac: int
+    hash_bits: int
+    n_frac: int
+    f_frac: int
+    c_frac: int
+    norm_bits: int
+    w_cap_log2: int
+    n_log2_max: int
+    seed: int
+    path: str = ""
+    perm: np.ndarray = field(default=None, repr=False)
+    d: dict = field(default_factory=dict)  # derived widths
+
+    def __getattr__(self, item):  # derived widths read as attributes: cfg.v_w
+        d = self.__dict__.get("d")
+        if d is not None and item in d:
+            return d[item]
+        raise AttributeError(item)
+
+
+def _derive(c: Config) -> dict:
+    """Every internal width from the input formats: worst-case magnitudes, no guessing."""
+    d = {}
+    smax = 1 << (c.s_w - 1)  # |s| <= smax (two's complement extreme)
+    qmax = 1 << (c.q_w - 1)
+    # quadric: v_k = (Q_k0 s + Q_k1 t + Q_k2 r) >> s_frac + Q_k3      [frac q_frac]
+    vmax = (3 * qmax * smax >> c.s_frac) + 1 + qmax
+    d["v_w"] = bits_signed(vmax)
+    # q = (s v0 + t v1 + r v2) >> s_frac + v3                          [frac q_frac]
+    qsum = (3 * smax * vmax >> c.s_frac) + 1 + vmax
+    d["qv_w"] = bits_signed(qsum)
+    # q and 2v re-expressed with f_frac / c_frac fraction bits
+    d["qf_w"] = bits_signed(_shift_bound(qsum, c.f_frac - c.q_frac))
+    cq_max = _shift_bound(2 * vmax, c.c_frac - c.q_frac)
+    # noise: p = (T s) >> (s_frac + t_frac - p_frac) + o, wrapped to hash_bits + p_frac
+    d["p_w"] = c.hash_bits + c.p_frac
+    d["o_w"] = d["p_w"]
+    d["ts_shift"] = c.s_frac + c.t_frac - c.p_frac
+    # noise value n in [-1, 1) with n_frac fraction bits; gradient |dn/dp| <= 2 * 1.5
+    nmax = 1 << c.n_frac
+    d["n_w"] = bits_signed(nmax)
+    d["gn_w"] = bits_signed(3 * nmax)  # 2 (value difference) * 1.5 (cubic slope)
+    d["blend_w"] = c.p_frac + 2  # blend weight in [0, 1], slope in [0, 1.5]: unsigned p_frac+1 bits
+    amax = 1 << (c.a_w - 1)
+    tmax = 1 << (c.t_w - 1)
+    d["an_shift"] = c.a_frac + c.n_frac - c.f_frac
+    an_max = _shift_bound(amax * nmax, -d["an_shift"])
+    d["an_w"] = bits_signed(an_max)
+    # h_k = sum_j gn_j T_jk >> (n_frac + t_frac - c_frac); ag_k = a h_k >> a_frac
+    d["h_shift"] = c.n_frac + c.t_frac - c.c_frac
+    h_max = _shift_bound(3 * 3 * nmax * tmax, -d["h_shift"])
+    d["h_w"] = bits_signed(h_max)
+    ag_max = _shift_bound(amax * h_max, -c.a_frac)
+    d["ag_w"] = bits_signed(ag_max)
+    # sums over the quadric and the K noise terms
+    k = c.noise_terms
+    fmax = _shift_bound(qsum, c.f_frac - c.q_frac) + k * an_max
+    d["f_w"] = bits_signed(fmax)
+    cmax = cq_max + k * ag_max
+    d["c_w"] = bits_signed(cmax)
+    # screen gradient mantissa g = c . Jm (3 products)
+    jmax = 1 << (c.j_w - 1)
+    gmax = 3 * cmax * jmax
+    d["g_w"] = bits_signed(gmax)
+    d["gabs_w"] = bits_unsigned(gmax)
+    # normalised |g| pair, sum of squares, square root
+    d["l_w"] = bits_unsigned(2 * ((1 << c.norm_bits) - 1) ** 2)
+    d["r_w"] = bits_unsigned(int(np.floor(np.sqrt(2.0) * ((1 << c.norm_bits) - 1))))
+    d["sh_w"] = bits_unsigned(max(0, d["gabs_w"] - c.norm_bits))
+    # w exponent: e = sh + je - c_frac + n_log2 + f_frac
+    je_lo, je_hi = -(1 << (c.je_w - 1)), (1 << (c.je_w - 1)) - 1
+    d["je_min"], d["je_max"] = je_lo, je_hi
+    e_lo = je_lo - c.c_frac + c.f_frac
+    e_hi = (1 << d["sh_w"]) - 1 + je_hi - c.c_frac + c.n_log2_max + c.f_frac
+    d["e_w"] = max(bits_signed(-e_lo), bits_signed(e_hi))
+    # filter width w in units of 2^-f_frac colour-table entries, saturating at 2^w_cap_log2 entries
+    d["w_w"] = c.w_cap_log2 + c.f_frac + 1
+    d["w_cap"] = 1 << (c.w_cap_log2 + c.f_frac)
+    # colour index u = f * N in units of 2^-f_frac entries (clamp mode: guarded by w_cap/2)
+    nmax_entries = 1 << c.n_log2_max
+    umax = max(nmax_entries << c.f_frac, 0) + (d["w_cap"] >> 1)
+    d["u_w"] = bits_signed(umax)
+    # window ends x = 2u -+ w in units of 2^-(f_frac+1) entries
+    xmax = 2 * umax + d["w_cap"]
+    d["x_w"] = bits_signed(xmax)
+    d["x_frac"] = c.f_frac + 1
+    # integral I(x) per channel: |I| <= 255 * (|x| + N) (units 2^-x_frac), D = I(b) - I(a)
+    d["csat_w"] = bits_unsigned(255 * nmax_entries)
+    d["i_w"] = bits_signed(255 * (xmax + (nmax_entries << d["x_frac"])))
+    d["d_w"] = bits_unsigned(255 * 2 * d["w_cap"])
+    d["n_log2_w"] = bits_unsigned(c.n_log2_max)
+    # widest intermediate must stay inside int64 (numpy) with margin
+    widest = max(
+        c.q_w + c.s_w + 2,
+        c.s_w + d["v_w"] + 2,
+        d["c_w"] + c.j_w + 2,
+        d["i_w"],
+        c.a_w + d["h_w"],
+        d["gn_w"] + c.t_w + 4,
+    )
+    d["widest_product"] = widest
+    return d
+
+
+def _shift_bound(x: int, sh: int) -> int:
+    return x << sh if sh >= 0 else (x >> -sh) + 1
+
+
+def load_config(name_or_path) -> Config:
+    p = Path(name_or_path)
+    if not p.suffix:
+        p = CONFIG_DIR / f"{name_or_path}.toml"
+    if not p.exists():
+        raise ConfigError(f"{p}: no such configuration (known: {', '.join(CONFIG_NAMES)})")
+    try:
+        raw = tomllib.loads(p.read_text())
+    except tomllib.TOMLDecodeError as e:
+        raise ConfigError(f"{p}: malformed TOML: {e}") from None
+    vals = {}
+    known_sections = {"features", "formats", "hash"}
+    for sec in raw:
+        if sec == "name":
+            continue
+        if sec not in known_sections:
+            raise ConfigError(f"{p}: unknown key '{sec}' (expected one of {sorted(known_sections)})")
+        for key in raw[sec]:
+            if key not in _SCHEMA or _SCHEMA[key][0] != sec:
+                raise ConfigError(f"{p}: unknown key '{sec}.{key}'")
+    for key, (sec, typ, rng) in _SCHEMA.items():
+        if key not in raw.get(sec, {}):
+            raise ConfigError(f"{p}: missing key '{sec}.{key}'")
+        v = raw[sec][key]
+        if type(v) is not typ:
+            raise ConfigError(f"{p}: '{sec}.{key}' = {v!r}: expected {typ.__name__}")
+        if typ is str and v not in rng:
+            raise ConfigError(f"{p}: '{sec}.{key}' = {v!r}: expected one of {list(rng)}")
+        if typ is int and not (rng[0] <= v <= rng[1]):
+            raise ConfigError(f"{p}: '{sec}.{key}' = {v}: expected {rng[0]}..{rng[1]}")
+        vals[key] = v
+    cfg = Config(name=raw.get("name", p.stem), path=str(p), **vals)
+    _check(cfg, p)
+    cfg.perm = permutation(1 << cfg.hash_bits, cfg.seed)
+    cfg.d = _derive(cfg)
+    if cfg.d["widest_product"] > 62:
+        raise ConfigError(f"{p}: formats too wide: an intermediate needs {cfg.d['widest_product']} bits (> 62, int64)")
+    return cfg
+
+
+def _check(c: Config, p: Path) -> None:
+    def need(cond, msg):
+        if not cond:
+            raise ConfigError(f"{p}: {msg}")
+
+    need(c.s_frac < c.s_w, "formats.s_frac must be < s_w")
+    need(c.q_frac < c.q_w, "formats.q_frac must be < q_w")
+    need(c.t_frac < c.t_w, "formats.t_frac must be < t_w")
+    need(c.a_frac < c.a_w, "formats.a_frac must be < a_w")
+    need(c.s_frac + c.t_frac >= c.p_frac, "formats.p_frac must be <= s_frac + t_frac")
+    need(c.n_frac >= c.hash_bits - 1, "formats.n_frac must be >= hash_bits - 1 (lattice values are exact)")
+    need(c.w_cap_log2 >= c.n_log2_max, "formats.w_cap_log2 must be >= n_log2_max (w must reach N)")
+
+
+# ---------------------------------------------------------------------------
+# Verilog parameters, generated
+
+
+# values wider than a Verilog integer literal, or for the model only
+_NOT_IN_HEADER = ("w_cap", "widest_product")
+
+
+def verilog_header(cfg: Config) -> str:
+    """A Verilog include with every width of `cfg` as a `define (CFG_<NAME>)."""
+    lines = [
+        f"// Generated from {Path(cfg.path).relative_to(ROOT)} by model/config.py. Do not edit.",
+        f"// Configuration: {cfg.name}",
+        "`ifndef TEX_CFG_VH",
+        "`define TEX_CFG_VH",
+    ]
+    enums = {
+        "blend": {"linear": 0, "cubic": 1},
+        "transform": {"affine": 0, "pow2": 1},
+        "filter": {"none": 0, "sat": 1, "mip": 2},
+    }
+    for key in _SCHEMA:
+        v = getattr(cfg, key)
+        if key in enums:
+            v = enums[key][v]
+        lines.append(f"`define CFG_{key.upper():<16} {int(v)}")
+    for key, v in cfg.d.items():
+        if key in _NOT_IN_HEADER:
+            continue
+        lines.append(f"`define CFG_{key.upper():<16} {int(v)}")
+    lines.append("`endif")
+    return "\n".join(lines) + "\n"
+
+
+def perm_hex(cfg: Config) -> str:
+    """The permutation table as a $readmemh file (one hex entry per line)."""
+    nd = (cfg.hash_bits + 3) // 4
+    return "".join(f"{int(v):0{nd}x}\n" for v in cfg.perm)
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    if not argv:
+        print("usage: python -m model.config NAME [OUT_DIR]", file=sys.stderr)
+        return 2
+    try:
+        cfg = load_config(argv[0])
+    except ConfigError as e:
+        print(f"config: {e}", file=sys.stderr)
+        return 2
+    if len(argv) > 1:
+        out = Path(argv[1])
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "tex_cfg.vh").write_text(verilog_header(cfg))
+        (out / "perm.hex").write_text(perm_hex(cfg))
+    else:
+        sys.stdout.write(verilog_header(cfg))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

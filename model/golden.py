@@ -1,0 +1,297 @@
+"""The golden model: the texture pipeline in integer numpy, bit-exact with the RTL.
+
+Every function here is the twin of the RTL module of the same name (rtl/<name>.v)
+and computes exactly what that module computes: the same word widths, the same
+floor (arithmetic shift right) truncations, the same saturations. All arrays
+are int64 and every function is vectorized over whole frames ([..., ] leading
+axes). Formats, bounds and rounding rules are in docs/numerics.md; the widths
+are derived in model/config.py from config/<name>.toml.
+
+Conventions
+- `>>` on int64 is floor division by a power of two (two's complement), the
+  Verilog `>>>` on a signed word.
+- x_frac names the fraction bits of a fixed-point value x.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from model.config import Config
+
+MODE_MOD, MODE_CLAMP = 0, 1
+I64 = np.int64
+
+
+def shift(x, n: int):
+    """x * 2^n for n >= 0, floor(x / 2^-n) for n < 0 (arithmetic shift)."""
+    return x << n if n >= 0 else x >> (-n)
+
+
+def bitlen(x):
+    """Bit length of non-negative int64 values < 2^53 (vectorized, exact)."""
+    x = np.asarray(x, dtype=I64)
+    _, e = np.frexp(x.astype(np.float64))
+    return np.where(x > 0, e, 0).astype(I64)
+
+
+def isqrt(L):
+    """floor(sqrt(L)) for non-negative int64 L < 2^52, exact."""
+    L = np.asarray(L, dtype=I64)
+    r = np.floor(np.sqrt(L.astype(np.float64))).astype(I64)
+    r = np.where(r * r > L, r - 1, r)
+    r = np.where((r + 1) * (r + 1) <= L, r + 1, r)
+    return r
+
+
+# ---------------------------------------------------------------------------
+# Texture parameters in integer form (what the write port loads)
+
+
+@dataclass
+class TexInt:
+    """A texture's parameters as the hardware holds them (see model/quantize.py)."""
+
+    Q: np.ndarray  # int64 [10]: A..J, s{q_w}.{q_frac}
+    a: np.ndarray  # int64 [K]: amplitudes, s{a_w}.{a_frac}
+    T: np.ndarray  # int64 [K, 3, 3]: T_i, s{t_w}.{t_frac}
+    o: np.ndarray  # int64 [K, 3]: offsets, u{p_w}.{p_frac} (mod 2^hash_bits lattice units)
+    mode: int  # MODE_MOD or MODE_CLAMP
+    n_log2: int  # N = 2^n_log2 colour-table entries
+    filter: bool  # box filter (True) or point lookup (False)
+    clut: np.ndarray  # int64 [N, 4]
+    csat: np.ndarray = field(default=None)  # int64 [N, 4], inclusive prefix sums (eq. 13)
+    mip: np.ndarray = field(default=None)  # int64 [2N - 1, 4], colour-table MIP levels
+
+    def __post_init__(self):
+        if self.csat is None or self.mip is None:
+            self.csat, self.mip = build_tables(self.clut)
+
+
+def build_tables(clut):
+    """Summed-area colour table (eq. 13) and colour-table MIP map (3.3.1) of `clut`.
+
+    MIP level l has N >> l entries, each the mean of 2^l entries rounded half up;
+    levels are stored one after another, level l at offset 2N - (2N >> l).
+    """
+    clut = np.asarray(clut, dtype=I64)
+    csat = np.cumsum(clut, axis=0)
+    n = clut.shape[0]
+    levels = []
+    l = 0
+    while (n >> l) >= 1:
+        blocks = clut.reshape(n >> l, 1 << l, -1).sum(axis=1)
+        levels.append((blocks + ((1 << l) >> 1)) >> l)
+        l += 1
+    return csat, np.concatenate(levels, axis=0)
+
+
+def mip_offset(n: int, level):
+    return 2 * n - ((2 * n) >> level)
+
+
+# ---------------------------------------------------------------------------
+# Blocks
+
+
+def quadric_mac(cfg: Config, Q, s):
+    """q = x^T Q x and the texture-space gradient dq/ds = 2 (Q x)[0:3], x = (s, t, r, 1).
+
+    s: int64 [..., 3] s{s_w}.{s_frac}; Q: int64 [10] A..J s{q_w}.{q_frac}.
+    Returns q [...] with f_frac fraction bits and cq [..., 3] with c_frac bits.
+    """
+    A, B, C, D, E, F, G, H, I, J = (int(x) for x in Q)
+    s0, s1, s2 = s[..., 0], s[..., 1], s[..., 2]
+    sf = cfg.s_frac
+    v0 = ((A * s0 + B * s1 + C * s2) >> sf) + D
+    v1 = ((B * s0 + E * s1 + F * s2) >> sf) + G
+    v2 = ((C * s0 + F * s1 + H * s2) >> sf) + I
+    v3 = ((D * s0 + G * s1 + I * s2) >> sf) + J
+    q = ((s0 * v0 + s1 * v1 + s2 * v2) >> sf) + v3
+    qf = shift(q, cfg.f_frac - cfg.q_frac)
+    sh = cfg.c_frac - cfg.q_frac + 1  # the factor 2 of 2 Q x is a shift
+    cq = np.stack([shift(v0, sh), shift(v1, sh), shift(v2, sh)], axis=-1)
+    return qf, cq
+
+
+def noise_hash(cfg: Config, ix, iy, iz):
+    """Lattice value at integer corners: perm[perm[perm[ix] ^ iy] ^ iz], as s.{n_frac} in [-1, 1)."""
+    P = cfg.perm
+    h = P[P[P[ix] ^ iy] ^ iz]
+    return (h - (1 << (cfg.hash_bits - 1))) << (cfg.n_frac - cfg.hash_bits + 1)
+
+
+def noise_blend(cfg: Config, fp):
+    """Blend weight and its slope for a cell fraction fp (u.{p_frac}).
+
+    linear: w = fp, dw = 1; cubic: w = 3 fp^2 - 2 fp^3, dw = 6 (fp - fp^2), each
+    power truncated (floor) to p_frac bits.
+    """
+    pf = cfg.p_frac
+    if cfg.blend == "linear":
+        return fp, np.full_like(fp, 1 << pf)
+    f2 = (fp * fp) >> pf
+    f3 = (f2 * fp) >> pf
+    return 3 * f2 - 2 * f3, 6 * (fp - f2)
+
+
+def _lerp(pf, a, b, t):
+    return a + (((b - a) * t) >> pf)
+
+
+def noise_term(cfg: Config, a: int, T, o, s):
+    """One term: a n(T s + o) and its texture-space gradient a (dn/dp) T.
+
+    s: int64 [..., 3]; a: s{a_w}.{a_frac}; T [3, 3] s{t_w}.{t_frac}; o [3] u{p_w}.{p_frac}.
+    Returns an [...] (f_frac bits) and ag [..., 3] (c_frac bits).
+    """
+    d = cfg.d
+    pf, mask_p = cfg.p_frac, (1 << d["p_w"]) - 1
+    T = np.asarray(T, dtype=I64)
+    o = np.asarray(o, dtype=I64)
+    mask_h = (1 << cfg.hash_bits) - 1
+    ip, sw, ds = [], [], []
+    for j in range(3):
+        acc = T[j, 0] * s[..., 0] + T[j, 1] * s[..., 1] + T[j, 2] * s[..., 2]
+        p = ((acc >> d["ts_shift"]) + o[j]) & mask_p
+        ip.append(p >> pf)
+        w_, dw_ = noise_blend(cfg, p & ((1 << pf) - 1))
+        sw.append(w_)
+        ds.append(dw_)
+    x = (ip[0], (ip[0] + 1) & mask_h)
+    y = (ip[1], (ip[1] + 1) & mask_h)
+    z = (ip[2], (ip[2] + 1) & mask_h)
+    P = cfg.perm
+    hx = (P[x[0]], P[x[1]])
+    v = [[[None, None], [None, None]], [[None, None], [None, None]]]
+    for i in range(2):
+        for j in range(2):
+            hxy = P[hx[i] ^ y[j]]
+            for k in range(2):
+                v[i][j][k] = (P[hxy ^ z[k]] - (1 << (cfg.hash_bits - 1))) << (cfg.n_frac - cfg.hash_bits + 1)
+    sx, sy, sz = sw
+    e = [[_lerp(pf, v[0][j][k], v[1][j][k], sx) for k in range(2)] for j in range(2)]
+    fz = [_lerp(pf, e[0][k], e[1][k], sy) for k in range(2)]
+    n = _lerp(pf, fz[0], fz[1], sz)
+    an = shift(int(a) * n, -d["an_shift"])
+    if not cfg.noise_gradient:
+        return an, np.zeros(n.shape + (3,), dtype=I64)
+    dx = [[v[1][j][k] - v[0][j][k] for k in range(2)] for j in range(2)]
+    gx = (_lerp(pf, _lerp(pf, dx[0][0], dx[1][0], sy), _lerp(pf, dx[0][1], dx[1][1], sy), sz) * ds[0]) >> pf
+    gy = (_lerp(pf, e[1][0] - e[0][0], e[1][1] - e[0][1], sz) * ds[1]) >> pf
+    gz = ((fz[1] - fz[0]) * ds[2]) >> pf
+    ag = []
+    for k in range(3):
+        h = shift(gx * T[0, k] + gy * T[1, k] + gz * T[2, k], -d["h_shift"])
+        ag.append((int(a) * h) >> cfg.a_frac)
+    return an, np.stack(ag, axis=-1)
+
+
+def filter_width(cfg: Config, c, Jm, je, n_log2: int):
+    """Filter width w = |c^T J| N in units of 2^-f_frac colour-table entries.
+
+    c [..., 3]: texture-space gradient of f (c_frac bits); Jm [..., 3, 2] Jacobian
+    mantissas and je [...] its shared exponent (J = Jm 2^je). The screen gradient
+    mantissa g = c^T Jm is normalised to norm_bits bits (floor), its Euclidean norm
+    taken by an exact integer square root (floor), and the result scaled by
+    2^(sh + je - c_frac + n_log2 + f_frac), floor, saturating at 2^w_cap_log2 entries.
+    """
+    gx = c[..., 0] * Jm[..., 0, 0] + c[..., 1] * Jm[..., 1, 0] + c[..., 2] * Jm[..., 2, 0]
+    gy = c[..., 0] * Jm[..., 0, 1] + c[..., 1] * Jm[..., 1, 1] + c[..., 2] * Jm[..., 2, 1]
+    ax, ay = np.abs(gx), np.abs(gy)
+    sh = np.maximum(bitlen(np.maximum(ax, ay)) - cfg.norm_bits, 0)
+    ax, ay = ax >> sh, ay >> sh
+    r = isqrt(ax * ax + ay * ay)
+    e = sh + np.asarray(je, dtype=I64) - cfg.c_frac + n_log2 + cfg.f_frac
+    cap_bits = cfg.w_cap_log2 + cfg.f_frac
+    over = (r > 0) & (bitlen(r) + e > cap_bits)
+    w = np.where(e >= 0, r << np.clip(e, 0, 62), r >> np.clip(-e, 0, 63))
+    return np.where(over, I64(1) << cap_bits, w)
+
+
+def _integral(cfg: Config, tex: TexInt, x, xf: int):
+    """I(x) = integral of the colour function from 0 to x, x in units of 2^-xf entries.
+
+    Per channel, in units of (colour value) * 2^-xf entries. Mod: the table repeats
+    (floor(x / N) whole tables plus a partial one); clamp: the edge entries extend.
+    """
+    n = 1 << tex.n_log2
+    clut, csat = tex.clut, tex.csat
+    total = csat[n - 1]
+    k = x >> xf
+    fr = (x & ((1 << xf) - 1))[..., None]
+    if tex.mode == MODE_MOD:
+        wraps = (k >> tex.n_log2)[..., None]
+        kk = k & (n - 1)
+        before = np.where((kk > 0)[..., None], csat[np.maximum(kk - 1, 0)], 0)
+        return ((wraps * total + before) << xf) + fr * clut[kk]
+    kk = np.clip(k, 0, n - 1)
+    before = np.where((kk > 0)[..., None], csat[np.maximum(kk - 1, 0)], 0)
+    inside = (before << xf) + fr * clut[kk]
+    xe = x[..., None]
+    below = xe * clut[0]
+    above = (total << xf) + (xe - (n << xf)) * clut[n - 1]
+    return np.where(xe < 0, below, np.where(xe >= (n << xf), above, inside))
+
+
+def colour_map(cfg: Config, tex: TexInt, f, w):
+    """RGBA8 of f (f_frac bits, 1.0 = whole table) box-filtered over width w.
+
+    u = f N (units 2^-f_frac entries); mod: u taken mod N; clamp: u saturated to
+    [-W/2, N + W/2] with W = 2^w_cap_log2 (exact: any window beyond it sees only an
+    edge entry). Filter "sat": D = I(u + w/2) - I(u - w/2) (eq. 15 and every edge
+    case of 3.3.2 as one integral), out = floor(D / w + 1/2); w = 0 or filter off:
+    the point lookup C(u). Filter "mip": level floor(log2 w), point lookup in it.
+    """
+    n_log2 = tex.n_log2
+    n = 1 << n_log2
+    ff = cfg.f_frac
+    f = np.asarray(f, dtype=I64)
+    w = np.asarray(w, dtype=I64)
+    if tex.mode == MODE_MOD:
+        u = (f & ((1 << ff) - 1)) << n_log2
+    else:
+        guard = 1 << (cfg.w_cap_log2 + ff - 1)
+        u = np.clip(f << n_log2, -guard, (n << ff) + guard)
+    k = u >> ff
+    k = (k & (n - 1)) if tex.mode == MODE_MOD else np.clip(k, 0, n - 1)
+    point = tex.clut[k]
+    if not tex.filter or cfg.filter == "none":
+        return point.astype(np.uint8)
+    if cfg.filter == "mip":
+        we = w >> ff
+        lvl = np.clip(bitlen(we) - 1, 0, n_log2)
+        km = (u >> ff) >> lvl
+        nl = n >> lvl
+        km = np.where(tex.mode == MODE_MOD, km & (nl - 1), np.clip(km, 0, nl - 1))
+        return tex.mip[mip_offset(n, lvl) + km].astype(np.uint8)
+    xf = ff + 1
+    a2, b2 = 2 * u - w, 2 * u + w
+    D = _integral(cfg, tex, b2, xf) - _integral(cfg, tex, a2, xf)
+    wc = np.maximum(w, 1)[..., None]
+    out = (D + wc) // (2 * wc)
+    return np.where((w > 0)[..., None], out, point).astype(np.uint8)
+
+
+def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
+    """The whole pixel pipeline with its intermediate signals: f, c, w and rgba.
+
+    f = q + sum a_i n_i and c = dq/ds + sum a_i (dn_i/dp) T_i are summed exactly
+    (words wide enough, docs/numerics.md); a term with a = 0 contributes exactly 0
+    (a * anything = 0 before every floor shift), so it is skipped.
+    """
+    s = np.asarray(s, dtype=I64)
+    f, c = quadric_mac(cfg, tex.Q, s)
+    for i in range(min(len(tex.a), cfg.noise_terms)):
+        if tex.a[i] == 0:
+            continue
+        an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s)
+        f, c = f + an, c + ag
+    w = filter_width(cfg, c, np.asarray(Jm, dtype=I64), je, tex.n_log2)
+    return {"f": f, "c": c, "w": w, "rgba": colour_map(cfg, tex, f, w)}
+
+
+def texture_pipeline(cfg: Config, tex: TexInt, s, Jm, je):
+    """RGBA8 [..., 4] for pixels s [..., 3], Jm [..., 3, 2], je [...]: the RTL top's twin."""
+    return texture_stages(cfg, tex, s, Jm, je)["rgba"]

