@@ -1,0 +1,446 @@
+"""The golden (fixed-point) model against exact arithmetic and the float reference.
+
+Tolerances are derived in docs/numerics.md; each test names the section it uses.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from model import golden as G
+from model import reference as R
+from model.config import ConfigError, load_config
+from model.quantize import FormatError, quantize_pixels, quantize_texture, to_fixed
+from model.texture import NoiseTerm, TextureParams
+
+CONFIGS = ("full", "reduced")
+
+
+@pytest.fixture(scope="module", params=CONFIGS)
+def cfg(request):
+    return load_config(request.param)
+
+
+def rand_clut(rng, n):
+    return rng.integers(0, 256, size=(n, 4)).astype(np.uint8)
+
+
+def tex_int(cfg, clut, mode, filt=True):
+    tex = TextureParams(Q=np.zeros(10), clut=clut, mode=mode, filter=filt)
+    return quantize_texture(cfg, tex)[0]
+
+
+# ---------------------------------------------------------------- configuration
+
+
+def test_configs_load_and_widths_fit_int64(cfg):
+    assert cfg.widest_product <= 62
+    assert len(cfg.perm) == 1 << cfg.hash_bits
+    assert sorted(cfg.perm.tolist()) == list(range(1 << cfg.hash_bits))
+
+
+@pytest.mark.parametrize(
+    "text,needle",
+    [
+        ("name='x'\n[features]\nnoise_terms = 9\n", "features.noise_terms"),
+        ("[formats]\nbogus = 1\n", "unknown key 'formats.bogus'"),
+        ("[features]\nblend = 'quintic'\n", "features.blend"),
+        ("[features]\nnoise_terms = '8'\n", "expected int"),
+        ("[features\n", "malformed TOML"),
+    ],
+)
+def test_bad_config_one_line_error(tmp_path, text, needle):
+    good = (load_config("full").path)
+    base = open(good).read()
+    p = tmp_path / "bad.toml"
+    # replace or append the offending section text on top of a valid file
+    if text.startswith("[features\n"):
+        p.write_text(text)
+    else:
+        import tomllib
+
+        raw = tomllib.loads(base)
+        over = tomllib.loads(text)
+        for sec, kv in over.items():
+            if isinstance(kv, dict):
+                raw.setdefault(sec, {}).update(kv)
+        lines = []
+        for sec, kv in raw.items():
+            if isinstance(kv, dict):
+                lines.append(f"[{sec}]")
+                lines += [f"{k} = {v!r}".replace("True", "true").replace("False", "false") for k, v in kv.items()]
+        p.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ConfigError) as e:
+        load_config(p)
+    msg = str(e.value)
+    assert needle in msg and "\n" not in msg and str(p) in msg
+
+
+# ---------------------------------------------------------------- quantizer
+
+
+def test_parameter_out_of_format_is_rejected_with_name_value_range(cfg):
+    with pytest.raises(FormatError) as e:
+        quantize_texture(cfg, TextureParams(Q=[1000.0] + [0] * 9, clut=np.zeros((4, 4), np.uint8)))
+    msg = str(e.value)
+    assert "quadric.A" in msg and "1000" in msg and "range" in msg and f"s{cfg.q_w}.{cfg.q_frac}" in msg
+    big_a = 2.0 ** (cfg.a_w - cfg.a_frac)
+    with pytest.raises(FormatError, match=r"noise\[0\]\.a"):
+        quantize_texture(cfg, TextureParams(Q=np.zeros(10), terms=[NoiseTerm(big_a, np.eye(3), [0, 0, 0])]))
+    with pytest.raises(FormatError, match="clut"):
+        quantize_texture(cfg, TextureParams(Q=np.zeros(10), clut=np.zeros((3, 4), np.uint8)))
+    with pytest.raises(FormatError, match="pixel s"):
+        quantize_pixels(cfg, np.full((2, 3), 2.0 ** (cfg.s_w - cfg.s_frac)), np.zeros((2, 3, 2)))
+    with pytest.raises(FormatError, match="non-finite"):
+        quantize_pixels(cfg, np.zeros((2, 3)), np.full((2, 3, 2), np.inf))
+
+
+def test_pow2_transform_rejects_general_T():
+    cfg = load_config("reduced")
+    with pytest.raises(FormatError, match="diagonal"):
+        quantize_texture(cfg, TextureParams(Q=np.zeros(10), terms=[NoiseTerm(1, [[1, 1, 0], [0, 1, 0], [0, 0, 1]], [0, 0, 0])]))
+    with pytest.raises(FormatError, match="power of two"):
+        quantize_texture(cfg, TextureParams(Q=np.zeros(10), terms=[NoiseTerm(1, np.diag([3.0, 1, 1]), [0, 0, 0])]))
+    t, _ = quantize_texture(cfg, TextureParams(Q=np.zeros(10), terms=[NoiseTerm(1, np.diag([4.0, 0, 0.5]), [0, 0, 0])]))
+    assert t.T[0, 0, 0] == 4 << cfg.t_frac
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(-1e6, 1e6, allow_subnormal=False), min_size=6, max_size=6))
+def test_jacobian_block_float_is_tight(vals):
+    cfg = load_config("full")
+    J = np.array(vals).reshape(1, 3, 2)
+    _, Jm, je = quantize_pixels(cfg, np.zeros((1, 3)), J)
+    lim = (1 << (cfg.j_w - 1)) - 1
+    assert np.abs(Jm).max() <= lim
+    step = 2.0 ** je[0]
+    assert np.abs(Jm[0] * step - J[0]).max() <= step / 2
+    if je[0] > cfg.d["je_min"] and np.abs(J).max() > 0:  # least exponent: one lower would not fit
+        assert np.abs(np.rint(J / (step / 2))).max() > lim
+
+
+# ---------------------------------------------------------------- quadric: exact, no overflow
+
+
+def _quadric_bigint(cfg, Q, s):
+    """quadric_mac in Python integers (unbounded): the words must never wrap."""
+    A, B, C, D, E, F, Gc, H, I, J = (int(x) for x in Q)
+    s0, s1, s2 = (int(x) for x in s)
+    sf = cfg.s_frac
+    v = [((A * s0 + B * s1 + C * s2) >> sf) + D, ((B * s0 + E * s1 + F * s2) >> sf) + Gc,
+         ((C * s0 + F * s1 + H * s2) >> sf) + I, ((D * s0 + Gc * s1 + I * s2) >> sf) + J]
+    q = ((s0 * v[0] + s1 * v[1] + s2 * v[2]) >> sf) + v[3]
+    return q, v
+
+
+@pytest.mark.parametrize("name", CONFIGS)
+def test_quadric_extremes_do_not_overflow(name):
+    """Quadric terms at the extremes of their words: golden == unbounded integers, and fit the derived widths."""
+    cfg = load_config(name)
+    lo_q, hi_q = -(1 << (cfg.q_w - 1)), (1 << (cfg.q_w - 1)) - 1
+    lo_s, hi_s = -(1 << (cfg.s_w - 1)), (1 << (cfg.s_w - 1)) - 1
+    rng = np.random.default_rng(5)
+    cases = [(np.full(10, v), np.full(3, sv)) for v in (lo_q, hi_q) for sv in (lo_s, hi_s)]
+    cases += [(rng.choice([lo_q, hi_q, 0, 1, -1], 10), rng.choice([lo_s, hi_s, 0, -1], 3)) for _ in range(300)]
+    cases += [(np.zeros(10, np.int64), np.array([hi_s, lo_s, 7]))]  # all-zero quadric
+    for Q, s in cases:
+        qf, cq = G.quadric_mac(cfg, Q, np.asarray(s, np.int64)[None])
+        q, v = _quadric_bigint(cfg, Q, s)
+        assert int(qf[0]) == G.shift(q, cfg.f_frac - cfg.q_frac)
+        assert abs(q) < 1 << (cfg.qv_w - 1) and max(abs(x) for x in v) < 1 << (cfg.v_w - 1)
+        assert abs(int(qf[0])) < 1 << (cfg.f_w - 1)
+        assert all(abs(int(x)) < 1 << (cfg.c_w - 1) for x in cq[0])
+    Qz, sz = np.zeros(10, np.int64), np.array([[hi_s, lo_s, 0]])
+    assert G.quadric_mac(cfg, Qz, sz)[0][0] == 0
+
+
+@pytest.mark.parametrize("name", CONFIGS)
+def test_quadric_matches_float(name):
+    cfg = load_config(name)
+    rng = np.random.default_rng(2)
+    Qf = rng.uniform(-4, 4, 10)
+    s = rng.uniform(-8, 8, (2000, 3))
+    tex, _ = quantize_texture(cfg, TextureParams(Q=Qf))
+    si, _, _ = quantize_pixels(cfg, s, np.zeros((2000, 3, 2)))
+    qf, cq = G.quadric_mac(cfg, tex.Q, si)
+    Qq = tex.Q / (1 << cfg.q_frac)
+    sq = si / (1 << cfg.s_frac)
+    # numerics.md "quadric": two floor shifts of 2^-q_frac each, the second scaled by |s|
+    ref = R.quadric(Qq, sq)
+    bound = (1 + 3 * 8) * 2.0 ** -cfg.q_frac + 2.0 ** -cfg.f_frac
+    assert np.abs(qf / (1 << cfg.f_frac) - ref).max() <= bound
+    refg = R.quadric_gradient(Qq, sq)
+    assert np.abs(cq / (1 << cfg.c_frac) - refg).max() <= 2 * 2.0 ** -cfg.q_frac + 2.0 ** -cfg.c_frac
+
+
+# ---------------------------------------------------------------- noise
+
+
+def _blend_errs(cfg):
+    """numerics.md "noise": weight error 3*1 + 2*2 = 7 ulps (floors of f^2 and f^3), slope error 6 ulps."""
+    return (7, 6) if cfg.blend == "cubic" else (0, 0)
+
+
+def _noise_bound(cfg):
+    """numerics.md "noise": |n_golden - n_float| for the same quantized p.
+
+    Three lerp levels, each: weight error (blend_err ulps of p_frac) times a span of
+    at most 2, plus one floor (1 ulp of n_frac).
+    """
+    be, _ = _blend_errs(cfg)
+    return 3 * (2 * be * 2.0 ** -cfg.p_frac + 2.0 ** -cfg.n_frac)
+
+
+@pytest.mark.parametrize("name", CONFIGS)
+def test_noise_value_matches_float_reference(name):
+    cfg = load_config(name)
+    rng = np.random.default_rng(3)
+    s = np.concatenate([rng.uniform(-100, 100, (3000, 3)), rng.uniform(-2, 2, (3000, 3))])
+    si, _, _ = quantize_pixels(cfg, s, np.zeros((len(s), 3, 2)))
+    T = np.eye(3)
+    a = 1 << cfg.a_frac
+    Ti = np.eye(3, dtype=np.int64) << cfg.t_frac
+    an, ag = G.noise_term(cfg, a, Ti, np.zeros(3, np.int64), si)
+    p = np.floor(si * 2.0 ** (cfg.p_frac - cfg.s_frac)) / 2.0 ** cfg.p_frac  # golden's p, exactly
+    ref = R.noise(p @ T.T, cfg.perm, cfg.blend)
+    err = np.abs(an / (1 << cfg.f_frac) - ref)
+    assert err.max() <= _noise_bound(cfg) + 2.0 ** -cfg.f_frac
+
+
+@pytest.mark.parametrize("name", CONFIGS)
+def test_noise_gradient_matches_float_reference(name):
+    cfg = load_config(name)
+    rng = np.random.default_rng(4)
+    s = rng.uniform(-50, 50, (3000, 3))
+    si, _, _ = quantize_pixels(cfg, s, np.zeros((len(s), 3, 2)))
+    _, ag = G.noise_term(cfg, 1 << cfg.a_frac, np.eye(3, dtype=np.int64) << cfg.t_frac, np.zeros(3, np.int64), si)
+    p = np.floor(si * 2.0 ** (cfg.p_frac - cfg.s_frac)) / 2.0 ** cfg.p_frac
+    ref = R.noise_gradient(p, cfg.perm, cfg.blend)
+    # numerics.md "noise gradient": the bilerp of differences (span <= 4 per level, two
+    # levels, 2 floors) times the slope (<= 1.5), plus slope error (6 ulps) times |bilerp| <= 2,
+    # plus the floors of the slope product and of the h / ag shifts
+    be, se = _blend_errs(cfg)
+    ulp_p, ulp_n, ulp_c = 2.0 ** -cfg.p_frac, 2.0 ** -cfg.n_frac, 2.0 ** -cfg.c_frac
+    bound = 1.5 * (2 * 4 * be * ulp_p + 2 * ulp_n) + 2 * se * ulp_p + ulp_n + 2 * ulp_c
+    assert np.abs(ag / (1 << cfg.c_frac) - ref).max() <= bound
+
+
+def test_noise_hard_cases():
+    """Negative coordinates, floor of negatives, fractions 0 and just below 1, hash wrap far from the origin."""
+    cfg = load_config("full")
+    one = 1 << cfg.s_frac
+    eye = np.eye(3, dtype=np.int64) << cfg.t_frac
+    z = np.zeros(3, np.int64)
+    a = 1 << cfg.a_frac
+    period = (1 << cfg.hash_bits) * one
+    pts = np.array([[-1, 0, 0], [-one, 0, 0], [-one - 1, 5, 9], [3 * one, 0, 0], [3 * one - 1, 0, 0],
+                    [-(1 << (cfg.s_w - 1)), 0, 0], [(1 << (cfg.s_w - 1)) - 1, 0, 0]], dtype=np.int64)
+    an, _ = G.noise_term(cfg, a, eye, z, pts)
+    pf = pts / one
+    ref = R.noise(pf, cfg.perm, cfg.blend)
+    assert np.abs(an / (1 << cfg.f_frac) - ref).max() <= _noise_bound(cfg) + 2.0 ** -cfg.f_frac
+    # at a lattice point the noise is the corner value exactly
+    corner = G.noise_hash(cfg, np.array([255]), np.array([0]), np.array([0]))  # floor(-1/65536) = -1 -> 255
+    lat, _ = G.noise_term(cfg, a, eye, z, np.array([[-one, 0, 0]]))
+    assert lat[0] == G.shift(corner[0] * a, -cfg.an_shift)
+    # hash wrap: the lattice repeats every 2^hash_bits cells (s in range: shift by one period via T = 2)
+    s1 = np.array([[one // 3, one // 5, one // 7]])
+    n1, _ = G.noise_term(cfg, a, eye, z, s1)
+    off = np.array([(1 << cfg.hash_bits) << cfg.p_frac, 0, 0]) & ((1 << cfg.p_w) - 1)
+    n2, _ = G.noise_term(cfg, a, eye, off, s1)
+    assert n1[0] == n2[0]
+    assert period > 0
+
+
+# ---------------------------------------------------------------- colour map vs exact box filter
+
+
+def _grid_case(cfg, rng, n_log2, size):
+    """f and w on the golden's grids, so the only error is the final rounding (numerics.md "colour map")."""
+    ff = cfg.f_frac
+    n = 1 << n_log2
+    f_int = rng.integers(-(4 << ff), 4 << ff, size)
+    kind = rng.integers(0, 4, size)
+    w_int = np.select(
+        [kind == 0, kind == 1, kind == 2],
+        [rng.integers(0, 1 << ff, size), rng.integers(0, (2 * n) << ff, size),
+         (n << ff) + rng.integers(-2, 3, size)],
+        rng.integers(0, 1 << (cfg.w_cap_log2 + ff), size),
+    )
+    return f_int, np.maximum(w_int, 0)
+
+
+@pytest.mark.parametrize("mode", ["mod", "clamp"])
+@pytest.mark.parametrize("name", CONFIGS)
+def test_sat_filter_within_half_lsb_of_exact_box(name, mode):
+    """On the grid, golden = round(exact box average): |golden - reference| <= 1/2 LSB."""
+    cfg = load_config(name)
+    if cfg.filter != "sat":
+        pytest.skip(f"configuration {name} has filter {cfg.filter}, not sat")  # both configs use sat today
+    rng = np.random.default_rng(7)
+    for n_log2 in [0, 1, 3, cfg.n_log2_max]:
+        clut = rand_clut(rng, 1 << n_log2)
+        tex = tex_int(cfg, clut, mode)
+        f_int, w_int = _grid_case(cfg, rng, n_log2, 4000)
+        got = G.colour_map(cfg, tex, f_int, w_int).astype(np.float64)
+        n = 1 << n_log2
+        f = f_int / (1 << cfg.f_frac)
+        w = w_int / (1 << cfg.f_frac) / n  # entries -> colour-map units
+        ref = R.filtered_lookup(clut, f, w, mode)
+        err = np.abs(got - ref)
+        assert err.max() <= 0.5 + 1e-9, (n_log2, err.max())
+
+
+@pytest.mark.parametrize("mode", ["mod", "clamp"])
+def test_sat_hard_cases(mode):
+    cfg = load_config("full")
+    ff = cfg.f_frac
+    rng = np.random.default_rng(8)
+    for n_log2 in [0, 8]:
+        n = 1 << n_log2
+        clut = rand_clut(rng, n)
+        tex = tex_int(cfg, clut, mode)
+        one = 1 << ff
+        fs = [0, one, n * one, -1, one - 1, one + 1, -one, 3 * one + 7]
+        ws = [0, 1, (n << ff) - 1, n << ff, (n << ff) + 1, (3 * n) << ff, (5 * n << ff) + 12345, 1 << (cfg.w_cap_log2 + ff)]
+        F, W = np.meshgrid(fs, ws)
+        got = G.colour_map(cfg, tex, F.ravel(), W.ravel()).astype(float)
+        ref = R.filtered_lookup(clut, F.ravel() / one, W.ravel() / one / n, mode)
+        assert np.abs(got - ref).max() <= 0.5 + 1e-9
+        if mode == "mod":  # w = N: the whole-table average, any f (paper's first case)
+            avg = clut.astype(float).mean(axis=0)
+            got_n = G.colour_map(cfg, tex, np.array(fs), np.full(len(fs), n << ff)).astype(float)
+            assert np.abs(got_n - avg).max() <= 0.5 + 1e-9
+
+
+def test_filter_width_beyond_cap_bound():
+    """w above the cap saturates; mod-mode error <= 1/2 + 510 N / cap (numerics.md)."""
+    cfg = load_config("full")
+    ff = cfg.f_frac
+    n = 256
+    rng = np.random.default_rng(9)
+    clut = rand_clut(rng, n)
+    tex = tex_int(cfg, clut, "mod")
+    cap = 1 << cfg.w_cap_log2
+    f = rng.uniform(0, 1, 500)
+    w_entries = rng.uniform(cap, 50 * cap, 500)
+    got = G.colour_map(cfg, tex, np.rint(f * (1 << ff)).astype(np.int64), np.full(500, cap << ff)).astype(float)
+    ref = R.filtered_lookup(clut, np.rint(f * (1 << ff)) / (1 << ff), w_entries / n, "mod")
+    assert np.abs(got - ref).max() <= 0.5 + 510 * n / cap
+
+
+def test_unfiltered_and_w0_are_point_lookup():
+    cfg = load_config("full")
+    rng = np.random.default_rng(10)
+    for mode in ("mod", "clamp"):
+        clut = rand_clut(rng, 16)
+        f_int = rng.integers(-(3 << cfg.f_frac), 3 << cfg.f_frac, 3000)
+        ref = R.unfiltered_lookup(clut, f_int / (1 << cfg.f_frac), mode)
+        t_off = tex_int(cfg, clut, mode, filt=False)
+        assert np.array_equal(G.colour_map(cfg, t_off, f_int, np.full(3000, 999)), ref)
+        t_on = tex_int(cfg, clut, mode)
+        assert np.array_equal(G.colour_map(cfg, t_on, f_int, np.zeros(3000, np.int64)), ref)
+
+
+def test_mip_lookup_levels():
+    """Colour-table MIP map (3.3.1): level floor(log2 w), each level the rounded mean of 2^l entries."""
+    cfg = load_config("full")
+    cfg.filter = "mip"  # same formats, other filter
+    clut = np.arange(256, dtype=np.uint8)[:, None].repeat(4, axis=1)
+    tex = tex_int(cfg, clut, "mod")
+    ff = cfg.f_frac
+    # w = 4 entries -> level 2 (blocks of 4), f at entry 10 -> block 2 = mean(8..11) = 9.5 -> 10 (half up)
+    out = G.colour_map(cfg, tex, np.array([(10 << ff) // 256]), np.array([4 << ff]))
+    assert out[0, 0] == 10
+    out = G.colour_map(cfg, tex, np.array([0]), np.array([(1 << 20) << ff]))  # w >= N: top level, the average
+    assert out[0, 0] == (sum(range(256)) + 128) >> 8
+    cfg.filter = "sat"
+
+
+def test_n_equals_one():
+    cfg = load_config("full")
+    clut = np.array([[10, 20, 30, 40]], np.uint8)
+    for mode in ("mod", "clamp"):
+        tex = tex_int(cfg, clut, mode)
+        f = np.array([0, 1 << cfg.f_frac, -(5 << cfg.f_frac), 12345])
+        for w in (0, 1, 1 << cfg.f_frac, 1 << (cfg.w_cap_log2 + cfg.f_frac)):
+            out = G.colour_map(cfg, tex, f, np.full(4, w))
+            assert (out == clut[0]).all()
+
+
+def test_amplitudes_that_saturate_f_clamp():
+    """f far beyond the table in clamp mode: the window sees only the edge entry."""
+    cfg = load_config("full")
+    rng = np.random.default_rng(11)
+    clut = rand_clut(rng, 256)
+    tex = tex_int(cfg, clut, "clamp")
+    fmax = (1 << (cfg.f_w - 1)) - 1
+    out = G.colour_map(cfg, tex, np.array([fmax, -fmax]), np.array([1 << cfg.f_frac, 1 << cfg.f_frac]))
+    assert (out[0] == clut[-1]).all() and (out[1] == clut[0]).all()
+
+
+# ---------------------------------------------------------------- filter width
+
+
+def test_filter_width_zone_plate_and_horizon():
+    cfg = load_config("full")
+    ff = cfg.f_frac
+    n_log2 = 8
+    # zone plate: c = (100 s, 100 t), J = I/256: w = |(100 s, 100 t)| / 256 * N entries
+    s = np.array([[0.3, 0.7, 0.0], [0.0, 0.0, 0.0], [1.0, 1.0, 0.0]])
+    c = np.rint(np.stack([100 * s[:, 0], 100 * s[:, 1], 0 * s[:, 0]], -1) * (1 << cfg.c_frac)).astype(np.int64)
+    J = np.zeros((3, 3, 2)); J[:, 0, 0] = J[:, 1, 1] = 1 / 256
+    _, Jm, je = quantize_pixels(cfg, np.zeros((3, 3)), J)
+    w = G.filter_width(cfg, c, Jm, je, n_log2)
+    exact = np.hypot(100 * s[:, 0], 100 * s[:, 1]) / 256 * 256
+    assert np.all(np.abs(w / (1 << ff) - exact) <= exact * 2.0 ** -(cfg.norm_bits - 1) + 2.0 ** -ff)
+    assert w[1] == 0  # c = 0: w = 0
+    # horizon: huge |J| saturates to the cap
+    Jh = np.full((1, 3, 2), 1e30)
+    _, Jm, je = quantize_pixels(cfg, np.zeros((1, 3)), Jh / 1e20)
+    w = G.filter_width(cfg, np.array([[1 << cfg.c_frac, 0, 0]]), Jm, je, n_log2)
+    assert w[0] == 1 << (cfg.w_cap_log2 + ff)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.floats(-1e3, 1e3), min_size=3, max_size=3), st.lists(st.floats(-1e2, 1e2), min_size=6, max_size=6))
+def test_filter_width_relative_error(cvals, jvals):
+    """w = |c^T J| N within the normalisation error (numerics.md "filter width")."""
+    cfg = load_config("full")
+    c = np.rint(np.array(cvals) * (1 << cfg.c_frac)).astype(np.int64)[None]
+    _, Jm, je = quantize_pixels(cfg, np.zeros((1, 3)), np.array(jvals).reshape(1, 3, 2))
+    g = (c[0] / (1 << cfg.c_frac)) @ (Jm[0] * 2.0 ** je[0])
+    exact = np.hypot(*g) * 256  # entries
+    w = G.filter_width(cfg, c, Jm, je, 8)[0] / (1 << cfg.f_frac)
+    cap = 2.0 ** cfg.w_cap_log2
+    if exact >= cap:
+        assert w == cap
+    else:
+        # normalisation floor: 2 ulps of norm_bits relative; sqrt floor 1 ulp; output floor 2^-f_frac
+        assert abs(w - exact) <= exact * 2.0 ** -(cfg.norm_bits - 2) + 2 * 2.0 ** -cfg.f_frac
+
+
+# ---------------------------------------------------------------- whole pipeline
+
+
+@pytest.mark.parametrize("name", CONFIGS)
+def test_pipeline_close_to_reference_on_smooth_texture(name):
+    """End to end on a gentle marble-like texture: mostly within a few LSB of the float reference."""
+    cfg = load_config(name)
+    rng = np.random.default_rng(12)
+    ramp = np.linspace(0, 255, 64).astype(np.uint8)
+    clut = np.stack([ramp, ramp[::-1], ramp, np.full(64, 255, np.uint8)], -1)
+    terms = [NoiseTerm(0.5 ** i, np.eye(3) * 2 ** i, [0.25 * i, 0, 0]) for i in range(1, 3)]
+    tex = TextureParams(Q=[0, 0, 0, 0, 0, 0, 0, 0, 0.5, 0], terms=terms, clut=clut, mode="mod",
+                        blend=cfg.blend)
+    s = rng.uniform(-3, 3, (4000, 3))
+    J = rng.normal(0, 0.002, (4000, 3, 2))
+    ti, info = quantize_texture(cfg, tex)
+    si, Jm, je = quantize_pixels(cfg, s, J)
+    got = G.texture_pipeline(cfg, ti, si, Jm, je).astype(float)
+    ref = R.shade(tex, si / (1 << cfg.s_frac), Jm * np.exp2(je)[:, None, None], cfg.perm, cfg.hash_bits)
+    err = np.abs(got - ref)
+    assert np.median(err) <= 1.0
+    assert np.quantile(err, 0.99) <= 8.0
