@@ -1,0 +1,276 @@
+"""Model-only rendering of a scene: float reference, golden model, ground truth, reports.
+
+`python -m model.render --scene zone_plate --config full --size 256` (make render)
+writes out/render/<scene>/<config>-<size>/: reference.exr (float reference, with
+provenance attributes), reference.png, golden.png, unfiltered.png, truth.png
+(8x8 supersampled unfiltered float reference, box-averaged), filter_width.png
+(Fig. 9c: w from 1 entry, black, to N entries, white) and report.json.
+`--all` renders every scene for both configurations and writes the contact sheet
+docs/images/renders.png.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from model import golden, reference
+from model.config import CONFIG_NAMES, ROOT, ConfigError, load_config
+from model.imageio import compare, contact_sheet, write_image
+from model.quantize import FormatError, quantize_pixels, quantize_texture
+
+SCENE_DIR = ROOT / "scenes"
+SCENES = ("wood", "marble", "seascape", "fire", "planet", "moonrise", "zone_plate", "torus")
+
+
+@dataclass
+class PassData:
+    """One texture pass, quantized for the hardware (masked pixels only, row-major)."""
+
+    name: str
+    tex: object  # TextureParams (float)
+    mask: np.ndarray  # bool [H, W]
+    s: np.ndarray  # float [P, 3]
+    J: np.ndarray  # float [P, 3, 2]
+    ti: golden.TexInt
+    info: dict
+    si: np.ndarray
+    Jm: np.ndarray
+    je: np.ndarray
+
+
+def scene_path(name: str) -> Path:
+    p = Path(name)
+    return p if p.suffix == ".toml" else SCENE_DIR / f"{name}.toml"
+
+
+def prepare_passes(cfg, passes) -> list[PassData]:
+    """Quantize every pass; a value that does not fit names the pass and the value."""
+    out = []
+    for ps in passes:
+        try:
+            ti, info = quantize_texture(cfg, ps.texture)
+            s = ps.s[ps.mask]
+            J = ps.J[ps.mask]
+            si, Jm, je = quantize_pixels(cfg, s, J)
+        except FormatError as e:
+            raise FormatError(f"pass '{ps.name}': {e}") from None
+        out.append(PassData(ps.name, ps.texture, ps.mask, s, J, ti, info, si, Jm, je))
+    return out
+
+
+def composite(layers, shape, background) -> np.ndarray:
+    """'over' compositing, layers front to back: [(mask [H,W], rgba [P,4] 0..255 float)].
+
+    Straight (non-premultiplied) alpha from the colour tables. Returns float RGBA
+    [H, W, 4] in 0..255 over the opaque-or-not background.
+    """
+    H, W = shape
+    acc = np.zeros((H, W, 3))
+    acc_a = np.zeros((H, W))
+    for mask, rgba in layers:
+        rgba = np.asarray(rgba, dtype=np.float64)
+        a = rgba[:, 3] / 255.0
+        t = 1.0 - acc_a[mask]
+        acc[mask] += (t * a)[:, None] * rgba[:, :3]
+        acc_a[mask] += t * a
+    bg = np.asarray(background, dtype=np.float64)
+    ba = bg[3] / 255.0
+    t = 1.0 - acc_a
+    out = np.empty((H, W, 4))
+    out[..., :3] = acc + (t * ba)[..., None] * bg[:3]
+    out[..., 3] = 255.0 * (acc_a + t * ba)
+    return out
+
+
+def to8(img: np.ndarray) -> np.ndarray:
+    return np.clip(np.rint(img), 0, 255).astype(np.uint8)
+
+
+def git_describe() -> str:
+    try:
+        return subprocess.run(["git", "-C", str(ROOT), "describe", "--always", "--dirty"], capture_output=True,
+                              text=True, timeout=10).stdout.strip() or "unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+
+
+def frame_size(scene, size: int) -> tuple[int, int]:
+    w0, h0 = scene.width, scene.height
+    return size, max(1, round(size * h0 / w0))
+
+
+def render(scene_name: str, config_name: str, size: int, truth: bool = True, truth_ss: int = 8,
+           out_root: Path | None = None, progress: bool = True) -> dict:
+    from model.frontend import render_passes
+    from model.scene import load_scene
+
+    t0 = time.perf_counter()
+    cfg = load_config(config_name)
+    scene = load_scene(scene_path(scene_name))
+    W, H = frame_size(scene, size)
+    passes = render_passes(scene, W, H)
+    pds = prepare_passes(cfg, passes)
+    bar = _bar(progress, total=len(pds) * 3 + (1 if truth else 0), desc=f"{scene_name} {config_name} {W}x{H}")
+    gold, unf, ref, widths = [], [], [], np.zeros((H, W))
+    for pd in pds:
+        st = golden.texture_stages(cfg, pd.ti, pd.si, pd.Jm, pd.je)
+        gold.append((pd.mask, st["rgba"]))
+        n = 1 << pd.ti.n_log2
+        widths[pd.mask] = np.maximum(widths[pd.mask], st["w"] / float(1 << cfg.f_frac) / n)
+        bar.update()
+        ti_off = golden.TexInt(**{**pd.ti.__dict__, "filter": False})
+        unf.append((pd.mask, golden.texture_pipeline(cfg, ti_off, pd.si, pd.Jm, pd.je)))
+        bar.update()
+        ref.append((pd.mask, reference.shade(pd.tex, pd.s, pd.J, cfg.perm, cfg.hash_bits)))
+        bar.update()
+    bg = scene.background
+    img_gold = composite(gold, (H, W), bg)
+    img_unf = composite(unf, (H, W), bg)
+    img_ref = composite(ref, (H, W), bg)
+    textured = np.zeros((H, W), bool)
+    for pd in pds:
+        textured |= pd.mask
+    img_truth = None
+    if truth:
+        img_truth = supersampled_truth(scene, cfg, W, H, truth_ss)
+        bar.update()
+    bar.close()
+    out = (out_root or ROOT / "out" / "render") / scene_name / f"{config_name}-{size}"
+    prov = {"scene": scene_name, "config": config_name, "size": f"{W}x{H}", "git": git_describe(),
+            "command": f"make render SCENE={scene_name} CONFIG={config_name} SIZE={size}",
+            "generator": "model/reference.py (float64 reference)"}
+    write_image(out / "reference.exr", (img_ref / 255.0).astype(np.float32), {"tex:" + k: v for k, v in prov.items()})
+    write_image(out / "reference.png", to8(img_ref))
+    write_image(out / "golden.png", to8(img_gold))
+    write_image(out / "unfiltered.png", to8(img_unf))
+    # Fig. 9c: filter width from 1 entry (black) to N entries (white), log-free linear grey as in the paper
+    n_max = max((1 << pd.ti.n_log2) for pd in pds) if pds else 1
+    grey = np.clip((widths * n_max - 1) / max(n_max - 1, 1), 0, 1) * 255
+    write_image(out / "filter_width.png", to8(np.where(textured, grey, 0)))
+    rep = {
+        "scene": scene_name, "config": config_name, "width": W, "height": H,
+        "pixels_textured": int(textured.sum()),
+        "passes": [{"name": pd.name, "pixels": int(pd.mask.sum()), **pd.info} for pd in pds],
+    }
+    cg = compare(img_gold[textured], img_ref[textured])
+    rep["psnr_golden_vs_reference_db"] = cg["psnr_db"]
+    rep["max_abs_error_lsb"] = cg["max_abs_error_lsb"]
+    rep["mean_abs_error_lsb"] = cg["mean_abs_error_lsb"]
+    if img_truth is not None:
+        write_image(out / "truth.png", to8(img_truth))
+        rep["psnr_filtered_vs_truth_db"] = compare(img_gold[textured], img_truth[textured])["psnr_db"]
+        rep["psnr_unfiltered_vs_truth_db"] = compare(img_unf[textured], img_truth[textured])["psnr_db"]
+        rep["psnr_reference_vs_truth_db"] = compare(img_ref[textured], img_truth[textured])["psnr_db"]
+        rep["truth_supersampling"] = f"{truth_ss}x{truth_ss}"
+    else:
+        rep["psnr_filtered_vs_truth_db"] = rep["psnr_unfiltered_vs_truth_db"] = None
+    rep["seconds"] = round(time.perf_counter() - t0, 2)
+    (out / "report.json").write_text(json.dumps(rep, indent=2) + "\n")
+    return rep
+
+
+def supersampled_truth(scene, cfg, W, H, ss: int) -> np.ndarray:
+    """Ground truth: the unfiltered float reference at ss x ss samples per pixel, box-averaged.
+
+    Rendered in horizontal bands to bound memory; each band is a full-width
+    render of ss*W x ss*H restricted to its rows by the front end's row window.
+    """
+    from model.frontend import render_passes
+
+    big = render_passes(scene, W * ss, H * ss)
+    layers = []
+    for ps in big:
+        s = ps.s[ps.mask]
+        rgba = reference.unfiltered_lookup(ps.texture.clut, reference.texture_f(ps.texture, s, cfg.perm, cfg.hash_bits),
+                                           ps.texture.mode)
+        layers.append((ps.mask, rgba))
+    img = composite(layers, (H * ss, W * ss), scene.background)
+    return img.reshape(H, ss, W, ss, 4).mean(axis=(1, 3))
+
+
+class _NoBar:
+    def update(self, n=1):
+        pass
+
+    def close(self):
+        pass
+
+
+def _bar(progress: bool, total: int, desc: str):
+    if not progress:
+        return _NoBar()
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=desc, unit="step", leave=False, file=sys.stderr)
+
+
+def render_all(size: int, truth: bool, progress: bool = True) -> list[dict]:
+    reps = []
+    rows = []
+    for scene in SCENES:
+        row = []
+        for c in CONFIG_NAMES:
+            rep = render(scene, c, size, truth=truth, progress=progress)
+            reps.append(rep)
+            print(json.dumps({k: rep[k] for k in ("scene", "config", "psnr_golden_vs_reference_db",
+                                                   "psnr_filtered_vs_truth_db", "psnr_unfiltered_vs_truth_db",
+                                                   "seconds")}), flush=True)
+        from model.imageio import read_image
+
+        base = ROOT / "out" / "render" / scene
+        row.append((f"{scene}: reference", read_image(base / f"full-{size}" / "reference.png")))
+        row.append(("golden full", read_image(base / f"full-{size}" / "golden.png")))
+        row.append(("golden reduced", read_image(base / f"reduced-{size}" / "golden.png")))
+        row.append(("unfiltered (full)", read_image(base / f"full-{size}" / "unfiltered.png")))
+        if truth:
+            row.append(("truth 8x8", read_image(base / f"full-{size}" / "truth.png")))
+        row.append(("filter width", read_image(base / f"full-{size}" / "filter_width.png")))
+        rows.append(row)
+    contact_sheet(ROOT / "docs" / "images" / "renders.png", rows, tile=160,
+                  title=f"make renders: the eight scenes, {size} px (golden model and float reference)")
+    (ROOT / "docs" / "images" / "renders.json").write_text(json.dumps(reps, indent=1) + "\n")
+    return reps
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m model.render", description=__doc__.splitlines()[0])
+    ap.add_argument("--scene", default="zone_plate")
+    ap.add_argument("--config", default="full", choices=CONFIG_NAMES)
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--all", action="store_true", help="all scenes, both configurations, contact sheet")
+    ap.add_argument("--no-truth", action="store_true", help="skip the 8x8 supersampled ground truth")
+    ap.add_argument("--truth-ss", type=int, default=8)
+    ap.add_argument("--quiet", action="store_true")
+    a = ap.parse_args(argv)
+    if a.size < 1 or a.size > 4096:
+        print(f"render: --size {a.size}: expected 1..4096", file=sys.stderr)
+        return 2
+    try:
+        if a.all:
+            render_all(a.size, truth=not a.no_truth, progress=not a.quiet)
+        else:
+            if not scene_path(a.scene).exists():
+                print(f"render: {scene_path(a.scene)}: no such scene (known: {', '.join(SCENES)})", file=sys.stderr)
+                return 2
+            rep = render(a.scene, a.config, a.size, truth=not a.no_truth, truth_ss=a.truth_ss, progress=not a.quiet)
+            print(json.dumps(rep, indent=2))
+    except (FormatError, ConfigError) as e:
+        print(f"render: {e}", file=sys.stderr)
+        return 2
+    except Exception as e:  # scene errors carry their own one-line message
+        if type(e).__name__ == "SceneError":
+            print(str(e), file=sys.stderr)
+            return 2
+        raise
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
