@@ -259,7 +259,11 @@ def read_cmd(args):
     for f in files:
         if not os.path.isfile(f):
             raise FlowError("no such file: %s" % f)
-    return "read_verilog " + " ".join(ys_quote(x) for x in flags + files) + "\n"
+    cmd = "read_verilog " + " ".join(ys_quote(x) for x in flags + files) + "\n"
+    lib = [os.path.abspath(f) for f in (getattr(args, "lib_files", None) or [])]
+    if lib:  # modules read as black boxes (ports only): counted elsewhere
+        cmd += "read_verilog -lib " + " ".join(ys_quote(x) for x in flags + lib) + "\n"
+    return cmd
 
 
 def hier_cmd(args):
@@ -494,6 +498,8 @@ def main(argv=None):
     ap.add_argument("--files", nargs="+", required=True, help="Verilog-2005 source files")
     ap.add_argument("--include", nargs="*", default=[], help="include directories (-I)")
     ap.add_argument("--define", nargs="*", default=[], help="macro definitions K or K=V (-D)")
+    ap.add_argument("--lib-files", nargs="*", default=[],
+                    help="Verilog files whose modules are black boxes (their GE is counted separately)")
     ap.add_argument("--param", nargs="*", default=[], help="top-level parameter overrides NAME=VALUE")
     ap.add_argument("--blocks", nargs="*", default=[],
                     help="instance paths (a.b or a/b) of the top to report separately, as INST[=LABEL]")

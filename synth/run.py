@@ -1,0 +1,178 @@
+"""Gate counts of the pipeline per configuration: `make synth`, `make synth-check`, `make synth-blocks`.
+
+Each block module is synthesized on its own (synth/synth.py, Yosys, GE liberty
+synth/cells.lib) with the configuration's generated parameters; the pipeline total
+is the sum of its blocks times their instance counts plus the glue of
+texture_pipeline itself (synthesized with the blocks as black boxes). Blocks
+have registered outputs, so the logic depth of the pipeline is the largest of
+the blocks' and the glue's. Storage (colour table, SAT, MIP levels) is counted
+as bits, apart from logic GE.
+
+    python -m synth.run --config full      # synth/reports/full.json and .md
+    python -m synth.run --all              # both
+    python -m synth.run --check            # fail when a configuration is over budget
+    python -m synth.run --blocks           # GE of each block for both configurations
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from model.config import CONFIG_NAMES, load_config  # noqa: E402
+
+REPORTS = ROOT / "synth" / "reports"
+BUDGET = {"reduced": 100_000, "full": 1_250_000}
+PAPER = {"reduced": 100_000, "full": 1_250_000}
+# block label -> module; the noise term is instantiated noise_terms times
+BLOCKS = {"quadric": "quadric_mac", "noise_term": "noise_term", "filter_width": "filter_width",
+          "colour_map": "colour_map"}
+TOP = "texture_pipeline"
+
+
+def rtl_files():
+    return sorted(str(p) for p in (ROOT / "rtl").glob("*.v"))
+
+
+def gen(config: str) -> Path:
+    from tb.runner import gen_dir
+
+    return gen_dir(config)
+
+
+def synth_one(config: str, top: str, lib_files=()) -> dict:
+    gdir = gen(config)
+    files = [f for f in rtl_files() if Path(f).stem == top] if lib_files else rtl_files()
+    out = ROOT / "build" / "synth" / config / f"{top}.json"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    cmd = [sys.executable, str(ROOT / "synth" / "synth.py"), "--top", top, "--files", *files,
+           "--include", str(gdir), str(ROOT / "rtl"), "--json", str(out)]
+    if lib_files:
+        cmd += ["--lib-files", *lib_files]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    if r.returncode != 0:
+        msg = (r.stderr.strip().splitlines() or ["?"])[-1]
+        raise SystemExit(f"synth: {top} ({config}): {msg}")
+    return json.loads(out.read_text())
+
+
+def synth_config(config: str, jobs: int = 2) -> dict:
+    t0 = time.perf_counter()
+    cfg = load_config(config)
+    lib = [f for f in rtl_files() if Path(f).stem != TOP]
+    with ThreadPoolExecutor(max_workers=jobs) as ex:
+        futs = {label: ex.submit(synth_one, config, mod) for label, mod in BLOCKS.items()}
+        futs["control"] = ex.submit(synth_one, config, TOP, lib)
+        res = {k: f.result() for k, f in futs.items()}
+    count = {"quadric": 1, "noise_term": cfg.noise_terms, "filter_width": 1, "colour_map": 1, "control": 1}
+    blocks = {}
+    for k, r in res.items():
+        label = "noise_terms" if k == "noise_term" else k
+        blocks[label] = round(r["ge_total"] * count[k], 1)
+    tot = lambda key: round(sum(res[k][key] * count[k] for k in res), 1)  # noqa: E731
+    rep = {
+        "config": config,
+        "yosys_version": res["control"]["yosys_version"],
+        "ge_total": tot("ge_total"),
+        "ge_comb": tot("ge_comb"),
+        "ge_seq": tot("ge_seq"),
+        "storage_bits": int(sum(res[k]["storage_bits"] * count[k] for k in res)),
+        "rom_bits": int(sum(res[k].get("rom_bits", 0) * count[k] for k in res)),
+        "transistors_cmos": int(sum(res[k]["transistors_cmos"] * count[k] for k in res)),
+        "logic_depth": max(res[k]["logic_depth"] for k in res),
+        "logic_depth_by_block": {k: res[k]["logic_depth"] for k in res},
+        "pixels_per_clock": cfg.pixels_per_clock,
+        "noise_terms": cfg.noise_terms,
+        "blocks": blocks,
+        "block_ge_each": {k: res[k]["ge_total"] for k in res},
+        "budget_ge": BUDGET[config],
+        "paper_gates": PAPER[config],
+        "within_budget": tot("ge_total") <= BUDGET[config],
+        "method": "each block synthesized alone (Yosys synth, abc -liberty synth/cells.lib), times its instance "
+                  "count, plus texture_pipeline glue with the blocks as black boxes; storage apart",
+        "seconds": round(time.perf_counter() - t0, 1),
+    }
+    rep["ge_cmos_crosscheck"] = round(rep["transistors_cmos"] / 4, 1)
+    REPORTS.mkdir(parents=True, exist_ok=True)
+    (REPORTS / f"{config}.json").write_text(json.dumps(rep, indent=2) + "\n")
+    (REPORTS / f"{config}.md").write_text(markdown(rep))
+    return rep
+
+
+def markdown(rep: dict) -> str:
+    lines = [f"# Synthesis report: `{rep['config']}`", "",
+             f"Generated by `make synth CONFIG={rep['config']}` ({rep['yosys_version']}).", "",
+             "| figure | value |", "|---|---|"]
+    for k in ("ge_total", "ge_comb", "ge_seq", "storage_bits", "transistors_cmos", "ge_cmos_crosscheck",
+              "logic_depth", "pixels_per_clock", "noise_terms", "budget_ge", "within_budget"):
+        v = rep[k]
+        lines.append(f"| {k} | {v:,} |" if isinstance(v, (int, float)) and not isinstance(v, bool) else f"| {k} | {v} |")
+    lines += ["", "| block | GE | share | logic depth |", "|---|---|---|---|"]
+    depth = rep["logic_depth_by_block"]
+    for k, v in rep["blocks"].items():
+        d = depth["noise_term" if k == "noise_terms" else k]
+        lines.append(f"| {k} | {v:,.0f} | {100 * v / rep['ge_total']:.1f}% | {d} |")
+    return "\n".join(lines) + "\n"
+
+
+def check() -> int:
+    bad = 0
+    for c in CONFIG_NAMES:
+        p = REPORTS / f"{c}.json"
+        if not p.exists():
+            print(f"synth-check: {p} missing: run `make synth`", file=sys.stderr)
+            return 2
+        rep = json.loads(p.read_text())
+        ok = rep["ge_total"] <= BUDGET[c]
+        print(f"synth-check: {c}: {rep['ge_total']:,.0f} GE (logic; {rep['storage_bits']:,} storage bits apart) "
+              f"vs budget {BUDGET[c]:,}: {'OK' if ok else 'OVER by %s GE' % f'{rep['ge_total'] - BUDGET[c]:,.0f}'}")
+        bad += not ok
+    return 1 if bad else 0
+
+
+def blocks_table() -> int:
+    print(f"{'block':<16}" + "".join(f"{c:>14}" for c in CONFIG_NAMES))
+    res = {c: {} for c in CONFIG_NAMES}
+    for c in CONFIG_NAMES:
+        with ThreadPoolExecutor(max_workers=2) as ex:
+            futs = {label: ex.submit(synth_one, c, mod) for label, mod in BLOCKS.items()}
+            for label, f in futs.items():
+                res[c][label] = f.result()
+    for label in BLOCKS:
+        print(f"{label:<16}" + "".join(f"{res[c][label]['ge_total']:>14,.0f}" for c in CONFIG_NAMES))
+    print(json.dumps({c: {k: {"ge": v["ge_total"], "ge_seq": v["ge_seq"], "storage_bits": v["storage_bits"],
+                              "logic_depth": v["logic_depth"]} for k, v in res[c].items()} for c in CONFIG_NAMES},
+                     indent=1))
+    return 0
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m synth.run")
+    ap.add_argument("--config", choices=CONFIG_NAMES)
+    ap.add_argument("--all", action="store_true")
+    ap.add_argument("--check", action="store_true")
+    ap.add_argument("--blocks", action="store_true")
+    ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", 2)))
+    a = ap.parse_args(argv)
+    if a.check:
+        return check()
+    if a.blocks:
+        return blocks_table()
+    cfgs = CONFIG_NAMES if a.all or not a.config else (a.config,)
+    for c in cfgs:
+        rep = synth_config(c, a.jobs)
+        print(json.dumps({k: rep[k] for k in ("config", "ge_total", "ge_comb", "ge_seq", "storage_bits",
+                                               "logic_depth", "blocks", "within_budget", "seconds")}, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
