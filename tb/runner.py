@@ -21,6 +21,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from model.config import load_config, perm_hex, verilog_header  # noqa: E402
+from model.gen_rtl import GENERATED  # noqa: E402
 
 SIMS = ("icarus", "verilator")
 CONFIGS = ("full", "reduced")
@@ -39,14 +40,22 @@ def setup_verilator_env() -> None:
         path = os.environ.get("PATH", "")
         if not path.startswith(str(vroot / "bin")):
             os.environ["PATH"] = f"{vroot / 'bin'}:{path}"
+    # The wheel's verilated.mk leaves CFG_CXXFLAGS_PCH_I empty (it should be -include), so a
+    # model big enough to be split into several C++ files fails to compile; MAKEFLAGS overrides it.
+    flags = os.environ.get("MAKEFLAGS", "")
+    if "CFG_CXXFLAGS_PCH_I" not in flags:
+        os.environ["MAKEFLAGS"] = (flags + " CFG_CXXFLAGS_PCH_I=-include").strip()
 
 
 def gen_dir(config: str) -> Path:
-    """build/gen/<config>/ with tex_cfg.vh and perm.hex, rewritten when the config changes."""
+    """build/gen/<config>/ with tex_cfg.vh, perm.hex and model/gen_rtl.py's includes
+    (perm_rom.vh), rewritten when the config changes."""
     cfg = load_config(config)
     out = ROOT / "build" / "gen" / config
     out.mkdir(parents=True, exist_ok=True)
-    for name, text in (("tex_cfg.vh", verilog_header(cfg)), ("perm.hex", perm_hex(cfg))):
+    files = [("tex_cfg.vh", verilog_header(cfg)), ("perm.hex", perm_hex(cfg))]
+    files += [(name, gen(cfg)) for name, gen in GENERATED.items()]
+    for name, text in files:
         p = out / name
         if not p.exists() or p.read_text() != text:
             tmp = p.with_suffix(p.suffix + f".{os.getpid()}")

@@ -1,0 +1,89 @@
+"""Verilog includes generated from a configuration (tables the RTL must not type in).
+
+`python -m model.gen_rtl CONFIG OUTDIR` writes OUTDIR/perm_rom.vh: the lattice hash
+permutation of the configuration (model/config.py permutation(), 2^hash_bits entries)
+as a ROM (constant array perm_rom) read by the function `perm_lookup`. rtl/noise_hash.v
+includes it inside its module body; tb/runner.py gen_dir() regenerates it next to
+tex_cfg.vh in build/gen/<config>/.
+"""
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+from model.config import ROOT, Config, ConfigError, load_config
+
+
+def perm_rom(cfg: Config) -> str:
+    """The permutation table as a constant array `perm_rom` and `function perm_lookup(idx)`.
+
+    A ROM: a reg array written only by its initial block (the one kind of initial
+    block the RTL conventions allow). Simulators index it directly (a case function
+    becomes a 2^H-leaf decision tree per call in Verilator's C++); Yosys turns it into
+    a $mem without write ports, mapped to logic. No include guard: it is included
+    inside a module body, once per module that uses it. Widths are the
+    `CFG_HASH_BITS define of tex_cfg.vh (include it first).
+    """
+    hb = cfg.hash_bits
+    n = 1 << hb
+    src = Path(cfg.path).resolve()
+    src = src.relative_to(ROOT) if src.is_relative_to(ROOT) else src
+    lines = [
+        f"// Generated from {src} by model/gen_rtl.py. Do not edit.",
+        f"// Configuration: {cfg.name}. Lattice hash permutation perm[0..{n - 1}] (seed {cfg.seed}) as a",
+        "// ROM (constant array) and its read function. Included inside a module body; needs tex_cfg.vh.",
+        f"reg [`CFG_HASH_BITS-1:0] perm_rom [0:{n - 1}];",
+        "initial begin",
+    ]
+    for i, v in enumerate(cfg.perm):
+        lines.append(f"    perm_rom[{i}] = {hb}'d{int(v)};")
+    lines += [
+        "end",
+        "",
+        "function [`CFG_HASH_BITS-1:0] perm_lookup;",
+        "    input [`CFG_HASH_BITS-1:0] idx;",
+        "    begin",
+        "        perm_lookup = perm_rom[idx];",
+        "    end",
+        "endfunction",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+# file name -> generator
+GENERATED = {"perm_rom.vh": perm_rom}
+
+
+def write(cfg: Config, outdir) -> list[Path]:
+    """Write every generated include of `cfg` into outdir (only files whose text changed)."""
+    out = Path(outdir)
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    for name, gen in GENERATED.items():
+        text = gen(cfg)
+        p = out / name
+        if not p.exists() or p.read_text() != text:
+            tmp = p.with_suffix(p.suffix + f".{os.getpid()}")  # parallel writers
+            tmp.write_text(text)
+            tmp.replace(p)
+        written.append(p)
+    return written
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    if len(argv) != 2:
+        print("usage: python -m model.gen_rtl CONFIG OUTDIR", file=sys.stderr)
+        return 2
+    try:
+        cfg = load_config(argv[0])
+    except ConfigError as e:
+        print(f"gen_rtl: {e}", file=sys.stderr)
+        return 2
+    write(cfg, argv[1])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,48 @@
+// noise_blend: the blend weight and its slope for a cell fraction, combinational.
+//
+// The twin of model/golden.py noise_blend(cfg, fp):
+//   linear (BLEND = 0): w = fp,                 dw = 1
+//   cubic  (BLEND = 1): w = 3 f2 - 2 f3,        dw = 6 (fp - f2),
+//                       f2 = floor(fp^2 / 2^P_FRAC), f3 = floor(f2 fp / 2^P_FRAC)
+// Formats: fp u{P_FRAC}.{P_FRAC} in [0, 1); w and dw s{BW}.{P_FRAC}, never negative:
+// w in [0, 1] (3 f2 - 2 f3 reaches exactly 1.0 near fp = 1), dw in [0, 1.5].
+// All sums are taken mod 2^BW, exact because the results fit (BW >= P_FRAC + 2).
+// Latency: 0 (combinational; noise_term registers around it).
+// Cost: cubic two P_FRAC x P_FRAC unsigned multipliers in series; linear none.
+
+`default_nettype none
+
+module noise_blend #(
+    parameter BLEND  = 1,   // 0: linear, 1: cubic (`CFG_BLEND)
+    parameter P_FRAC = 12,  // fraction bits of fp, w and dw (`CFG_P_FRAC)
+    parameter BW     = 14   // width of w and dw (`CFG_BLEND_W, >= P_FRAC + 2)
+) (
+    input  wire        [P_FRAC-1:0] fp,
+    output wire signed [BW-1:0]     w,
+    output wire signed [BW-1:0]     dw
+);
+
+wire [BW-1:0] fp_ext = {{(BW-P_FRAC){1'b0}}, fp};
+
+generate
+    if (BLEND == 0) begin : g_linear
+        assign w  = fp_ext;
+        assign dw = {{(BW-P_FRAC-1){1'b0}}, 1'b1, {P_FRAC{1'b0}}};  // 1.0
+    end else begin : g_cubic
+        wire [2*P_FRAC-1:0] sq   = fp * fp;
+        wire [P_FRAC-1:0]   f2   = sq[2*P_FRAC-1:P_FRAC];
+        wire [2*P_FRAC-1:0] cube = f2 * fp;
+        wire [P_FRAC-1:0]   f3   = cube[2*P_FRAC-1:P_FRAC];
+        wire [BW-1:0]       f2_ext = {{(BW-P_FRAC){1'b0}}, f2};
+        wire [BW-1:0]       f3_ext = {{(BW-P_FRAC){1'b0}}, f3};
+        wire [BW-1:0]       slope  = fp_ext - f2_ext;  // fp >= f2
+        assign w  = (f2_ext << 1) + f2_ext - (f3_ext << 1);
+        assign dw = (slope << 2) + (slope << 1);
+        // the fraction bits dropped by the floor shifts
+        wire unused_frac = &{1'b0, sq[P_FRAC-1:0], cube[P_FRAC-1:0]};
+    end
+endgenerate
+
+endmodule
+
+`default_nettype wire

