@@ -241,6 +241,8 @@ def load_config(name_or_path) -> Config:
     _check(cfg, p)
     cfg.perm = permutation(1 << cfg.hash_bits, cfg.seed)
     cfg.d = _derive(cfg)
+    if cfg.d["gabs_w"] > 52 or cfg.d["l_w"] > 52:  # golden.bitlen / isqrt go through float64: exact below 2^53
+        raise ConfigError(f"{p}: formats too wide: |grad f| needs {cfg.d['gabs_w']} bits (> 52)")
     if cfg.d["widest_product"] > 62:
         raise ConfigError(f"{p}: formats too wide: an intermediate needs {cfg.d['widest_product']} bits (> 62, int64)")
     return cfg
@@ -268,10 +270,15 @@ def _check(c: Config, p: Path) -> None:
 _NOT_IN_HEADER = ("w_cap", "widest_product")
 
 
+def _rel(path) -> str:
+    p = Path(path).resolve()
+    return str(p.relative_to(ROOT)) if p.is_relative_to(ROOT) else str(p)
+
+
 def verilog_header(cfg: Config) -> str:
     """A Verilog include with every width of `cfg` as a `define (CFG_<NAME>)."""
     lines = [
-        f"// Generated from {Path(cfg.path).relative_to(ROOT)} by model/config.py. Do not edit.",
+        f"// Generated from {_rel(cfg.path)} by model/config.py. Do not edit.",
         f"// Configuration: {cfg.name}",
         "`ifndef TEX_CFG_VH",
         "`define TEX_CFG_VH",

@@ -1,0 +1,368 @@
+/*
+ * filter_width: the box-filter width w = |c^T J| N in colour-table entries.
+ * Twin of model/golden.py filter_width().
+ *
+ *   gx = sum_k c_k Jm[k][0],  gy = sum_k c_k Jm[k][1]       (exact, G_W bits)
+ *   sh = max(bitlen(max(|gx|, |gy|)) - NORM_BITS, 0)        (leading-one detector)
+ *   ax = |gx| >> sh,  ay = |gy| >> sh                        (< 2^NORM_BITS)
+ *   r  = floor(sqrt(ax^2 + ay^2))                            (isqrt, exact)
+ *   e  = sh + je - C_FRAC + n_log2 + F_FRAC                  (signed E_W bits)
+ *   w  = e >= 0 ? r << e : r >> -e                           (floor)
+ *   w  = 2^CAP_BITS  if r > 0 and bitlen(r) + e > CAP_BITS,  CAP_BITS = W_CAP_LOG2 + F_FRAC
+ *
+ * bitlen(max(a, b)) = bitlen(a | b), and max(bitlen(m) - NB, 0) = bitlen(m >> NB),
+ * so sh is one leading-one detector on the high bits of |gx| | |gy|. When the
+ * saturation test is false, w < 2^CAP_BITS, so the left shift is done in W_W
+ * bits; a right shift by R_W or more gives 0 (the golden model's clip at 63 is
+ * the same thing).
+ *
+ * Formats (widths from tex_cfg.vh):
+ *   c_in   {c2, c1, c0}, each s{C_W}.{C_FRAC}; |c_k| must keep |g| < 2^(G_W-1)
+ *          (model/config.py bounds c by cmax, which does)
+ *   jm_in  Jm[k][col] at element 2 k + col, each s{J_W}.0 (J = Jm 2^je)
+ *   je_in  s{JE_W}.0
+ *   n_log2 u{N_LOG2_W}.0, 0..N_LOG2_MAX (N = 2^n_log2 colour-table entries)
+ *   w_out  u{W_W}.{F_FRAC} colour-table entries, saturating at 2^W_CAP_LOG2
+ *
+ * Latency `LAT_FILTER_WIDTH register stages; throughput one vector per enabled
+ * clock. ce = 0 holds every register. rst (synchronous) clears the valid chain
+ * and the output register; the output register loads only valid vectors.
+ *
+ *   stage 1:       the 6 products c_k Jm[k][col]; je + n_log2 + F_FRAC - C_FRAC
+ *   stage 2:       gx, gy and their absolute values
+ *   stage 3:       leading-one detector, normalising shift
+ *   stage 4:       L = ax^2 + ay^2, e
+ *   stages 5..N-1: isqrt (N - 5 stages)
+ *   stage N:       scale by 2^e, saturate
+ */
+
+`include "tex_cfg.vh"
+`include "tex_latency.vh"
+
+`default_nettype none
+
+module filter_width #(
+    parameter C_W        = `CFG_C_W,         // gradient element word width
+    parameter C_FRAC     = `CFG_C_FRAC,      // gradient fraction bits
+    parameter J_W        = `CFG_J_W,         // Jacobian mantissa word width
+    parameter JE_W       = `CFG_JE_W,        // Jacobian exponent word width
+    parameter N_LOG2_W   = `CFG_N_LOG2_W,    // n_log2 word width
+    parameter G_W        = `CFG_G_W,         // screen gradient mantissa word width (signed)
+    parameter GABS_W     = `CFG_GABS_W,      // its absolute value (unsigned)
+    parameter NORM_BITS  = `CFG_NORM_BITS,   // |g| normalised to this many bits
+    parameter L_W        = `CFG_L_W,         // ax^2 + ay^2 word width
+    parameter R_W        = `CFG_R_W,         // square root word width
+    parameter SH_W       = `CFG_SH_W,        // normalising shift word width
+    parameter E_W        = `CFG_E_W,         // scale exponent word width (signed)
+    parameter F_FRAC     = `CFG_F_FRAC,      // w fraction bits
+    parameter W_CAP_LOG2 = `CFG_W_CAP_LOG2,  // w saturates at 2^W_CAP_LOG2 entries
+    parameter W_W        = `CFG_W_W          // w word width (unsigned)
+) (
+    input  wire                clk,
+    input  wire                rst,
+    input  wire                ce,
+    input  wire                in_valid,
+    input  wire [3*C_W-1:0]    c_in,
+    input  wire [6*J_W-1:0]    jm_in,
+    input  wire [JE_W-1:0]     je_in,
+    input  wire [N_LOG2_W-1:0] n_log2,
+    output wire                out_valid,
+    output wire [W_W-1:0]      w_out
+);
+
+localparam LATENCY  = `LAT_FILTER_WIDTH;
+localparam SQ_LAT   = LATENCY - 5;           // isqrt stages
+localparam CAP_BITS = W_CAP_LOG2 + F_FRAC;   // w saturates at 2^CAP_BITS
+localparam MH_W     = GABS_W - NORM_BITS;    // bits of |g| above the normalised window
+localparam BLR_W    = $clog2(R_W + 1);       // bitlen(r), 0..R_W
+// bitlen(r) + e compared with CAP_BITS: signed, wide enough for all three
+localparam CMP_W0   = (E_W > BLR_W + 1) ? E_W : BLR_W + 1;
+localparam CMP_W1   = ($clog2(CAP_BITS + 1) + 1 > CMP_W0) ? $clog2(CAP_BITS + 1) + 1 : CMP_W0;
+localparam CMP_W    = CMP_W1 + 1;
+localparam SW       = (R_W > W_W) ? R_W : W_W;  // shifter width
+localparam PJ_W     = C_W + J_W;             // product c_k Jm[k][col]
+
+// elaboration fails (unknown module) on an unsupported configuration
+generate
+    if (SQ_LAT < 1 || SQ_LAT > R_W || MH_W < 1 || $clog2(MH_W + 1) != SH_W || E_W <= SH_W
+        || G_W < C_W + J_W) begin : g_bad_params
+        filter_width_unsupported_latency_or_widths u_error ();
+    end
+endgenerate
+
+// ---------------------------------------------------------------------------
+// valid chain for the stages around the isqrt
+
+reg [3:0] valid_reg;  // stages 1..4
+reg       out_valid_reg;
+wire      sq_valid;   // valid out of the isqrt (stage LATENCY - 1)
+
+always @(posedge clk) begin
+    if (rst) begin
+        valid_reg     <= 4'b0;
+        out_valid_reg <= 1'b0;
+    end else if (ce) begin
+        valid_reg     <= {valid_reg[2:0], in_valid};
+        out_valid_reg <= sq_valid;
+    end
+end
+
+assign out_valid = out_valid_reg;
+
+// ---------------------------------------------------------------------------
+// stage 1: products; the constant part of the exponent
+
+wire signed [C_W-1:0]  c0  = c_in[0*C_W +: C_W];
+wire signed [C_W-1:0]  c1  = c_in[1*C_W +: C_W];
+wire signed [C_W-1:0]  c2  = c_in[2*C_W +: C_W];
+wire signed [J_W-1:0]  j00 = jm_in[0*J_W +: J_W];
+wire signed [J_W-1:0]  j01 = jm_in[1*J_W +: J_W];
+wire signed [J_W-1:0]  j10 = jm_in[2*J_W +: J_W];
+wire signed [J_W-1:0]  j11 = jm_in[3*J_W +: J_W];
+wire signed [J_W-1:0]  j20 = jm_in[4*J_W +: J_W];
+wire signed [J_W-1:0]  j21 = jm_in[5*J_W +: J_W];
+
+// e without sh: je + n_log2 + F_FRAC - C_FRAC (modulo 2^E_W; the final e fits)
+localparam signed [E_W-1:0] E_CONST = F_FRAC - C_FRAC;
+wire signed [E_W-1:0] je_x = {{(E_W-JE_W){je_in[JE_W-1]}}, je_in};
+wire signed [E_W-1:0] nl_x = {{(E_W-N_LOG2_W){1'b0}}, n_log2};
+
+reg signed [PJ_W-1:0] px0_reg, px1_reg, px2_reg;  // c_k Jm[k][0]
+reg signed [PJ_W-1:0] py0_reg, py1_reg, py2_reg;  // c_k Jm[k][1]
+reg signed [E_W-1:0] ek_1_reg;
+
+always @(posedge clk) begin
+    if (ce) begin
+        px0_reg <= c0 * j00;  px1_reg <= c1 * j10;  px2_reg <= c2 * j20;
+        py0_reg <= c0 * j01;  py1_reg <= c1 * j11;  py2_reg <= c2 * j21;
+        ek_1_reg <= je_x + nl_x + E_CONST;
+    end
+end
+
+// ---------------------------------------------------------------------------
+// stage 2: gx, gy, absolute values
+
+// products sign-extended to G_W (>= C_W + J_W, since cmax >= 2^(C_W-2)); the
+// sum fits G_W by the precondition on c, so it is exact
+wire signed [G_W-1:0] gx;
+wire signed [G_W-1:0] gy;
+
+generate
+    if (G_W > PJ_W) begin : g_gext
+        assign gx = {{(G_W-PJ_W){px0_reg[PJ_W-1]}}, px0_reg} + {{(G_W-PJ_W){px1_reg[PJ_W-1]}}, px1_reg}
+                  + {{(G_W-PJ_W){px2_reg[PJ_W-1]}}, px2_reg};
+        assign gy = {{(G_W-PJ_W){py0_reg[PJ_W-1]}}, py0_reg} + {{(G_W-PJ_W){py1_reg[PJ_W-1]}}, py1_reg}
+                  + {{(G_W-PJ_W){py2_reg[PJ_W-1]}}, py2_reg};
+    end else begin : g_gnext
+        assign gx = px0_reg + px1_reg + px2_reg;
+        assign gy = py0_reg + py1_reg + py2_reg;
+    end
+endgenerate
+/* verilator lint_off UNUSEDSIGNAL */
+// the MSB of |g| in G_W bits is zero: |g| < 2^GABS_W (model/config.py: gabs_w)
+wire [G_W-1:0] gx_abs = gx[G_W-1] ? -gx : gx;
+wire [G_W-1:0] gy_abs = gy[G_W-1] ? -gy : gy;
+/* verilator lint_on UNUSEDSIGNAL */
+
+reg [GABS_W-1:0]     ax_reg, ay_reg;
+reg signed [E_W-1:0] ek_2_reg;
+
+always @(posedge clk) begin
+    if (ce) begin
+        ax_reg   <= gx_abs[GABS_W-1:0];
+        ay_reg   <= gy_abs[GABS_W-1:0];
+        ek_2_reg <= ek_1_reg;
+    end
+end
+
+// ---------------------------------------------------------------------------
+// stage 3: sh = bitlen((ax | ay) >> NORM_BITS); ax, ay >> sh
+//
+// bitlen by binary search: level b tests whether the value has a one at or
+// above bit 2^b and if so shifts it down by 2^b (and sets bit b of the top-one
+// position); the remaining value is 1 (x != 0) or 0, added as the final +1.
+
+localparam HB = SH_W;  // bits of bitlen(mh), 0..MH_W (checked at the top)
+
+wire [MH_W-1:0]        mh = ax_reg[GABS_W-1:NORM_BITS] | ay_reg[GABS_W-1:NORM_BITS];
+wire [(HB+1)*MH_W-1:0] mh_lvl;  // level b value at [b*MH_W +: MH_W]; level HB is mh
+wire [HB-1:0]          mh_pos;  // index of the top one (0 if mh == 0)
+
+assign mh_lvl[HB*MH_W +: MH_W] = mh;
+
+genvar b;
+generate
+    for (b = 0; b < HB; b = b + 1) begin : g_lod_g
+        localparam STEP = 1 << b;
+        wire [MH_W-1:0] xv = mh_lvl[(b+1)*MH_W +: MH_W];
+        if (STEP < MH_W) begin : g_test
+            wire hi = |xv[MH_W-1:STEP];
+            assign mh_pos[b] = hi;
+            assign mh_lvl[b*MH_W +: MH_W] = hi ? (xv >> STEP) : xv;
+        end else begin : g_none
+            assign mh_pos[b] = 1'b0;
+            assign mh_lvl[b*MH_W +: MH_W] = xv;
+        end
+    end
+endgenerate
+
+// the final level is 0 or 1 (only bit 0 can be set): reducing it is bit 0
+wire [SH_W-1:0] sh = mh_pos + {{(SH_W-1){1'b0}}, |mh_lvl[0 +: MH_W]};
+
+/* verilator lint_off UNUSEDSIGNAL */
+// bits NORM_BITS and up of the shifted values are zero: |g| < 2^(sh + NORM_BITS)
+wire [GABS_W-1:0] ax_sh = ax_reg >> sh;
+wire [GABS_W-1:0] ay_sh = ay_reg >> sh;
+/* verilator lint_on UNUSEDSIGNAL */
+
+reg [NORM_BITS-1:0]  axn_reg, ayn_reg;
+reg [SH_W-1:0]       sh_reg;
+reg signed [E_W-1:0] ek_3_reg;
+
+always @(posedge clk) begin
+    if (ce) begin
+        axn_reg  <= ax_sh[NORM_BITS-1:0];
+        ayn_reg  <= ay_sh[NORM_BITS-1:0];
+        sh_reg   <= sh;
+        ek_3_reg <= ek_2_reg;
+    end
+end
+
+// ---------------------------------------------------------------------------
+// stage 4: L = ax^2 + ay^2, e = sh + ek
+
+wire [2*NORM_BITS-1:0] ax2 = axn_reg * axn_reg;
+wire [2*NORM_BITS-1:0] ay2 = ayn_reg * ayn_reg;
+wire [L_W-1:0]         l_sum;
+
+generate
+    if (L_W > 2 * NORM_BITS) begin : g_lw
+        assign l_sum = {{(L_W-2*NORM_BITS){1'b0}}, ax2} + {{(L_W-2*NORM_BITS){1'b0}}, ay2};
+    end else begin : g_lnw
+        // L_W = 2 NORM_BITS only when NORM_BITS = 1 (2 (2^NB - 1)^2 < 2^(2NB) otherwise)
+        assign l_sum = ax2 + ay2;
+    end
+endgenerate
+
+wire signed [E_W-1:0] sh_x = {{(E_W-SH_W){1'b0}}, sh_reg};
+
+reg [L_W-1:0]        l_reg;
+reg signed [E_W-1:0] e_4_reg;
+
+always @(posedge clk) begin
+    if (ce) begin
+        l_reg   <= l_sum;
+        e_4_reg <= sh_x + ek_3_reg;
+    end
+end
+
+// ---------------------------------------------------------------------------
+// stages 5..LATENCY-1: square root, with e delayed alongside
+
+wire [R_W-1:0] r;
+
+isqrt #(
+    .L_W(L_W),
+    .R_W(R_W),
+    .LATENCY(SQ_LAT)
+) u_isqrt (
+    .clk(clk),
+    .rst(rst),
+    .ce(ce),
+    .in_valid(valid_reg[3]),
+    .l_in(l_reg),
+    .out_valid(sq_valid),
+    .r_out(r)
+);
+
+reg [SQ_LAT*E_W-1:0] e_dly_reg;  // e_dly_reg[k*E_W +: E_W]: e after k + 1 isqrt stages
+
+generate
+    if (SQ_LAT > 1) begin : g_edly
+        always @(posedge clk) begin
+            if (ce) begin
+                e_dly_reg <= {e_dly_reg[0 +: (SQ_LAT-1)*E_W], e_4_reg};
+            end
+        end
+    end else begin : g_edly1
+        always @(posedge clk) begin
+            if (ce) begin
+                e_dly_reg <= e_4_reg;
+            end
+        end
+    end
+endgenerate
+
+wire signed [E_W-1:0] e = e_dly_reg[(SQ_LAT-1)*E_W +: E_W];
+
+// ---------------------------------------------------------------------------
+// stage LATENCY: w = r scaled by 2^e, saturated
+
+// bitlen(r), by binary search as in stage 3
+localparam RB = BLR_W;
+wire [(RB+1)*R_W-1:0] r_lvl;
+wire [RB-1:0]         r_pos;
+
+assign r_lvl[RB*R_W +: R_W] = r;
+
+generate
+    for (b = 0; b < RB; b = b + 1) begin : g_lod_r
+        localparam STEP = 1 << b;
+        wire [R_W-1:0] xv = r_lvl[(b+1)*R_W +: R_W];
+        if (STEP < R_W) begin : g_test
+            wire hi = |xv[R_W-1:STEP];
+            assign r_pos[b] = hi;
+            assign r_lvl[b*R_W +: R_W] = hi ? (xv >> STEP) : xv;
+        end else begin : g_none
+            assign r_pos[b] = 1'b0;
+            assign r_lvl[b*R_W +: R_W] = xv;
+        end
+    end
+endgenerate
+
+wire r_nz = |r_lvl[0 +: R_W];  // r != 0, and bit 0 of bitlen(r) - top-one position
+wire [RB-1:0] r_bl = r_pos + {{(RB-1){1'b0}}, r_nz};
+
+// over = r > 0 and bitlen(r) + e > CAP_BITS
+localparam signed [CMP_W-1:0] CAP_S = CAP_BITS;
+wire signed [CMP_W-1:0] bl_x = {{(CMP_W-RB){1'b0}}, r_bl};
+wire signed [CMP_W-1:0] e_x  = {{(CMP_W-E_W){e[E_W-1]}}, e};
+wire signed [CMP_W-1:0] top  = bl_x + e_x;
+wire                    over = r_nz && (top > CAP_S);
+
+// shifts: left by e (e >= 0) or right by -e (e < 0)
+wire           e_neg = e[E_W-1];
+wire [E_W-2:0] e_l   = e[E_W-2:0];  // e when e >= 0
+wire [E_W-1:0] e_r   = -e;          // -e when e < 0 (2^(E_W-1) reads correctly unsigned)
+wire [SW-1:0]  r_x;
+
+generate
+    if (SW > R_W) begin : g_rx
+        assign r_x = {{(SW-R_W){1'b0}}, r};
+    end else begin : g_rnx
+        assign r_x = r;
+    end
+endgenerate
+
+/* verilator lint_off UNUSEDSIGNAL */
+// when R_W > W_W, the bits of the shifted r above W_W are zero unless over
+wire [SW-1:0] w_sh = e_neg ? (r_x >> e_r) : (r_x << e_l);
+/* verilator lint_on UNUSEDSIGNAL */
+
+localparam [W_W-1:0] W_CAP = {1'b1, {CAP_BITS{1'b0}}} ;
+
+reg [W_W-1:0] w_reg;
+
+always @(posedge clk) begin
+    if (rst) begin
+        w_reg <= {W_W{1'b0}};
+    end else if (ce && sq_valid) begin
+        w_reg <= over ? W_CAP : w_sh[W_W-1:0];
+    end
+end
+
+assign w_out = w_reg;
+
+endmodule
+
+`default_nettype wire

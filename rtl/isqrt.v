@@ -1,0 +1,160 @@
+/*
+ * isqrt: pipelined integer square root, r_out = floor(sqrt(l_in)), exact.
+ * Twin of model/golden.py isqrt().
+ *
+ * Restoring digit-by-digit method, one result bit per iteration, R_W iterations
+ * (most significant bit first). l_in is zero-padded to 2 R_W bits and consumed
+ * two bits per iteration:
+ *
+ *   rs   = 4 rem + (next two bits of l)
+ *   try  = 4 root + 1
+ *   bit  = rs >= try;  rem = bit ? rs - try : rs;  root = 2 root + bit
+ *
+ * Invariant: rem <= 2 root, so rem < 2^R_W on entry to every iteration and rs,
+ * try fit R_W + 2 bits.
+ *
+ * The R_W iterations are spread over LATENCY register stages, stage k holding
+ * iterations t with floor(t LATENCY / R_W) = k (as even as possible); the last
+ * stage ends in the output register.
+ *
+ * Formats: l_in u{L_W}.0, r_out u{R_W}.0. Needs 2 R_W >= L_W (then r_out
+ * always fits) and 1 <= LATENCY <= R_W.
+ *
+ * Latency LATENCY register stages; throughput one result per enabled clock.
+ * ce = 0 holds every register. rst (synchronous) clears the valid chain and the
+ * output register; the output register loads only valid vectors (no X after reset).
+ */
+
+`include "tex_cfg.vh"
+
+`default_nettype none
+
+module isqrt #(
+    parameter L_W     = `CFG_L_W,  // input width (unsigned)
+    parameter R_W     = `CFG_R_W,  // output width: iterations, one result bit each; 2 R_W >= L_W
+    parameter LATENCY = 3          // register stages, 1..R_W
+) (
+    input  wire           clk,
+    input  wire           rst,
+    input  wire           ce,
+    input  wire           in_valid,
+    input  wire [L_W-1:0] l_in,
+    output wire           out_valid,
+    output wire [R_W-1:0] r_out
+);
+
+localparam X_W  = 2 * R_W;                  // padded radicand
+localparam S_NN = (LATENCY > 1) ? LATENCY - 1 : 1;  // internal stage registers (>= 1 declared)
+
+// elaboration fails (unknown module) on parameters outside the supported range
+generate
+    if (X_W < L_W || LATENCY < 1 || LATENCY > R_W) begin : g_bad_params
+        isqrt_needs_2_r_w_ge_l_w_and_1_le_latency_le_r_w u_error ();
+    end
+endgenerate
+
+// valid chain: vin[k] is the valid flag of the vector entering stage k
+reg  [LATENCY-1:0] valid_reg;
+wire [LATENCY:0]   vin = {valid_reg, in_valid};
+
+always @(posedge clk) begin
+    if (rst) begin
+        valid_reg <= {LATENCY{1'b0}};
+    end else if (ce) begin
+        valid_reg <= vin[LATENCY-1:0];
+    end
+end
+
+assign out_valid = valid_reg[LATENCY-1];
+
+wire [X_W-1:0] l_pad;
+
+generate
+    if (X_W > L_W) begin : g_pad
+        assign l_pad = {{(X_W-L_W){1'b0}}, l_in};
+    end else begin : g_nopad
+        assign l_pad = l_in;
+    end
+endgenerate
+
+// Iteration t belongs to stage (t LATENCY) / R_W. The state after the last
+// iteration of stage k < LATENCY - 1 is registered in segment k of the *_reg
+// vectors; the first iteration of stage k > 0 starts from segment k - 1.
+// (One combinational process for all iterations: event-driven simulators
+// evaluate it once per change instead of waking R_W^2 part-select readers.)
+
+/* verilator lint_off UNUSEDSIGNAL */
+// with LATENCY = 1 there is no internal stage and these registers are never read;
+// x is consumed from the top, so its low bits in a stage register are zeros
+reg [S_NN*R_W-1:0] root_reg, root_d;  // partial roots
+reg [S_NN*R_W-1:0] rem_reg, rem_d;    // remainders
+reg [S_NN*X_W-1:0] x_reg, x_d;        // radicand bits not yet consumed, MSBs first
+/* verilator lint_on UNUSEDSIGNAL */
+reg [R_W-1:0]      root_o;            // the root after the last iteration
+
+reg [R_W-1:0]  root, rem;
+reg [X_W-1:0]  x;
+reg [R_W+1:0]  rs, trial;
+/* verilator lint_off UNUSEDSIGNAL */
+// the two MSBs of diff are zero when used: the new remainder is <= 2 root < 2^R_W
+reg [R_W+1:0]  diff;
+/* verilator lint_on UNUSEDSIGNAL */
+reg            bit_;
+integer        t, k;
+
+always @* begin
+    root   = {R_W{1'b0}};
+    rem    = {R_W{1'b0}};
+    x      = l_pad;
+    root_d = {S_NN*R_W{1'b0}};
+    rem_d  = {S_NN*R_W{1'b0}};
+    x_d    = {S_NN*X_W{1'b0}};
+    for (t = 0; t < R_W; t = t + 1) begin
+        k = (t * LATENCY) / R_W;
+        if (t > 0 && k != ((t - 1) * LATENCY) / R_W) begin
+            // first iteration of stage k: start from the stage register
+            root = root_reg[(k-1)*R_W +: R_W];
+            rem  = rem_reg[(k-1)*R_W +: R_W];
+            x    = x_reg[(k-1)*X_W +: X_W];
+        end
+        rs    = {rem, x[X_W-1 -: 2]};
+        trial = {root, 2'b01};
+        bit_  = (rs >= trial);
+        diff  = rs - trial;
+        rem   = bit_ ? diff[R_W-1:0] : rs[R_W-1:0];
+        root  = {root[R_W-2:0], bit_};
+        x     = {x[X_W-3:0], 2'b00};
+        if (t < R_W - 1 && k != ((t + 1) * LATENCY) / R_W) begin
+            // last iteration of stage k: into the stage register
+            root_d[k*R_W +: R_W] = root;
+            rem_d[k*R_W +: R_W]  = rem;
+            x_d[k*X_W +: X_W]    = x;
+        end
+    end
+    root_o = root;
+end
+
+always @(posedge clk) begin
+    if (ce) begin
+        root_reg <= root_d;
+        rem_reg  <= rem_d;
+        x_reg    <= x_d;
+    end
+end
+
+// output register (stage LATENCY - 1)
+reg [R_W-1:0] r_reg;
+
+always @(posedge clk) begin
+    if (rst) begin
+        r_reg <= {R_W{1'b0}};
+    end else if (ce && vin[LATENCY-1]) begin
+        r_reg <= root_o;
+    end
+end
+
+assign r_out = r_reg;
+
+endmodule
+
+`default_nettype wire

@@ -1,0 +1,244 @@
+/*
+ * quadric_mac: the quadric q = x^T Q x, x = (s, t, r, 1), and its texture-space
+ * gradient dq/ds = 2 (Q x)[0:3]. Twin of model/golden.py quadric_mac().
+ *
+ *   v_k = ((Q_k0 s + Q_k1 t + Q_k2 r) >>> s_frac) + Q_k3        k = 0..3
+ *   q   = ((s v0 + t v1 + r v2) >>> s_frac) + v3
+ *   q_out  = q   shifted by f_frac - q_frac     (left, or floor right)
+ *   cq_out = v_k shifted by c_frac - q_frac + 1 (the factor 2 is a shift)
+ *
+ * Products are full precision and each three-product sum is formed before its
+ * floor shift (>>> = floor), exactly as the golden model; every word is wide
+ * enough for the worst-case magnitude (model/config.py derives V_W, QV_W, QF_W),
+ * so no intermediate ever wraps.
+ *
+ * Formats (widths from tex_cfg.vh):
+ *   s_in   {r, t, s}, each s{S_W}.{S_FRAC}
+ *   q_coef {J, I, H, G, F, E, D, C, B, A} (A at the LSBs), each s{Q_W}.{Q_FRAC}
+ *          Q = [[A B C D] [B E F G] [C F H I] [D G I J]]
+ *   v_k    s{V_W}.{Q_FRAC} (internal)       q  s{QV_W}.{Q_FRAC} (internal)
+ *   q_out  s{QF_W}.{F_FRAC}
+ *   cq_out {cq2, cq1, cq0}, each s{C_W}.{C_FRAC} (sign-extended)
+ *
+ * Latency `LAT_QUADRIC_MAC (4) register stages; throughput one vector per
+ * enabled clock. ce = 0 holds every register. rst (synchronous) clears the
+ * valid chain and the output registers; the output registers load only valid
+ * vectors, so the outputs are never X after reset.
+ *
+ *   stage 1: the 12 products Q_kj * s_j
+ *   stage 2: v0..v3
+ *   stage 3: the 3 products s_j * v_j
+ *   stage 4: q, and the output shifts
+ */
+
+`include "tex_cfg.vh"
+`include "tex_latency.vh"
+
+`default_nettype none
+
+module quadric_mac #(
+    parameter S_W    = `CFG_S_W,     // texture coordinate word width
+    parameter S_FRAC = `CFG_S_FRAC,  // texture coordinate fraction bits
+    parameter Q_W    = `CFG_Q_W,     // quadric coefficient word width
+    parameter Q_FRAC = `CFG_Q_FRAC,  // quadric coefficient fraction bits
+    parameter V_W    = `CFG_V_W,     // v_k = (Q x)_k word width (Q_FRAC fraction bits)
+    parameter QV_W   = `CFG_QV_W,    // q word width (Q_FRAC fraction bits)
+    parameter QF_W   = `CFG_QF_W,    // q_out word width (F_FRAC fraction bits)
+    parameter F_FRAC = `CFG_F_FRAC,  // q_out fraction bits
+    parameter C_W    = `CFG_C_W,     // cq_out element word width
+    parameter C_FRAC = `CFG_C_FRAC   // cq_out fraction bits
+) (
+    input  wire              clk,
+    input  wire              rst,
+    input  wire              ce,
+    input  wire              in_valid,
+    input  wire [3*S_W-1:0]  s_in,
+    input  wire [10*Q_W-1:0] q_coef,
+    output wire              out_valid,
+    output wire [QF_W-1:0]   q_out,
+    output wire [3*C_W-1:0]  cq_out
+);
+
+localparam LATENCY = `LAT_QUADRIC_MAC;  // this implementation has exactly 4 stages
+
+// elaboration fails (unknown module) if tex_latency.vh disagrees with the stages below
+generate
+    if (LATENCY != 4) begin : g_bad_latency
+        quadric_mac_latency_must_be_4 u_error ();
+    end
+endgenerate
+
+localparam P1_W = S_W + Q_W;     // product Q_kj * s_j
+localparam M1_W = P1_W + 2;      // sum of three such products
+localparam P2_W = S_W + V_W;     // product s_j * v_j
+localparam M2_W = P2_W + 2;      // sum of three such products
+
+// output shifts (constant): q by F_FRAC - Q_FRAC, v by C_FRAC - Q_FRAC + 1
+localparam integer QSH = F_FRAC - Q_FRAC;
+localparam integer CSH = C_FRAC - Q_FRAC + 1;
+localparam integer QSH_L = QSH > 0 ? QSH : 0;   // left part
+localparam integer QSH_R = QSH < 0 ? -QSH : 0;  // right (floor) part
+localparam integer CSH_L = CSH > 0 ? CSH : 0;
+localparam integer CSH_R = CSH < 0 ? -CSH : 0;
+// wide enough to hold the input sign-extended and shifted left, and the output
+localparam QX_W = QV_W + QSH_L + QF_W;
+localparam CX_W = V_W + CSH_L + C_W;
+
+// ---------------------------------------------------------------------------
+// unpack
+
+wire signed [S_W-1:0] s0 = s_in[0*S_W +: S_W];
+wire signed [S_W-1:0] s1 = s_in[1*S_W +: S_W];
+wire signed [S_W-1:0] s2 = s_in[2*S_W +: S_W];
+
+wire signed [Q_W-1:0] qa = q_coef[0*Q_W +: Q_W];
+wire signed [Q_W-1:0] qb = q_coef[1*Q_W +: Q_W];
+wire signed [Q_W-1:0] qc = q_coef[2*Q_W +: Q_W];
+wire signed [Q_W-1:0] qd = q_coef[3*Q_W +: Q_W];
+wire signed [Q_W-1:0] qe = q_coef[4*Q_W +: Q_W];
+wire signed [Q_W-1:0] qf = q_coef[5*Q_W +: Q_W];
+wire signed [Q_W-1:0] qg = q_coef[6*Q_W +: Q_W];
+wire signed [Q_W-1:0] qh = q_coef[7*Q_W +: Q_W];
+wire signed [Q_W-1:0] qi = q_coef[8*Q_W +: Q_W];
+wire signed [Q_W-1:0] qj = q_coef[9*Q_W +: Q_W];
+
+// valid chain
+reg [LATENCY-1:0] valid_reg;
+
+always @(posedge clk) begin
+    if (rst) begin
+        valid_reg <= {LATENCY{1'b0}};
+    end else if (ce) begin
+        valid_reg <= {valid_reg[LATENCY-2:0], in_valid};
+    end
+end
+
+assign out_valid = valid_reg[LATENCY-1];
+
+// ---------------------------------------------------------------------------
+// stage 1: products Q_kj * s_j (row k of Q times (s, t, r))
+
+reg signed [P1_W-1:0] p00_reg, p01_reg, p02_reg;  // A s, B t, C r
+reg signed [P1_W-1:0] p10_reg, p11_reg, p12_reg;  // B s, E t, F r
+reg signed [P1_W-1:0] p20_reg, p21_reg, p22_reg;  // C s, F t, H r
+reg signed [P1_W-1:0] p30_reg, p31_reg, p32_reg;  // D s, G t, I r
+reg signed [Q_W-1:0]  q03_reg, q13_reg, q23_reg, q33_reg;  // D, G, I, J
+reg signed [S_W-1:0]  s0_1_reg, s1_1_reg, s2_1_reg;
+
+always @(posedge clk) begin
+    if (ce) begin
+        p00_reg <= qa * s0;  p01_reg <= qb * s1;  p02_reg <= qc * s2;
+        p10_reg <= qb * s0;  p11_reg <= qe * s1;  p12_reg <= qf * s2;
+        p20_reg <= qc * s0;  p21_reg <= qf * s1;  p22_reg <= qh * s2;
+        p30_reg <= qd * s0;  p31_reg <= qg * s1;  p32_reg <= qi * s2;
+        q03_reg <= qd;  q13_reg <= qg;  q23_reg <= qi;  q33_reg <= qj;
+        s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
+    end
+end
+
+// ---------------------------------------------------------------------------
+// stage 2: v_k = (sum >>> S_FRAC) + Q_k3
+//
+// The sum is exact in M1_W bits; bits [S_FRAC + V_W - 1 : S_FRAC] are
+// floor(sum / 2^S_FRAC) modulo 2^V_W, and the final v_k fits V_W (config), so
+// adding Q_k3 modulo 2^V_W gives v_k exactly.
+
+/* verilator lint_off UNUSEDSIGNAL */
+// the S_FRAC low bits are dropped by the floor shift; the bits above
+// S_FRAC + V_W are sign copies of a value that fits V_W (model/config.py: v_w)
+wire signed [M1_W-1:0] m0 = {{2{p00_reg[P1_W-1]}}, p00_reg} + {{2{p01_reg[P1_W-1]}}, p01_reg}
+                          + {{2{p02_reg[P1_W-1]}}, p02_reg};
+wire signed [M1_W-1:0] m1 = {{2{p10_reg[P1_W-1]}}, p10_reg} + {{2{p11_reg[P1_W-1]}}, p11_reg}
+                          + {{2{p12_reg[P1_W-1]}}, p12_reg};
+wire signed [M1_W-1:0] m2 = {{2{p20_reg[P1_W-1]}}, p20_reg} + {{2{p21_reg[P1_W-1]}}, p21_reg}
+                          + {{2{p22_reg[P1_W-1]}}, p22_reg};
+wire signed [M1_W-1:0] m3 = {{2{p30_reg[P1_W-1]}}, p30_reg} + {{2{p31_reg[P1_W-1]}}, p31_reg}
+                          + {{2{p32_reg[P1_W-1]}}, p32_reg};
+/* verilator lint_on UNUSEDSIGNAL */
+
+// Q_k3 sign-extended to V_W (V_W > Q_W always: v_w bounds |Q_k3| + more)
+wire signed [V_W-1:0] q03_x = {{(V_W-Q_W){q03_reg[Q_W-1]}}, q03_reg};
+wire signed [V_W-1:0] q13_x = {{(V_W-Q_W){q13_reg[Q_W-1]}}, q13_reg};
+wire signed [V_W-1:0] q23_x = {{(V_W-Q_W){q23_reg[Q_W-1]}}, q23_reg};
+wire signed [V_W-1:0] q33_x = {{(V_W-Q_W){q33_reg[Q_W-1]}}, q33_reg};
+
+reg signed [V_W-1:0] v0_reg, v1_reg, v2_reg, v3_reg;
+reg signed [S_W-1:0] s0_2_reg, s1_2_reg, s2_2_reg;
+
+always @(posedge clk) begin
+    if (ce) begin
+        v0_reg <= m0[S_FRAC +: V_W] + q03_x;
+        v1_reg <= m1[S_FRAC +: V_W] + q13_x;
+        v2_reg <= m2[S_FRAC +: V_W] + q23_x;
+        v3_reg <= m3[S_FRAC +: V_W] + q33_x;
+        s0_2_reg <= s0_1_reg;  s1_2_reg <= s1_1_reg;  s2_2_reg <= s2_1_reg;
+    end
+end
+
+// ---------------------------------------------------------------------------
+// stage 3: products s_j * v_j
+
+reg signed [P2_W-1:0] r0_reg, r1_reg, r2_reg;
+reg signed [V_W-1:0]  v0_3_reg, v1_3_reg, v2_3_reg, v3_3_reg;
+
+always @(posedge clk) begin
+    if (ce) begin
+        r0_reg <= s0_2_reg * v0_reg;
+        r1_reg <= s1_2_reg * v1_reg;
+        r2_reg <= s2_2_reg * v2_reg;
+        v0_3_reg <= v0_reg;  v1_3_reg <= v1_reg;  v2_3_reg <= v2_reg;  v3_3_reg <= v3_reg;
+    end
+end
+
+// ---------------------------------------------------------------------------
+// stage 4: q = (sum >>> S_FRAC) + v3, then the output shifts
+
+/* verilator lint_off UNUSEDSIGNAL */
+// as in stage 2: low S_FRAC bits dropped by the floor, high bits are sign copies
+// of a value that fits QV_W (model/config.py: qv_w)
+wire signed [M2_W-1:0] mq = {{2{r0_reg[P2_W-1]}}, r0_reg} + {{2{r1_reg[P2_W-1]}}, r1_reg}
+                          + {{2{r2_reg[P2_W-1]}}, r2_reg};
+/* verilator lint_on UNUSEDSIGNAL */
+
+wire signed [QV_W-1:0] v3_x = {{(QV_W-V_W){v3_3_reg[V_W-1]}}, v3_3_reg};
+wire signed [QV_W-1:0] q = mq[S_FRAC +: QV_W] + v3_x;
+
+// q -> q_out: sign-extend to QX_W, shift by the constant QSH, keep QF_W bits
+wire signed [QX_W-1:0] q_x = {{(QX_W-QV_W){q[QV_W-1]}}, q};
+/* verilator lint_off UNUSEDSIGNAL */
+// bits dropped by a right (floor) shift and bits above QF_W, which are sign
+// copies: q_out fits QF_W (model/config.py: qf_w)
+wire signed [QX_W-1:0] q_sh = (q_x <<< QSH_L) >>> QSH_R;
+/* verilator lint_on UNUSEDSIGNAL */
+
+// v_k -> cq_k: sign-extend to CX_W, shift by the constant CSH, keep C_W bits
+wire signed [CX_W-1:0] v0_x = {{(CX_W-V_W){v0_3_reg[V_W-1]}}, v0_3_reg};
+wire signed [CX_W-1:0] v1_x = {{(CX_W-V_W){v1_3_reg[V_W-1]}}, v1_3_reg};
+wire signed [CX_W-1:0] v2_x = {{(CX_W-V_W){v2_3_reg[V_W-1]}}, v2_3_reg};
+/* verilator lint_off UNUSEDSIGNAL */
+// bits dropped by a right (floor) shift and bits above C_W, which are sign
+// copies: 2 v_k fits C_W (model/config.py: c_w >= bits of cq_max)
+wire signed [CX_W-1:0] c0_sh = (v0_x <<< CSH_L) >>> CSH_R;
+wire signed [CX_W-1:0] c1_sh = (v1_x <<< CSH_L) >>> CSH_R;
+wire signed [CX_W-1:0] c2_sh = (v2_x <<< CSH_L) >>> CSH_R;
+/* verilator lint_on UNUSEDSIGNAL */
+
+reg [QF_W-1:0]  q_out_reg;
+reg [3*C_W-1:0] cq_out_reg;
+
+always @(posedge clk) begin
+    if (rst) begin
+        q_out_reg  <= {QF_W{1'b0}};
+        cq_out_reg <= {3*C_W{1'b0}};
+    end else if (ce && valid_reg[LATENCY-2]) begin
+        q_out_reg  <= q_sh[QF_W-1:0];
+        cq_out_reg <= {c2_sh[C_W-1:0], c1_sh[C_W-1:0], c0_sh[C_W-1:0]};
+    end
+end
+
+assign q_out  = q_out_reg;
+assign cq_out = cq_out_reg;
+
+endmodule
+
+`default_nettype wire

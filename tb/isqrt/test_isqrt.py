@@ -1,0 +1,164 @@
+"""isqrt: r = floor(sqrt(l)) bit-exact against Python's math.isqrt (and golden isqrt).
+
+Two kinds of build:
+- test_isqrt_rtl(sim, config): the widths filter_width uses (L_W = `CFG_L_W,
+  R_W = `CFG_R_W, LATENCY = `LAT_FILTER_WIDTH - 5): n_vectors() random radicands
+  (a share uniform over the whole input word, a share small, a share near perfect
+  squares) plus the edges: 0..15, every power of two and its neighbours, k^2 - 1,
+  k^2, k^2 + 1 for the largest roots, the largest radicand filter_width produces
+  (2 (2^norm_bits - 1)^2) and the largest the word holds.
+- test_isqrt_small_rtl(sim, variant): small parametrized builds, every radicand
+  of the word (exhaustive), for one result bit per stage, an uneven split of the
+  iterations, an odd L_W and an output wider than needed.
+"""
+from __future__ import annotations
+
+import math
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cocotb
+
+import tb.runner
+from model import golden as G
+from model.config import load_config
+from tb import pipe
+
+SOURCES = ["isqrt.v"]
+
+# (L_W, R_W, LATENCY) of the exhaustive small builds: one result bit per stage; an odd
+# L_W, a result word wider than needed and an uneven split of the iterations over the stages
+SMALL = [(12, 6, 6), (11, 7, 2)]
+
+
+def sqrt_latency() -> int:
+    """The isqrt stages inside filter_width: `LAT_FILTER_WIDTH - 5."""
+    text = (tb.runner.ROOT / "rtl" / "tex_latency.vh").read_text()
+    return int(re.search(r"`define\s+LAT_FILTER_WIDTH\s+(\d+)", text).group(1)) - 5
+
+
+@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+def test_isqrt_rtl(sim, config):
+    cfg = load_config(config)
+    lat = sqrt_latency()
+    tb.runner.run("isqrt", sources=SOURCES, test_module="test_isqrt", sim=sim, config=config,
+                  parameters={"LATENCY": lat}, test_dir=Path(__file__).parent,
+                  extra_env={"ISQRT_L_W": str(cfg.l_w), "ISQRT_R_W": str(cfg.r_w), "ISQRT_LAT": str(lat),
+                             "ISQRT_EXHAUSTIVE": "0"})
+
+
+def small_params():
+    """(sim, variant) pairs, narrowed by SIM=: the first variant on every simulator, the
+    others on Icarus only (a Verilator build costs more than the exhaustive run)."""
+    sims = sorted({s for s, _ in tb.runner.sim_params()})
+    return [pytest.param(s, v, id=f"{s}-L{v[0]}R{v[1]}P{v[2]}") for i, v in enumerate(SMALL) for s in sims
+            if i == 0 or s == "icarus"]
+
+
+@pytest.mark.parametrize("sim,variant", small_params())
+def test_isqrt_small_rtl(sim, variant):
+    """Exhaustive small builds. tb.runner.run keys its build directory on the
+    configuration only, so these builds get their own directory here."""
+    from cocotb_tools.runner import get_results, get_runner
+
+    l_w, r_w, lat = variant
+    if sim == "verilator":
+        tb.runner.setup_verilator_env()
+    gdir = tb.runner.gen_dir("full")  # isqrt's default parameters come from tex_cfg.vh
+    build_dir = tb.runner.ROOT / "build" / "sim" / "isqrt" / f"L{l_w}R{r_w}P{lat}-{sim}"
+    runner = get_runner(sim)
+    build_args = ["-Wno-fatal", "--x-assign", "unique", "--x-initial", "unique", "-O3"] if sim == "verilator" else []
+    runner.build(sources=[tb.runner.ROOT / "rtl" / s for s in SOURCES], includes=[gdir, tb.runner.ROOT / "rtl"],
+                 hdl_toplevel="isqrt", parameters={"L_W": l_w, "R_W": r_w, "LATENCY": lat},
+                 build_args=build_args, build_dir=build_dir, timescale=("1ns", "1ps"))
+    s = tb.runner.seed()
+    print(f"[isqrt L{l_w}R{r_w}P{lat} {sim}] SEED={s}", flush=True)
+    results = runner.test(
+        hdl_toplevel="isqrt", test_module="test_isqrt", test_dir=Path(__file__).parent, build_dir=build_dir,
+        seed=s, timescale=("1ns", "1ps"),
+        extra_env={"CONFIG": "full", "SEED": str(s), "VECTORS": str(tb.runner.vectors()),
+                   "PYTHONPATH": os.pathsep.join([str(tb.runner.ROOT), str(Path(__file__).parent),
+                                                  os.environ.get("PYTHONPATH", "")]),
+                   "ISQRT_L_W": str(l_w), "ISQRT_R_W": str(r_w), "ISQRT_LAT": str(lat), "ISQRT_EXHAUSTIVE": "1"})
+    n_tests, n_fail = get_results(results)
+    assert n_tests > 0 and n_fail == 0, f"isqrt L{l_w}R{r_w}P{lat} [{sim}]: {n_fail} of {n_tests} failed (SEED={s})"
+
+
+# ---------------------------------------------------------------------------
+# Stimulus
+
+
+def build_vectors(l_w, r_w, exhaustive, r, n_random, norm_bits):
+    top = (1 << l_w) - 1
+    if exhaustive:
+        v = list(range(top + 1))
+        r.shuffle(v)
+        return v, len(v)
+    edges = set(range(16))
+    for k in range(l_w):
+        edges |= {(1 << k) - 1, 1 << k, (1 << k) + 1}
+    kmax = math.isqrt(top)
+    for k in list(range(max(0, kmax - 8), kmax + 1)) + [1 << (r_w - 1), (1 << (r_w - 1)) - 1]:
+        edges |= {k * k - 1, k * k, k * k + 1, (k + 1) * (k + 1) - 1}
+    edges |= {top, top - 1, 2 * ((1 << norm_bits) - 1) ** 2, 2 * ((1 << norm_bits) - 1) ** 2 - 1}
+    v = sorted(x for x in edges if 0 <= x <= top)
+    n_hard = len(v)
+    m = n_random
+    kind = r.integers(0, 3, m)
+    full = r.integers(0, top + 1, m, dtype=np.int64)
+    small = r.integers(0, min(top, 1 << 12) + 1, m, dtype=np.int64)
+    k = r.integers(0, kmax + 1, m, dtype=np.int64)
+    near = np.clip(k * k + r.integers(-2, 3, m), 0, top)
+    v += [int(x) for x in np.where(kind == 0, full, np.where(kind == 1, small, near))]
+    return v, n_hard
+
+
+# ---------------------------------------------------------------------------
+# cocotb tests
+
+
+def params():
+    return (int(os.environ["ISQRT_L_W"]), int(os.environ["ISQRT_R_W"]), int(os.environ["ISQRT_LAT"]),
+            os.environ.get("ISQRT_EXHAUSTIVE") == "1")
+
+
+@cocotb.test()
+async def reset_outputs(dut):
+    """After reset: out_valid = 0 and every output bit 0 (no X)."""
+    _, r_w, _, _ = params()
+    await pipe.start(dut)
+    assert str(dut.out_valid.value) == "0"
+    assert str(dut.r_out.value) == "0" * r_w, f"r_out after reset: {dut.r_out.value}"
+
+
+@cocotb.test()
+async def vectors_bit_exact(dut):
+    """Edges plus random radicands (or every radicand), streamed with stalls and gaps."""
+    l_w, r_w, lat, exhaustive = params()
+    cfg = pipe.cfg()
+    r = pipe.rng(31)
+    v, n_hard = build_vectors(l_w, r_w, exhaustive, r, pipe.n_vectors(), cfg.norm_bits)
+    n = len(v)
+    exp = [math.isqrt(x) for x in v]
+    gold = G.isqrt(np.array(v, dtype=np.int64))
+    assert (gold == np.array(exp, dtype=np.int64)).all(), "golden isqrt differs from math.isqrt"
+    assert max(exp) < (1 << r_w), "a root does not fit R_W"
+    dut._log.info(f"isqrt L_W={l_w} R_W={r_w} LATENCY={lat}: {n} vectors "
+                  f"({'exhaustive' if exhaustive else f'{n_hard} edges'})")
+
+    def apply(i):
+        dut.l_in.value = v[i]
+
+    def sample():
+        return int(dut.r_out.value)
+
+    await pipe.start(dut)
+    got = await pipe.run_vectors(dut, apply, sample, n, latency=lat, seed=int(os.environ.get("SEED", "1")))
+    bad = [i for i in range(n) if got[i] != exp[i]]
+    for i in bad[:10]:
+        dut._log.error(f"vector {i}: l={v[i]}: expected r={exp[i]}, got r={got[i]}")
+    assert not bad, f"{len(bad)} of {n} vectors differ from math.isqrt (first at {bad[0]})"

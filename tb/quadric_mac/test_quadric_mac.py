@@ -1,0 +1,281 @@
+"""quadric_mac: bit-exact against model/golden.py quadric_mac, every output bit.
+
+Stimulus: groups of 1..32 consecutive vectors sharing a random quadric Q (so Q
+changes while vectors are in flight), Q and s each drawn half over the full range
+of their formats and half from realistic small ranges (|Q| <= 4, |s| <= 8). Then
+the hard cases of DESIGN.md that concern this block, as explicit vectors:
+coordinates at the most negative and most positive values of the format and
+negative coordinates, an all-zero quadric, maximal coefficients (every sign
+pattern of Q at its extremes aligned with s at its extremes, so v, q and 2 Q x
+reach the extremes of their words), coordinates with a fraction of exactly 0 and
+just below 1 (k 2^s_frac and k 2^s_frac - 1, both signs), identity-like quadrics.
+
+Expected values: golden quadric_mac per Q group, vectorized over the group. The
+golden itself is checked against plain Python integer arithmetic (no int64) and
+every intermediate against its word width (v_w, qv_w, qf_w, c_w): the widths of
+model/config.py must hold the extremes.
+"""
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cocotb
+
+import tb.runner
+from model import golden as G
+from tb import pipe
+
+SOURCES = ["quadric_mac.v"]
+
+
+def latency() -> int:
+    """`LAT_QUADRIC_MAC from rtl/tex_latency.vh (the block must match it)."""
+    text = (tb.runner.ROOT / "rtl" / "tex_latency.vh").read_text()
+    return int(re.search(r"`define\s+LAT_QUADRIC_MAC\s+(\d+)", text).group(1))
+
+
+@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+def test_quadric_mac_rtl(sim, config):
+    tb.runner.run("quadric_mac", sources=SOURCES, test_module="test_quadric_mac", sim=sim, config=config,
+                  test_dir=Path(__file__).parent)
+
+
+# ---------------------------------------------------------------------------
+# Stimulus
+
+
+def _lim(w):
+    return -(1 << (w - 1)), (1 << (w - 1)) - 1
+
+
+def _uniform(r, lo, hi, size=None):
+    return r.integers(lo, hi + 1, size=size, dtype=np.int64)
+
+
+class Vectors:
+    """Per-vector s and the Q of its group."""
+
+    def __init__(self):
+        self.s, self.Q, self.group, self.tag = [], [], [], []
+        self.n_groups = 0
+
+    def add(self, Q, s_rows, tag):
+        g = self.n_groups
+        self.n_groups += 1
+        Q = np.asarray(Q, dtype=np.int64).reshape(10)
+        for s in np.asarray(s_rows, dtype=np.int64).reshape(-1, 3):
+            self.s.append(s)
+            self.Q.append(Q)
+            self.group.append(g)
+            self.tag.append(tag)
+
+    def arrays(self):
+        return (np.array(self.s, dtype=np.int64).reshape(-1, 3), np.array(self.Q, dtype=np.int64).reshape(-1, 10),
+                np.array(self.group, dtype=np.int64))
+
+
+def rand_Q(cfg, r):
+    lo, hi = _lim(cfg.q_w)
+    if r.random() < 0.5:
+        return _uniform(r, lo, hi, 10)
+    big = 1 << (cfg.q_frac + 2)  # |Q| <= 4: realistic quadrics (spheres, planes, cylinders)
+    Q = _uniform(r, max(lo, -big), min(hi, big), 10)
+    if r.random() < 0.3:
+        Q[[1, 2, 5]] = 0  # axis-aligned
+    return Q
+
+
+def rand_s(cfg, r, m):
+    lo, hi = _lim(cfg.s_w)
+    full = _uniform(r, lo, hi, (m, 3))
+    small = 1 << (cfg.s_frac + 3)  # |s| <= 8
+    near = _uniform(r, max(lo, -small), min(hi, small), (m, 3))
+    return np.where((r.random(m) < 0.5)[:, None], full, near)
+
+
+# index of Q[k][j] in (A..J): Q = [[A B C D] [B E F G] [C F H I] [D G I J]]
+QIDX = ((0, 1, 2, 3), (1, 4, 5, 6), (2, 5, 7, 8), (3, 6, 8, 9))
+
+
+def aligned_Q(cfg, s, sign):
+    """Q at its extremes with every term of x^T Q x of sign `sign` for x = (s, 1): |q| maximal."""
+    qlo, qhi = _lim(cfg.q_w)
+    x = [int(s[0]), int(s[1]), int(s[2]), 1]
+    Q = np.zeros(10, dtype=np.int64)
+    for k in range(4):
+        for j in range(k, 4):
+            p = x[k] * x[j]
+            want = sign * (1 if p >= 0 else -1)
+            Q[QIDX[k][j]] = qhi if want > 0 else qlo
+    return Q
+
+
+def build_vectors(cfg, r, n_random):
+    v = Vectors()
+    slo, shi = _lim(cfg.s_w)
+    qlo, qhi = _lim(cfg.q_w)
+    one_s, one_q = 1 << cfg.s_frac, 1 << cfg.q_frac
+    ext = [slo, shi, slo + 1, shi - 1, 0, -1, 1]
+
+    # ---- hard cases
+    # s at its extremes (every combination of ext), under random, zero, and extreme quadrics
+    rows = np.array([[a, b, c] for a in ext for b in ext for c in ext], dtype=np.int64)
+    v.add(np.zeros(10), rows, "Q=0")
+    v.add(rand_Q(cfg, r), rows, "extreme s")
+    v.add(np.full(10, qlo), rows, "Q=min")
+    v.add(np.full(10, qhi), rows, "Q=max")
+    # all-zero quadric on random coordinates
+    v.add(np.zeros(10), rand_s(cfg, r, 32), "Q=0")
+    # maximal coefficients: every sign pattern of s at its extremes, Q aligned for |q| max (both signs)
+    corners = [[a, b, c] for a in (slo, shi) for b in (slo, shi) for c in (slo, shi)]
+    for s in corners:
+        for sign in (1, -1):
+            v.add(aligned_Q(cfg, s, sign), [s], "aligned extremes")
+    # v_k extremes: one row of Q at its extremes against s at its extremes, the rest random
+    for s in corners[:4]:
+        for sign in (1, -1):
+            Q = rand_Q(cfg, r)
+            for k in range(4):
+                for j in range(3):
+                    p = int(s[j])
+                    Q[QIDX[k][j]] = qhi if sign * p >= 0 else qlo
+                Q[QIDX[k][3]] = qhi if sign > 0 else qlo
+            v.add(Q, [s], "v extremes")
+    # random mixtures of extreme coefficients and extreme coordinates
+    for _ in range(16):
+        Q = r.choice(np.array([qlo, qhi, 0, -1, 1], dtype=np.int64), 10)
+        v.add(Q, r.choice(np.array(ext, dtype=np.int64), (8, 3)), "mixed extremes")
+    # fractions of exactly 0 and just below 1: k 2^s_frac, k 2^s_frac - 1, k 2^s_frac + 1, both signs
+    kmax = shi >> cfg.s_frac
+    ks = [-kmax - 1, -kmax, -3, -2, -1, 0, 1, 2, 3, kmax]
+    vals = sorted({int(np.clip(x, slo, shi)) for k in ks for x in (k * one_s, k * one_s - 1, k * one_s + 1)})
+    rows = [[vals[i], vals[(i + 7) % len(vals)], vals[(3 * i + 2) % len(vals)]] for i in range(len(vals))]
+    rows += [[x, x, x] for x in vals]
+    rows += [[x, 0, 0] for x in vals] + [[0, x, 0] for x in vals] + [[0, 0, x] for x in vals]
+    unit_sphere = np.array([one_q, 0, 0, 0, one_q, 0, 0, one_q, 0, -one_q], dtype=np.int64)  # s^2+t^2+r^2-1
+    for Q in (unit_sphere, rand_Q(cfg, r), np.full(10, one_q), np.full(10, -one_q),
+              np.array([0, 0, 0, one_q, 0, 0, 0, 0, 0, 0]), np.array([0] * 9 + [qhi]),
+              np.array([0] * 9 + [qlo])):
+        v.add(Q, rows, "fraction 0 / just below 1")
+    # coefficients with fraction 0 and just below 1 too, negative coordinates
+    Qf = np.array([one_q - 1, -one_q, one_q + 1, -1, one_q - 1, 1, -one_q + 1, one_q, -1, one_q - 1])
+    v.add(Qf, rand_s(cfg, r, 16), "Q fractions")
+    v.add(Qf, -np.abs(rand_s(cfg, r, 16)), "negative s")
+    n_hard = len(v.s)
+
+    # ---- random groups of 1..32 vectors sharing Q
+    left = n_random
+    while left > 0:
+        m = min(left, int(r.integers(1, 33)))
+        v.add(rand_Q(cfg, r), rand_s(cfg, r, m), "random")
+        left -= m
+    return v, n_hard
+
+
+# ---------------------------------------------------------------------------
+# Expected values
+
+
+def expected(cfg, s, Q, group):
+    qf = np.zeros(len(s), dtype=np.int64)
+    cq = np.zeros((len(s), 3), dtype=np.int64)
+    starts = np.flatnonzero(np.r_[True, group[1:] != group[:-1]])
+    ends = np.r_[starts[1:], len(s)]
+    for b, e in zip(starts, ends):
+        qf[b:e], cq[b:e] = G.quadric_mac(cfg, Q[b], s[b:e])
+    return qf, cq
+
+
+def _shift(x: int, n: int) -> int:
+    return x << n if n >= 0 else x >> -n
+
+
+def _fits(x: int, w: int) -> bool:
+    return -(1 << (w - 1)) <= x < (1 << (w - 1))
+
+
+def check_golden_bigint(cfg, s, Q, exp_qf, exp_cq):
+    """Plain Python integers (unbounded): the golden's int64 never wraps and every word holds."""
+    sf = cfg.s_frac
+    bad = []
+    for i in range(len(s)):
+        A, B, C, D, E, F, Gc, H, I, J = (int(x) for x in Q[i])
+        s0, s1, s2 = (int(x) for x in s[i])
+        v0 = ((A * s0 + B * s1 + C * s2) >> sf) + D
+        v1 = ((B * s0 + E * s1 + F * s2) >> sf) + Gc
+        v2 = ((C * s0 + F * s1 + H * s2) >> sf) + I
+        v3 = ((D * s0 + Gc * s1 + I * s2) >> sf) + J
+        q = ((s0 * v0 + s1 * v1 + s2 * v2) >> sf) + v3
+        qf = _shift(q, cfg.f_frac - cfg.q_frac)
+        cq = [_shift(x, cfg.c_frac - cfg.q_frac + 1) for x in (v0, v1, v2)]
+        ok = (all(_fits(x, cfg.v_w) for x in (v0, v1, v2, v3)) and _fits(q, cfg.qv_w) and _fits(qf, cfg.qf_w)
+              and all(_fits(x, cfg.c_w) for x in cq))
+        if not ok or qf != int(exp_qf[i]) or cq != [int(x) for x in exp_cq[i]]:
+            bad.append((i, (v0, v1, v2, v3, q, qf, cq)))
+    return bad
+
+
+# ---------------------------------------------------------------------------
+# cocotb tests
+
+
+@cocotb.test()
+async def reset_outputs(dut):
+    """After reset: out_valid = 0 and every output bit 0 (no X)."""
+    cfg = pipe.cfg()
+    await pipe.start(dut)
+    assert str(dut.out_valid.value) == "0"
+    assert str(dut.q_out.value) == "0" * cfg.qf_w, f"q_out after reset: {dut.q_out.value}"
+    assert str(dut.cq_out.value) == "0" * (3 * cfg.c_w), f"cq_out after reset: {dut.cq_out.value}"
+
+
+@cocotb.test()
+async def vectors_bit_exact(dut):
+    """Hard cases plus n_vectors() random vectors, streamed with stalls and gaps."""
+    cfg = pipe.cfg()
+    r = pipe.rng(21)
+    v, n_hard = build_vectors(cfg, r, pipe.n_vectors())
+    s, Q, group = v.arrays()
+    slo, shi = _lim(cfg.s_w)
+    qlo, qhi = _lim(cfg.q_w)
+    assert s.min() >= slo and s.max() <= shi and Q.min() >= qlo and Q.max() <= qhi, "stimulus outside its format"
+    n = len(s)
+    exp_qf, exp_cq = expected(cfg, s, Q, group)
+    bad = check_golden_bigint(cfg, s, Q, exp_qf, exp_cq)
+    for i, vals in bad[:5]:
+        dut._log.error(f"golden vs big-int / word widths, vector {i} [{v.tag[i]}]: s={s[i].tolist()} "
+                       f"Q={Q[i].tolist()}: golden qf={exp_qf[i]} cq={exp_cq[i].tolist()}, "
+                       f"big-int (v0..v3, q, qf, cq)={vals}")
+    assert not bad, f"{len(bad)} vectors where the golden model wraps or a word width of model/config.py overflows"
+    dut._log.info(f"{cfg.name}: {n} vectors ({n_hard} hard cases, {v.n_groups} Q groups); "
+                  f"|qf| max 2^{np.log2(max(1, np.abs(exp_qf).max())):.2f} of qf_w {cfg.qf_w}, "
+                  f"|cq| max 2^{np.log2(max(1, np.abs(exp_cq).max())):.2f} of c_w {cfg.c_w}")
+
+    s_p = [pipe.pack(x, cfg.s_w) for x in s]
+    q_p = {}
+    for i in range(n):
+        if group[i] not in q_p:
+            q_p[group[i]] = pipe.pack(Q[i], cfg.q_w)
+    q_v = [q_p[g] for g in group]
+
+    def apply(i):
+        dut.s_in.value = s_p[i]
+        dut.q_coef.value = q_v[i]
+
+    def sample():
+        return int(dut.q_out.value), int(dut.cq_out.value)
+
+    await pipe.start(dut)
+    got = await pipe.run_vectors(dut, apply, sample, n, latency=latency(), seed=int(os.environ.get("SEED", "1")))
+    got_qf = np.array([pipe.to_signed(g[0], cfg.qf_w) for g in got], dtype=np.int64)
+    got_cq = np.array([pipe.unpack(g[1], cfg.c_w, 3) for g in got], dtype=np.int64)
+    bad = np.flatnonzero((got_qf != exp_qf) | (got_cq != exp_cq).any(axis=1))
+    for i in bad[:10]:
+        dut._log.error(f"vector {i} [{v.tag[i]}]: s={s[i].tolist()} Q={Q[i].tolist()}: "
+                       f"expected q={exp_qf[i]} cq={exp_cq[i].tolist()}, got q={got_qf[i]} cq={got_cq[i].tolist()}")
+    assert len(bad) == 0, f"{len(bad)} of {n} vectors differ from golden quadric_mac (first at {bad[0]})"
