@@ -29,7 +29,7 @@
 // e = the priority-encoded highest set bit of T_jj (0 when T_jj = 0); no multipliers.
 //
 // Pipeline (LATENCY = `LAT_NOISE_TERM = 8 register stages, one vector per enabled clock):
-//   1  transform products T_jk s_k (pow2: shifts); o registered
+//   1  transform products T_jk s_k (pow2: shifts)
 //   2  p = sum + o -> cell ip, fraction fp
 //   3  noise_hash (3 ROM levels) -> 8 corner values; noise_blend -> w, dw
 //   4  x lerps -> e (4); gradient: dx and their y lerps (2)
@@ -37,8 +37,14 @@
 //   6  z lerp -> n; gradient: g = (. dw) >> P_FRAC (cubic; linear: dw = 1, a wire)
 //   7  h = (g T) >> H_SHIFT (pow2: shifts); n delayed
 //   8  an = (a n) >> AN_SHIFT, ag = (a h) >> A_FRAC (output registers)
-// a and T travel beside the data (a vector's parameters may differ from its
-// neighbours'): a to stage 8, T (pow2: its 3 shift codes) to stage 7.
+//
+// Parameters: a_in, t_in, o_in are per-pass parameters, not per-vector data. No
+// register carries them down the pipeline: each is read directly by the stage that
+// needs it (t_in by stages 1 and 7, o_in by stage 2, a_in by stage 8).
+// CONTRACT: a_in, t_in, o_in must be stable from the first vector's entry until the
+// last vector's exit; texture_pipeline guarantees it: parameters are written only
+// when the pipeline is empty (between passes). Changing them with vectors in flight
+// gives those vectors a mixture of old and new parameters.
 // ce = 0 holds every register. rst clears the valid chain and the output registers
 // (the output registers load only with a valid vector, so no X reaches the outputs).
 //
@@ -96,7 +102,7 @@ localparam ACC_W    = TS_SHIFT + P_W;       // T s mod 2^ACC_W decides p
 localparam MUL_W    = (ACC_W > T_W) ? ((ACC_W > S_W) ? ACC_W : S_W) : ((T_W > S_W) ? T_W : S_W);
 localparam NPROD    = AFFINE ? 9 : 3;       // transform products per vector
 localparam E_W      = $clog2(T_W - 1);      // pow2 shift amount 0..T_W-2
-localparam TC_W     = AFFINE ? 9*T_W : 3*(E_W + 1);  // T as carried to stage 7
+localparam TC_W     = AFFINE ? 9*T_W : 3*(E_W + 1);  // T as the gradient stage reads it
 // h: sum of three g T products, then the shift; ag and an likewise
 localparam HS_W     = GN_W + T_W + 2;
 localparam HX_W     = HS_W + ((H_SHIFT < 0) ? -H_SHIFT : 0);
@@ -127,22 +133,16 @@ end
 assign out_valid = valid_reg[STAGES-1];
 
 // ---------------------------------------------------------------------------
-// Parameters travelling beside the data: a to stage 8, T (or its codes) to stage 7
+// Parameters, stable for the whole pass (see the contract in the header): read
+// directly where needed, not pipelined
 
-reg  [7*A_W-1:0] a_pipe_reg;   // stage i (1..7) at [(i-1)*A_W +: A_W]
-always @(posedge clk) begin
-    if (ce) a_pipe_reg <= {a_pipe_reg[6*A_W-1:0], a_in};
-end
-wire signed [A_W-1:0] a_s8 = a_pipe_reg[6*A_W +: A_W];
-
-wire [TC_W-1:0] tc_in;          // T as the gradient stage needs it
-wire [TC_W-1:0] tc_s7;          // ... as seen in stage 7
+wire signed [A_W-1:0] a_s = a_in;   // stage 8
+wire [TC_W-1:0] tc_in;              // T as the gradient stage (7) needs it
 
 // ---------------------------------------------------------------------------
 // Stage 1: transform products (mod 2^ACC_W)
 
 reg  [NPROD*ACC_W-1:0] prod_reg;
-reg  [3*O_W-1:0]       o_reg;
 wire [NPROD*ACC_W-1:0] prod_next;
 
 generate
@@ -191,7 +191,6 @@ endgenerate
 always @(posedge clk) begin
     if (ce) begin
         prod_reg <= prod_next;
-        o_reg    <= o_in;
     end
 end
 
@@ -210,7 +209,7 @@ generate
         end else begin : g_diag
             assign acc = prod_reg[gj*ACC_W +: ACC_W];
         end
-        wire [P_W-1:0] p = acc[ACC_W-1:TS_SHIFT] + o_reg[gj*O_W +: P_W];
+        wire [P_W-1:0] p = acc[ACC_W-1:TS_SHIFT] + o_in[gj*O_W +: P_W];
         if (TS_SHIFT > 0) begin : g_unused
             // the fraction dropped by the floor shift
             wire unused_acc = &{1'b0, acc[TS_SHIFT-1:0]};
@@ -351,7 +350,7 @@ end
 // Stage 8: an = (a n) >> AN_SHIFT (output register)
 
 wire signed [N_W-1:0]   n8 = n7_reg;
-wire signed [ANX_W-1:0] an_prod = a_s8 * n8;   // exact: A_W + N_W bits
+wire signed [ANX_W-1:0] an_prod = a_s * n8;   // exact: A_W + N_W bits
 wire signed [ANX_W-1:0] an_sh;
 generate
     if (AN_SHIFT >= 0) begin : g_an_r
@@ -380,13 +379,6 @@ assign an_out = an_reg;
 
 generate
     if (GRAD) begin : g_grad
-        // T (affine: all 9 entries; pow2: the 3 codes {zero, e}) delayed to stage 7
-        reg [6*TC_W-1:0] tc_pipe_reg;   // stage i (1..6) at [(i-1)*TC_W +: TC_W]
-        always @(posedge clk) begin
-            if (ce) tc_pipe_reg <= {tc_pipe_reg[5*TC_W-1:0], tc_in};
-        end
-        assign tc_s7 = tc_pipe_reg[5*TC_W +: TC_W];
-
         // slopes dw delayed to stage 6 (cubic only; linear: dw = 1, unused)
         reg  [3*BW-1:0] dw3_reg, dw4_reg, dw5_reg;
         always @(posedge clk) begin
@@ -484,9 +476,9 @@ generate
         for (gk = 0; gk < 3; gk = gk + 1) begin : g_h
             wire signed [HX_W-1:0] hsum;
             if (AFFINE) begin : g_affine
-                wire signed [T_W-1:0]  t0 = tc_s7[(0 + gk)*T_W +: T_W];
-                wire signed [T_W-1:0]  t1 = tc_s7[(3 + gk)*T_W +: T_W];
-                wire signed [T_W-1:0]  t2 = tc_s7[(6 + gk)*T_W +: T_W];
+                wire signed [T_W-1:0]  t0 = tc_in[(0 + gk)*T_W +: T_W];
+                wire signed [T_W-1:0]  t1 = tc_in[(3 + gk)*T_W +: T_W];
+                wire signed [T_W-1:0]  t2 = tc_in[(6 + gk)*T_W +: T_W];
                 wire signed [GN_W-1:0] g0 = g_reg[0 +: GN_W];
                 wire signed [GN_W-1:0] g1 = g_reg[GN_W +: GN_W];
                 wire signed [GN_W-1:0] g2 = g_reg[2*GN_W +: GN_W];
@@ -496,8 +488,8 @@ generate
                 assign hsum = p0 + p1 + p2;
             end else begin : g_pow2
                 // g_k T_kk = g_k << e_k, or 0
-                wire                   zero = tc_s7[gk*(E_W+1) + E_W];
-                wire        [E_W-1:0]  e    = tc_s7[gk*(E_W+1) +: E_W];
+                wire                   zero = tc_in[gk*(E_W+1) + E_W];
+                wire        [E_W-1:0]  e    = tc_in[gk*(E_W+1) +: E_W];
                 wire signed [GN_W-1:0] g_k  = g_reg[gk*GN_W +: GN_W];
                 wire signed [HX_W-1:0] g_ext = {{(HX_W-GN_W){g_k[GN_W-1]}}, g_k};
                 assign hsum = zero ? {HX_W{1'b0}} : (g_ext <<< e);
@@ -522,7 +514,7 @@ generate
         reg [3*AG_W-1:0] ag_reg;
         for (gk = 0; gk < 3; gk = gk + 1) begin : g_ag
             wire signed [H_W-1:0]   h_k  = h_reg[gk*H_W +: H_W];
-            wire signed [AGP_W-1:0] prod = a_s8 * h_k;   // exact
+            wire signed [AGP_W-1:0] prod = a_s * h_k;   // exact
             wire signed [AGP_W-1:0] sh   = prod >>> A_FRAC;
             always @(posedge clk) begin
                 if (rst) begin
@@ -539,9 +531,8 @@ generate
         assign ag_out = ag_reg;
     end else begin : g_no_grad
         assign ag_out = {3*AG_W{1'b0}};
-        assign tc_s7  = {TC_W{1'b0}};
         // without the gradient, dw, the T codes and the difference terms are not needed
-        wire unused_grad = &{1'b0, dw_next, tc_in, tc_s7};
+        wire unused_grad = &{1'b0, dw_next, tc_in};
     end
 endgenerate
 

@@ -25,8 +25,15 @@
  * valid chain and the output registers; the output registers load only valid
  * vectors, so the outputs are never X after reset.
  *
+ * q_coef is a per-pass parameter, not per-vector data: no register carries it
+ * down the pipeline; stage 1 reads the nine Q_kj (j < 3) and stage 2 reads the
+ * four Q_k3 straight from the port.
+ * CONTRACT: q_coef must be stable from the first vector's entry until the last
+ * vector's exit; texture_pipeline guarantees it: parameters are written only
+ * when the pipeline is empty (between passes).
+ *
  *   stage 1: the 12 products Q_kj * s_j
- *   stage 2: v0..v3
+ *   stage 2: v0..v3 (+ Q_k3, read from q_coef)
  *   stage 3: the 3 products s_j * v_j
  *   stage 4: q, and the output shifts
  */
@@ -122,7 +129,6 @@ reg signed [P1_W-1:0] p00_reg, p01_reg, p02_reg;  // A s, B t, C r
 reg signed [P1_W-1:0] p10_reg, p11_reg, p12_reg;  // B s, E t, F r
 reg signed [P1_W-1:0] p20_reg, p21_reg, p22_reg;  // C s, F t, H r
 reg signed [P1_W-1:0] p30_reg, p31_reg, p32_reg;  // D s, G t, I r
-reg signed [Q_W-1:0]  q03_reg, q13_reg, q23_reg, q33_reg;  // D, G, I, J
 reg signed [S_W-1:0]  s0_1_reg, s1_1_reg, s2_1_reg;
 
 always @(posedge clk) begin
@@ -131,7 +137,6 @@ always @(posedge clk) begin
         p10_reg <= qb * s0;  p11_reg <= qe * s1;  p12_reg <= qf * s2;
         p20_reg <= qc * s0;  p21_reg <= qf * s1;  p22_reg <= qh * s2;
         p30_reg <= qd * s0;  p31_reg <= qg * s1;  p32_reg <= qi * s2;
-        q03_reg <= qd;  q13_reg <= qg;  q23_reg <= qi;  q33_reg <= qj;
         s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
     end
 end
@@ -156,11 +161,12 @@ wire signed [M1_W-1:0] m3 = {{2{p30_reg[P1_W-1]}}, p30_reg} + {{2{p31_reg[P1_W-1
                           + {{2{p32_reg[P1_W-1]}}, p32_reg};
 /* verilator lint_on UNUSEDSIGNAL */
 
-// Q_k3 sign-extended to V_W (V_W > Q_W always: v_w bounds |Q_k3| + more)
-wire signed [V_W-1:0] q03_x = {{(V_W-Q_W){q03_reg[Q_W-1]}}, q03_reg};
-wire signed [V_W-1:0] q13_x = {{(V_W-Q_W){q13_reg[Q_W-1]}}, q13_reg};
-wire signed [V_W-1:0] q23_x = {{(V_W-Q_W){q23_reg[Q_W-1]}}, q23_reg};
-wire signed [V_W-1:0] q33_x = {{(V_W-Q_W){q33_reg[Q_W-1]}}, q33_reg};
+// Q_k3 (D, G, I, J: stable parameters, read directly) sign-extended to V_W
+// (V_W > Q_W always: v_w bounds |Q_k3| + more)
+wire signed [V_W-1:0] q03_x = {{(V_W-Q_W){qd[Q_W-1]}}, qd};
+wire signed [V_W-1:0] q13_x = {{(V_W-Q_W){qg[Q_W-1]}}, qg};
+wire signed [V_W-1:0] q23_x = {{(V_W-Q_W){qi[Q_W-1]}}, qi};
+wire signed [V_W-1:0] q33_x = {{(V_W-Q_W){qj[Q_W-1]}}, qj};
 
 reg signed [V_W-1:0] v0_reg, v1_reg, v2_reg, v3_reg;
 reg signed [S_W-1:0] s0_2_reg, s1_2_reg, s2_2_reg;

@@ -1,21 +1,34 @@
 """noise_term: bit-exact against model/golden.py noise_term, every output bit.
 
+Parameters: a_in, t_in, o_in are per-pass parameters (rtl/noise_term.v reads them
+directly at the stage that needs them, no pipeline registers). The interface contract:
+they are stable from the first vector's entry until the last vector's exit
+(texture_pipeline writes parameters only while the pipeline is empty). So the stimulus
+is a sequence of batches, each with its own parameter set: a batch is streamed with
+random ce stalls and input gaps (tb/pipe.py run_vectors), drained completely (every
+output out), then the parameter ports idle through a few clocks of random unrelated
+values with in_valid = 0 (nothing may latch them), the next batch's parameters are
+applied, and the next batch starts.
+
 Stimulus: random vectors (a share over the full range of every input format, a
-share from realistic small ranges), each group of 1..32 consecutive vectors sharing
-its own random (a, T, o), so the parameters change while vectors are in flight; in
-the pow2 configuration T is diagonal with entries 0 or 2^e (model/quantize.py
-_check_pow2). Then the hard cases of DESIGN.md that concern this block, as explicit
+share from realistic small ranges) in batches of 1..256 vectors (log-uniform, so
+both short fill/drain batches and long full-pipeline batches), each batch with its
+own random (a, T, o); in the pow2 configuration T is diagonal with entries 0 or 2^e
+(model/quantize.py _check_pow2). Then the hard cases of DESIGN.md that concern this block, as explicit
 vectors: negative coordinates and floors of negatives, cell fractions of exactly 0,
 1/2^p_frac and just below 1 (p = k 2^p_frac, k 2^p_frac + 1, k 2^p_frac - 1), the last
 lattice cell (the +1 corner wraps), coordinates and T at their format extremes (the
 transform wraps mod 2^p_w), T = 0, a = 0 and a at its extremes, offsets 0 and max,
 corner values -1 and 1 - 2^-(hash_bits-1) under extreme amplitudes, and the steepest
 lattice slopes under extreme T and a (the output words' bounds).
-Expected values: golden noise_term per parameter group, vectorized over the group.
+Each hard case group with its own parameters is its own batch.
+Expected values: golden noise_term per batch, vectorized over the batch.
 """
 from __future__ import annotations
 
+import math
 import os
+import random
 import re
 from pathlib import Path
 
@@ -23,6 +36,7 @@ import numpy as np
 import pytest
 
 import cocotb
+from cocotb.triggers import RisingEdge
 
 import tb.runner
 from model import golden as G
@@ -52,8 +66,11 @@ def test_noise_term_rtl(sim, config, monkeypatch):
 # Stimulus
 
 
+MAX_BATCH = 256  # random batches: 1..MAX_BATCH vectors, log-uniform
+
+
 class Vectors:
-    """Per-vector inputs plus the parameter group each vector belongs to."""
+    """Per-vector inputs plus the parameter group (= batch) each vector belongs to."""
 
     def __init__(self, cfg):
         self.cfg = cfg
@@ -250,10 +267,10 @@ def build_vectors(cfg, r, n_random):
                     v.add(a, T, o, [s], f"{name} T{'+' if sign > 0 else '-'}")
     n_hard = len(v.s)
 
-    # ---- random groups of 1..32 vectors sharing (a, T, o)
+    # ---- random batches of 1..MAX_BATCH vectors (log-uniform) sharing (a, T, o)
     left = n_random
     while left > 0:
-        m = min(left, int(r.integers(1, 33)))
+        m = min(left, int(math.exp(r.uniform(0.0, math.log(MAX_BATCH + 1)))))
         v.add(rand_a(cfg, r), rand_T(cfg, r), rand_o(cfg, r), rand_s(cfg, r, m), "random")
         left -= m
     return v, n_hard
@@ -272,12 +289,18 @@ def check_formats(cfg, s, a, T, o):
         assert not off.any() and (d >= 0).all() and not (d & (d - 1)).any(), "pow2 stimulus T not 0 / 2^e diagonal"
 
 
+def batches(group):
+    """(begin, end) index ranges of the consecutive vectors sharing one parameter set."""
+    starts = np.flatnonzero(np.r_[True, group[1:] != group[:-1]])
+    ends = np.r_[starts[1:], len(group)]
+    return [(int(b), int(e)) for b, e in zip(starts, ends)]
+
+
 def expected(cfg, s, a, T, o, group):
     an = np.zeros(len(s), dtype=np.int64)
     ag = np.zeros((len(s), 3), dtype=np.int64)
-    starts = np.flatnonzero(np.r_[True, group[1:] != group[:-1]])
-    ends = np.r_[starts[1:], len(s)]
-    for b, e in zip(starts, ends):
+    for b, e in batches(group):
+        assert (a[b:e] == a[b]).all() and (T[b:e] == T[b]).all() and (o[b:e] == o[b]).all()
         an[b:e], ag[b:e] = G.noise_term(cfg, int(a[b]), T[b], o[b], s[b:e])
     return an, ag
 
@@ -298,7 +321,7 @@ async def reset_outputs(dut):
 
 @cocotb.test()
 async def vectors_bit_exact(dut):
-    """Hard cases plus n_vectors() random vectors, streamed with stalls and gaps."""
+    """Hard cases plus n_vectors() random vectors, in drained batches with stalls and gaps."""
     cfg = pipe.cfg()
     r = pipe.rng(11)
     v, n_hard = build_vectors(cfg, r, pipe.n_vectors())
@@ -306,24 +329,45 @@ async def vectors_bit_exact(dut):
     check_formats(cfg, s, a, T, o)
     n = len(s)
     exp_an, exp_ag = expected(cfg, s, a, T, o, group)
-    dut._log.info(f"{cfg.name}: {n} vectors ({n_hard} hard cases, {v.n_groups} parameter groups)")
+    bs = batches(group)
+    sizes = [e - b for b, e in bs]
+    dut._log.info(f"{cfg.name}: {n} vectors ({n_hard} hard cases) in {len(bs)} batches "
+                  f"(1 parameter set each, sizes {min(sizes)}..{max(sizes)})")
 
     s_p = [pipe.pack(x, cfg.s_w) for x in s]
     a_p = [pipe.pack([x], cfg.a_w) for x in a]
     t_p = [pipe.pack(x.reshape(9), cfg.t_w) for x in T]
     o_p = [pipe.pack(x, cfg.o_w) for x in o]
 
-    def apply(i):
-        dut.s_in.value = s_p[i]
-        dut.a_in.value = a_p[i]
-        dut.t_in.value = t_p[i]
-        dut.o_in.value = o_p[i]
-
     def sample():
         return int(dut.an_out.value), int(dut.ag_out.value)
 
+    seed = int(os.environ.get("SEED", "1"))
+    ri = random.Random(seed + 7)  # the idle clocks between batches
     await pipe.start(dut)
-    got = await pipe.run_vectors(dut, apply, sample, n, latency=latency(), seed=int(os.environ.get("SEED", "1")))
+    got = []
+    for k, (b, e) in enumerate(bs):
+        # The pipeline is empty (run_vectors returned after the last output): the
+        # parameters may change now. A few clocks of unrelated values on every input
+        # with in_valid = 0 (nothing may keep them), then this batch's parameters, held
+        # until its last vector is out.
+        dut.in_valid.value = 0
+        for _ in range(ri.randint(0, 3)):
+            dut.ce.value = ri.randint(0, 1)
+            dut.s_in.value = ri.getrandbits(3 * cfg.s_w)
+            dut.a_in.value = ri.getrandbits(cfg.a_w)
+            dut.t_in.value = ri.getrandbits(9 * cfg.t_w)
+            dut.o_in.value = ri.getrandbits(3 * cfg.o_w)
+            await RisingEdge(dut.clk)
+        dut.a_in.value = a_p[b]
+        dut.t_in.value = t_p[b]
+        dut.o_in.value = o_p[b]
+
+        def apply(i, b=b):
+            dut.s_in.value = s_p[b + i]
+
+        got += await pipe.run_vectors(dut, apply, sample, e - b, latency=latency(), seed=seed * 100003 + k)
+    assert len(got) == n
     got_an = np.array([pipe.to_signed(g[0], cfg.an_w) for g in got], dtype=np.int64)
     got_ag = np.array([pipe.unpack(g[1], cfg.ag_w, 3) for g in got], dtype=np.int64)
     bad = np.flatnonzero((got_an != exp_an) | (got_ag != exp_ag).any(axis=1))

@@ -1,8 +1,18 @@
 """quadric_mac: bit-exact against model/golden.py quadric_mac, every output bit.
 
-Stimulus: groups of 1..32 consecutive vectors sharing a random quadric Q (so Q
-changes while vectors are in flight), Q and s each drawn half over the full range
-of their formats and half from realistic small ranges (|Q| <= 4, |s| <= 8). Then
+Parameters: q_coef is a per-pass parameter (rtl/quadric_mac.v reads it directly at
+the stage that needs it, no pipeline registers). The interface contract: it is stable
+from the first vector's entry until the last vector's exit (texture_pipeline writes
+parameters only while the pipeline is empty). So the stimulus is a sequence of
+batches, each with its own Q: a batch is streamed with random ce stalls and input
+gaps (tb/pipe.py run_vectors), drained completely (every output out), then the inputs
+idle through a few clocks of random unrelated values with in_valid = 0 (nothing may
+latch them), the next batch's Q is applied, and the next batch starts.
+
+Stimulus: batches of 1..256 vectors (log-uniform: short fill/drain batches and long
+full-pipeline batches) sharing a random quadric Q, Q and s each drawn half over the
+full range of their formats and half from realistic small ranges (|Q| <= 4,
+|s| <= 8). Then
 the hard cases of DESIGN.md that concern this block, as explicit vectors:
 coordinates at the most negative and most positive values of the format and
 negative coordinates, an all-zero quadric, maximal coefficients (every sign
@@ -10,14 +20,17 @@ pattern of Q at its extremes aligned with s at its extremes, so v, q and 2 Q x
 reach the extremes of their words), coordinates with a fraction of exactly 0 and
 just below 1 (k 2^s_frac and k 2^s_frac - 1, both signs), identity-like quadrics.
 
-Expected values: golden quadric_mac per Q group, vectorized over the group. The
+Each hard case group with its own Q is its own batch.
+Expected values: golden quadric_mac per batch, vectorized over the batch. The
 golden itself is checked against plain Python integer arithmetic (no int64) and
 every intermediate against its word width (v_w, qv_w, qf_w, c_w): the widths of
 model/config.py must hold the extremes.
 """
 from __future__ import annotations
 
+import math
 import os
+import random
 import re
 from pathlib import Path
 
@@ -25,12 +38,14 @@ import numpy as np
 import pytest
 
 import cocotb
+from cocotb.triggers import RisingEdge
 
 import tb.runner
 from model import golden as G
 from tb import pipe
 
 SOURCES = ["quadric_mac.v"]
+MAX_BATCH = 256  # random batches: 1..MAX_BATCH vectors, log-uniform
 
 
 def latency() -> int:
@@ -168,10 +183,10 @@ def build_vectors(cfg, r, n_random):
     v.add(Qf, -np.abs(rand_s(cfg, r, 16)), "negative s")
     n_hard = len(v.s)
 
-    # ---- random groups of 1..32 vectors sharing Q
+    # ---- random batches of 1..MAX_BATCH vectors (log-uniform) sharing Q
     left = n_random
     while left > 0:
-        m = min(left, int(r.integers(1, 33)))
+        m = min(left, int(math.exp(r.uniform(0.0, math.log(MAX_BATCH + 1)))))
         v.add(rand_Q(cfg, r), rand_s(cfg, r, m), "random")
         left -= m
     return v, n_hard
@@ -181,12 +196,18 @@ def build_vectors(cfg, r, n_random):
 # Expected values
 
 
+def batches(group):
+    """(begin, end) index ranges of the consecutive vectors sharing one Q."""
+    starts = np.flatnonzero(np.r_[True, group[1:] != group[:-1]])
+    ends = np.r_[starts[1:], len(group)]
+    return [(int(b), int(e)) for b, e in zip(starts, ends)]
+
+
 def expected(cfg, s, Q, group):
     qf = np.zeros(len(s), dtype=np.int64)
     cq = np.zeros((len(s), 3), dtype=np.int64)
-    starts = np.flatnonzero(np.r_[True, group[1:] != group[:-1]])
-    ends = np.r_[starts[1:], len(s)]
-    for b, e in zip(starts, ends):
+    for b, e in batches(group):
+        assert (Q[b:e] == Q[b]).all()
         qf[b:e], cq[b:e] = G.quadric_mac(cfg, Q[b], s[b:e])
     return qf, cq
 
@@ -236,7 +257,7 @@ async def reset_outputs(dut):
 
 @cocotb.test()
 async def vectors_bit_exact(dut):
-    """Hard cases plus n_vectors() random vectors, streamed with stalls and gaps."""
+    """Hard cases plus n_vectors() random vectors, in drained batches with stalls and gaps."""
     cfg = pipe.cfg()
     r = pipe.rng(21)
     v, n_hard = build_vectors(cfg, r, pipe.n_vectors())
@@ -252,26 +273,39 @@ async def vectors_bit_exact(dut):
                        f"Q={Q[i].tolist()}: golden qf={exp_qf[i]} cq={exp_cq[i].tolist()}, "
                        f"big-int (v0..v3, q, qf, cq)={vals}")
     assert not bad, f"{len(bad)} vectors where the golden model wraps or a word width of model/config.py overflows"
-    dut._log.info(f"{cfg.name}: {n} vectors ({n_hard} hard cases, {v.n_groups} Q groups); "
+    bs = batches(group)
+    sizes = [e - b for b, e in bs]
+    dut._log.info(f"{cfg.name}: {n} vectors ({n_hard} hard cases) in {len(bs)} batches "
+                  f"(1 Q each, sizes {min(sizes)}..{max(sizes)}); "
                   f"|qf| max 2^{np.log2(max(1, np.abs(exp_qf).max())):.2f} of qf_w {cfg.qf_w}, "
                   f"|cq| max 2^{np.log2(max(1, np.abs(exp_cq).max())):.2f} of c_w {cfg.c_w}")
 
     s_p = [pipe.pack(x, cfg.s_w) for x in s]
-    q_p = {}
-    for i in range(n):
-        if group[i] not in q_p:
-            q_p[group[i]] = pipe.pack(Q[i], cfg.q_w)
-    q_v = [q_p[g] for g in group]
-
-    def apply(i):
-        dut.s_in.value = s_p[i]
-        dut.q_coef.value = q_v[i]
 
     def sample():
         return int(dut.q_out.value), int(dut.cq_out.value)
 
+    seed = int(os.environ.get("SEED", "1"))
+    ri = random.Random(seed + 7)  # the idle clocks between batches
     await pipe.start(dut)
-    got = await pipe.run_vectors(dut, apply, sample, n, latency=latency(), seed=int(os.environ.get("SEED", "1")))
+    got = []
+    for k, (b, e) in enumerate(bs):
+        # The pipeline is empty (run_vectors returned after the last output): Q may
+        # change now. A few clocks of unrelated values on every input with in_valid = 0
+        # (nothing may keep them), then this batch's Q, held until its last vector is out.
+        dut.in_valid.value = 0
+        for _ in range(ri.randint(0, 3)):
+            dut.ce.value = ri.randint(0, 1)
+            dut.s_in.value = ri.getrandbits(3 * cfg.s_w)
+            dut.q_coef.value = ri.getrandbits(10 * cfg.q_w)
+            await RisingEdge(dut.clk)
+        dut.q_coef.value = pipe.pack(Q[b], cfg.q_w)
+
+        def apply(i, b=b):
+            dut.s_in.value = s_p[b + i]
+
+        got += await pipe.run_vectors(dut, apply, sample, e - b, latency=latency(), seed=seed * 100003 + k)
+    assert len(got) == n
     got_qf = np.array([pipe.to_signed(g[0], cfg.qf_w) for g in got], dtype=np.int64)
     got_cq = np.array([pipe.unpack(g[1], cfg.c_w, 3) for g in got], dtype=np.int64)
     bad = np.flatnonzero((got_qf != exp_qf) | (got_cq != exp_cq).any(axis=1))
