@@ -6,5 +6,5 @@
 `define LAT_QUADRIC_MAC  4
 `define LAT_NOISE_TERM   8
 `define LAT_FILTER_WIDTH 8
-`define LAT_COLOUR_MAP   8
+`define LAT_COLOUR_MAP   14
 `endif

@@ -1,0 +1,471 @@
+// colour_map: RGBA8 of the colour index f box-filtered over the filter width w (paper 3.3);
+// the bit-exact twin of model/golden.py colour_map.
+//
+// Formats (widths `CFG_*, generated from config/<name>.toml):
+//   f_in   s{F_W}.{F_FRAC}   1.0 = the whole colour table
+//   w_in   u{W_W}.{F_FRAC}   colour-table entries; contract: w <= 2^(W_CAP_LOG2 + F_FRAC)
+//                            (filter_width saturates there; D_W and X_W are sized for it)
+//   mode   0 mod (f taken mod 1), 1 clamp; filter_en 0: point lookup
+//   n_log2 N = 2^n_log2 entries, n_log2 <= N_LOG2_MAX; tables loaded for that N
+//   rgba_out RGBA8, channel c at [8c+7:8c] (R = 0, G = 1, B = 2, A = 3)
+//
+// Computation (docs/numerics.md, "Colour map"):
+//   u = (f mod 1) N (mod) or clip(f N, -W/2, N + W/2), W = 2^W_CAP_LOG2 (clamp)
+//       [s{U_W}.{F_FRAC} entries; clamp compares f with the thresholds shifted right
+//        by n_log2, exact because they are multiples of 2^n_log2]
+//   `CFG_FILTER 1 (sat): a = 2u - w, b = 2u + w (s{X_W}.{F_FRAC+1}), and per channel
+//       D = I(b) - I(a) = ((whole + csat[kb-1] - csat[ka-1]) << XF) + fr_b clut[kb] - fr_a clut[ka]
+//       (sat_index, sat_integral), whole = (kx_b - kx_a) total (mod: kx = whole tables
+//       before x) or kx_b clut[kb] - kx_a clut[ka] (clamp: kx = whole entries past an edge),
+//       formed by two KW x QW multipliers in either mode (mod: the bytes of total; QW = 8
+//       for N_LOG2_MAX <= 8);
+//       computed mod 2^D_W, exact since 0 <= D <= 255 * 2w < 2^D_W;
+//       out = floor((D + w) / (2w)) = floor(((D + w) >> 1) / w) by box_divide (8 quotient
+//       bits: D + w <= 511 w < 2^8 * 2w, so out <= 255, never 256);
+//       w = 0 or filter off: the point lookup clut[k], k = floor(u) mod N or clipped, which
+//       is the clut read at window end a when w is forced to 0 (a = b = 2u), fed through the
+//       divider as num = clut[k], den = 1.
+//   `CFG_FILTER 2 (mip): mip[2N - (2N >> l) + (floor(u) >> l)], l = clip(floor(log2 w), 0,
+//       n_log2) (mip_index); filter off: clut[k].
+//   `CFG_FILTER 0 (none): clut[k].
+// Only the configured filter is built (generate on `CFG_FILTER).
+//
+// Tables (colour_table): loaded by the host through the write port (synchronous,
+// independent of ce): wr_table 0 clut, 1 csat (inclusive prefix sums of clut, eq. 13),
+// 2 mip (2N - 1 entries, level l at 2N - (2N >> l)); wr_data channel c at
+// [c*CSAT_W +: CSAT_W], clut and mip use the low 8 bits of each lane; wr_addr past a table's
+// end, wr_table 3 and tables the configuration does not build are ignored. The host computes
+// csat and mip (golden build_tables); the RTL equals golden for tables so built.
+// Storage: sat 32 2^NMAX + 4 CSAT_W 2^NMAX bits (full, reduced: 24576; plus the NMAX+1
+// whole-table sums csat[2^l - 1] as 4 CSAT_W (NMAX+1) = 576 flip-flops), mip 32 2^NMAX +
+// 32 (2^(NMAX+1) - 1) (24544), none 32 2^NMAX (8192).
+//
+// Pipeline (sat): 1 u | 2 a, b | 3 sat_index x2 | 4 colour_table reads, multiplier operands
+// | 5 sat_integral x2 | 6 numerator (D + w) >> 1, divisor | 7..14 box_divide (one quotient
+// bit per stage). mip/none: 1 u | 2-3 mip_index | 4 table reads | 5 select | 6..14 delay line.
+// Latency `LAT_COLOUR_MAP = 14 (register stages); throughput one pixel per enabled clock.
+// Reset (synchronous, active high) clears the valid chain and rgba_out (no X after reset);
+// rgba_out loads only with a valid result.
+
+`default_nettype none
+
+`include "tex_cfg.vh"
+`include "tex_latency.vh"
+
+module colour_map (
+    input  wire                         clk,
+    input  wire                         rst,
+    input  wire                         ce,
+    input  wire                         in_valid,
+    input  wire [`CFG_F_W-1:0]          f_in,       // signed
+    input  wire [`CFG_W_W-1:0]          w_in,
+    input  wire                         mode,       // 0 mod, 1 clamp
+    input  wire [`CFG_N_LOG2_W-1:0]     n_log2,
+    input  wire                         filter_en,
+    // table write port
+    input  wire                         wr_en,
+    input  wire [1:0]                   wr_table,   // 0 clut, 1 csat, 2 mip
+    input  wire [`CFG_N_LOG2_MAX:0]     wr_addr,
+    input  wire [4*`CFG_CSAT_W-1:0]     wr_data,
+    output wire                         out_valid,
+    output wire [31:0]                  rgba_out
+);
+
+localparam FILTER = `CFG_FILTER;
+localparam F_W    = `CFG_F_W;
+localparam W_W    = `CFG_W_W;
+localparam U_W    = `CFG_U_W;
+localparam X_W    = `CFG_X_W;
+localparam XF     = `CFG_X_FRAC;
+localparam FF     = `CFG_F_FRAC;
+localparam CS_W   = `CFG_CSAT_W;
+localparam D_W    = `CFG_D_W;
+localparam NMAX   = `CFG_N_LOG2_MAX;
+localparam NL_W   = `CFG_N_LOG2_W;
+localparam WCAP   = `CFG_W_CAP_LOG2;
+localparam LAT    = `LAT_COLOUR_MAP;
+
+localparam KW     = X_W - XF;           // entry index of a window end (signed)
+localparam TW     = D_W - XF;           // whole-entry part of D
+localparam QW     = (CS_W - 8 > 8) ? CS_W - 8 : 8;  // multiplier operand: a byte of total, or clut
+localparam GUARD  = WCAP + FF - 1;      // clamp guard W/2 = 2^GUARD (units 2^-FF entries)
+localparam CW     = (F_W > U_W) ? F_W : U_W;  // clamp comparison width
+
+// ---------------------------------------------------------------------------
+// Stage 1: u
+
+reg [CW-1:0]  f_c;       // f sign-extended to CW
+reg [CW-1:0]  gsh;       // guard >> n_log2
+reg [CW-1:0]  lo_thr;    // -(guard >> n_log2)
+reg [CW-1:0]  hi_thr;    // 1.0 + (guard >> n_log2)
+reg [U_W-1:0] guard_u;   // guard
+reg [U_W-1:0] n_u;       // N << FF
+reg [U_W-1:0] u_mod;
+reg [U_W-1:0] u_clamp;
+
+always @* begin
+    f_c = {CW{f_in[F_W-1]}};
+    f_c[F_W-1:0] = f_in;
+    gsh = {CW{1'b0}};
+    gsh[GUARD] = 1'b1;
+    gsh = gsh >> n_log2;
+    lo_thr = -gsh;
+    hi_thr = {CW{1'b0}};
+    hi_thr[FF] = 1'b1;
+    hi_thr = hi_thr + gsh;
+    guard_u = {U_W{1'b0}};
+    guard_u[GUARD] = 1'b1;
+    n_u = {U_W{1'b0}};
+    n_u[FF] = 1'b1;
+    n_u = n_u << n_log2;
+    // mod: (f mod 1) N
+    u_mod = {U_W{1'b0}};
+    u_mod[FF-1:0] = f_in[FF-1:0];
+    u_mod = u_mod << n_log2;
+    // clamp: clip(f N, -guard, N + guard); f N < -guard iff f < -(guard >> n_log2), and
+    // f N > N + guard iff f > 1.0 + (guard >> n_log2); in between f N fits U_W bits
+    if ($signed(f_c) < $signed(lo_thr))
+        u_clamp = -guard_u;
+    else if ($signed(f_c) > $signed(hi_thr))
+        u_clamp = n_u + guard_u;
+    else
+        u_clamp = f_c[U_W-1:0] << n_log2;
+end
+
+reg             s1_valid_reg;
+reg [U_W-1:0]   s1_u_reg;
+reg [W_W-1:0]   s1_w_reg;          // w, 0 when the filter is off
+reg             s1_mode_reg;
+reg [NL_W-1:0]  s1_n_log2_reg;
+
+always @(posedge clk) begin
+    if (rst)
+        s1_valid_reg <= 1'b0;
+    else if (ce)
+        s1_valid_reg <= in_valid;
+end
+
+always @(posedge clk) begin
+    if (ce) begin
+        s1_u_reg         <= mode ? u_clamp : u_mod;
+        s1_w_reg         <= filter_en ? w_in : {W_W{1'b0}};  // filter off: w = 0
+        s1_mode_reg      <= mode;
+        s1_n_log2_reg    <= n_log2;
+    end
+end
+
+// ---------------------------------------------------------------------------
+// Filter
+
+genvar ch;
+
+generate
+    if (FILTER == 1) begin : g_sat
+        // ---- stage 2: window ends a = 2u - w, b = 2u + w (filter off: w = 0, a = b = 2u)
+        reg [X_W-1:0] u2;
+        reg [X_W-1:0] w_x;
+        always @* begin
+            u2 = {X_W{s1_u_reg[U_W-1]}};
+            u2[U_W:1] = s1_u_reg;
+            u2[0] = 1'b0;
+            w_x = {X_W{1'b0}};
+            w_x[W_W-1:0] = s1_w_reg;
+        end
+
+        reg             s2_valid_reg;
+        reg [X_W-1:0]   s2_a_reg;
+        reg [X_W-1:0]   s2_b_reg;
+        reg [W_W-1:0]   s2_w_reg;
+        reg             s2_mode_reg;
+        reg [NL_W-1:0]  s2_n_log2_reg;
+
+        always @(posedge clk) begin
+            if (rst)
+                s2_valid_reg <= 1'b0;
+            else if (ce)
+                s2_valid_reg <= s1_valid_reg;
+        end
+
+        always @(posedge clk) begin
+            if (ce) begin
+                s2_a_reg      <= u2 - w_x;
+                s2_b_reg      <= u2 + w_x;
+                s2_w_reg      <= s1_w_reg;
+                s2_mode_reg   <= s1_mode_reg;
+                s2_n_log2_reg <= s1_n_log2_reg;
+            end
+        end
+
+        // ---- stage 3: table addresses and weights of both ends
+        wire [NMAX-1:0] kk_a, kk_b, km1_a, km1_b;
+        wire            first_a, first_b;
+        wire [XF-1:0]   fr_a, fr_b;
+        wire [KW-1:0]   kx_a, kx_b;
+
+        sat_index u_index_a (
+            .clk(clk), .ce(ce), .x_in(s2_a_reg), .mode(s2_mode_reg), .n_log2(s2_n_log2_reg),
+            .kk_out(kk_a), .km1_out(km1_a), .first_out(first_a), .fr_out(fr_a), .kx_out(kx_a)
+        );
+        sat_index u_index_b (
+            .clk(clk), .ce(ce), .x_in(s2_b_reg), .mode(s2_mode_reg), .n_log2(s2_n_log2_reg),
+            .kk_out(kk_b), .km1_out(km1_b), .first_out(first_b), .fr_out(fr_b), .kx_out(kx_b)
+        );
+
+        reg             s3_valid_reg;
+        reg [W_W-1:0]   s3_w_reg;
+        reg             s3_mode_reg;
+        reg [NL_W-1:0]  s3_n_log2_reg;
+
+        always @(posedge clk) begin
+            if (rst)
+                s3_valid_reg <= 1'b0;
+            else if (ce)
+                s3_valid_reg <= s2_valid_reg;
+        end
+
+        always @(posedge clk) begin
+            if (ce) begin
+                s3_w_reg      <= s2_w_reg;
+                s3_mode_reg   <= s2_mode_reg;
+                s3_n_log2_reg <= s2_n_log2_reg;
+            end
+        end
+
+        // ---- stage 4: table reads; multiplier operands of the whole-entry terms:
+        // clamp: kx_a (times clut[ka]), kx_b (times clut[kb]);
+        // mod:   dw = kx_b - kx_a >= 0 whole tables (times the two bytes of total)
+        wire [31:0]       clut_a, clut_b;
+        wire [4*CS_W-1:0] csat_a, csat_b, total;
+        wire [31:0]       unused_mip_data;
+
+        colour_table u_table (
+            .clk(clk), .ce(ce),
+            .wr_en(wr_en), .wr_table(wr_table), .wr_addr(wr_addr), .wr_data(wr_data),
+            .clut_addr_a(kk_a), .clut_addr_b(kk_b), .csat_addr_a(km1_a), .csat_addr_b(km1_b),
+            .n_log2(s3_n_log2_reg), .mip_addr({(NMAX+1){1'b0}}),
+            .clut_a(clut_a), .clut_b(clut_b), .csat_a(csat_a), .csat_b(csat_b), .total(total),
+            .mip_data(unused_mip_data)
+        );
+
+        wire [KW-1:0] dw = kx_b - kx_a;
+
+        reg             s4_valid_reg;
+        reg [W_W-1:0]   s4_w_reg;
+        reg             s4_mode_reg;
+        reg [KW-1:0]    s4_k_a_reg, s4_k_b_reg;
+        reg [XF-1:0]    s4_fr_a_reg, s4_fr_b_reg;
+        reg             s4_first_a_reg, s4_first_b_reg;
+
+        always @(posedge clk) begin
+            if (rst)
+                s4_valid_reg <= 1'b0;
+            else if (ce)
+                s4_valid_reg <= s3_valid_reg;
+        end
+
+        always @(posedge clk) begin
+            if (ce) begin
+                s4_w_reg       <= s3_w_reg;
+                s4_mode_reg    <= s3_mode_reg;
+                s4_k_a_reg     <= s3_mode_reg ? kx_a : dw;
+                s4_k_b_reg     <= s3_mode_reg ? kx_b : dw;
+                s4_fr_a_reg    <= fr_a;
+                s4_fr_b_reg    <= fr_b;
+                s4_first_a_reg <= first_a;
+                s4_first_b_reg <= first_b;
+            end
+        end
+
+        // ---- stage 5: partial integrals and whole-entry products of both ends
+        // q operands: clamp clut[ka], clut[kb]; mod total >> 8 (a), total mod 2^8 (b)
+        wire [4*QW-1:0] q_a, q_b;
+        for (ch = 0; ch < 4; ch = ch + 1) begin : g_q
+            reg [QW-1:0] qa, qb;
+            always @* begin
+                qa = {QW{1'b0}};
+                qb = {QW{1'b0}};
+                if (s4_mode_reg) begin
+                    qa[7:0] = clut_a[8*ch +: 8];
+                    qb[7:0] = clut_b[8*ch +: 8];
+                end else begin
+                    qa[CS_W-9:0] = total[ch*CS_W+8 +: CS_W-8];
+                    qb[7:0]      = total[ch*CS_W +: 8];
+                end
+            end
+            assign q_a[ch*QW +: QW] = qa;
+            assign q_b[ch*QW +: QW] = qb;
+        end
+
+        wire [4*D_W-1:0] p_a, p_b;
+        wire [4*TW-1:0]  e_a, e_b;
+
+        sat_integral #(.QW(QW)) u_integral_a (
+            .clk(clk), .ce(ce), .c_in(clut_a), .before_in(csat_a), .first_in(s4_first_a_reg),
+            .fr_in(s4_fr_a_reg), .k_in(s4_k_a_reg), .q_in(q_a), .p_out(p_a), .e_out(e_a)
+        );
+        sat_integral #(.QW(QW)) u_integral_b (
+            .clk(clk), .ce(ce), .c_in(clut_b), .before_in(csat_b), .first_in(s4_first_b_reg),
+            .fr_in(s4_fr_b_reg), .k_in(s4_k_b_reg), .q_in(q_b), .p_out(p_b), .e_out(e_b)
+        );
+
+        reg             s5_valid_reg;
+        reg [W_W-1:0]   s5_w_reg;
+        reg             s5_mode_reg;
+        reg [31:0]      s5_point_reg;   // clut[ka]: the point lookup when w = 0
+
+        always @(posedge clk) begin
+            if (rst)
+                s5_valid_reg <= 1'b0;
+            else if (ce)
+                s5_valid_reg <= s4_valid_reg;
+        end
+
+        always @(posedge clk) begin
+            if (ce) begin
+                s5_w_reg     <= s4_w_reg;
+                s5_mode_reg  <= s4_mode_reg;
+                s5_point_reg <= clut_a;
+            end
+        end
+
+        // ---- stage 6: divider operands; num = (D + w) >> 1, den = w, or clut[k] / 1, with
+        // D = (whole << XF) + p_b - p_a, whole = e_b - e_a (clamp) or e_b + (e_a << 8) (mod)
+        wire                 w_zero = (s5_w_reg == {W_W{1'b0}});
+        wire [4*(D_W-1)-1:0] num;
+        reg  [D_W-1:0]       d_w;    // w zero-extended
+        reg  [W_W-1:0]       den;
+        always @* begin
+            d_w = {D_W{1'b0}};
+            d_w[W_W-1:0] = s5_w_reg;
+            den = s5_w_reg;
+            if (w_zero)
+                den[0] = 1'b1;
+        end
+        for (ch = 0; ch < 4; ch = ch + 1) begin : g_num
+            reg [TW-1:0]  ea_x;     // e_a (clamp: negated) or e_a << 8 (mod)
+            reg [TW-1:0]  whole;    // whole entries of D, mod 2^TW
+            reg [D_W-1:0] sum;      // D + w (< 2^D_W)
+            reg [D_W-2:0] pt;       // clut[k] zero-extended
+            always @* begin
+                if (s5_mode_reg)
+                    ea_x = -e_a[ch*TW +: TW];
+                else
+                    ea_x = e_a[ch*TW +: TW] << 8;
+                whole = e_b[ch*TW +: TW] + ea_x;
+                sum = {whole, {XF{1'b0}}} + p_b[ch*D_W +: D_W] - p_a[ch*D_W +: D_W] + d_w;
+                pt = {(D_W-1){1'b0}};
+                pt[7:0] = s5_point_reg[8*ch +: 8];
+            end
+            // floor((D + w) / 2w) = floor(((D + w) >> 1) / w): the LSB of D + w is not needed
+            assign num[ch*(D_W-1) +: D_W-1] = w_zero ? pt : sum[D_W-1:1];
+            wire unused_lsb = sum[0];
+        end
+
+        reg                  s6_valid_reg;
+        reg [4*(D_W-1)-1:0]  s6_num_reg;
+        reg [W_W-1:0]        s6_den_reg;
+
+        always @(posedge clk) begin
+            if (rst)
+                s6_valid_reg <= 1'b0;
+            else if (ce)
+                s6_valid_reg <= s5_valid_reg;
+        end
+
+        always @(posedge clk) begin
+            if (ce) begin
+                s6_num_reg <= num;
+                s6_den_reg <= den;
+            end
+        end
+
+        // ---- stages 7..14: one quotient bit per stage (LAT_COLOUR_MAP = 6 + 8)
+        box_divide #(
+            .NUM_W(D_W - 1), .DEN_W(W_W), .Q_W(8), .LANES(4)
+        ) u_divide (
+            .clk(clk), .rst(rst), .ce(ce), .in_valid(s6_valid_reg),
+            .num_in(s6_num_reg), .den_in(s6_den_reg),
+            .out_valid(out_valid), .q_out(rgba_out)
+        );
+    end else begin : g_lookup
+        // stage 1: filter_en selects the MIP map (sat: only w = 0 carries it)
+        reg s1_filter_en_reg;
+        always @(posedge clk) begin
+            if (ce)
+                s1_filter_en_reg <= filter_en;
+        end
+
+        // ---- stages 2-3: point / MIP address
+        wire [NMAX:0] addr;
+        wire          use_mip;
+
+        mip_index #(.FILTER(FILTER)) u_index (
+            .clk(clk), .ce(ce), .u_in(s1_u_reg), .w_in(s1_w_reg), .mode(s1_mode_reg),
+            .n_log2(s1_n_log2_reg), .filter_en(s1_filter_en_reg),
+            .addr_out(addr), .use_mip_out(use_mip)
+        );
+
+        // valid for stages 2..4
+        reg [2:0] sv_reg;
+        always @(posedge clk) begin
+            if (rst)
+                sv_reg <= 3'b000;
+            else if (ce)
+                sv_reg <= {sv_reg[1:0], s1_valid_reg};
+        end
+
+        reg use_mip_reg;
+        always @(posedge clk) begin
+            if (ce)
+                use_mip_reg <= use_mip;
+        end
+
+        // ---- stage 4: table reads
+        wire [31:0]       clut_a, mip_data;
+        wire [31:0]       unused_clut_b;
+        wire [4*CS_W-1:0] unused_csat_a, unused_csat_b, unused_total;
+
+        colour_table u_table (
+            .clk(clk), .ce(ce),
+            .wr_en(wr_en), .wr_table(wr_table), .wr_addr(wr_addr), .wr_data(wr_data),
+            .clut_addr_a(addr[NMAX-1:0]), .clut_addr_b({NMAX{1'b0}}),
+            .csat_addr_a({NMAX{1'b0}}), .csat_addr_b({NMAX{1'b0}}),
+            .n_log2({NL_W{1'b0}}), .mip_addr(addr),
+            .clut_a(clut_a), .clut_b(unused_clut_b), .csat_a(unused_csat_a),
+            .csat_b(unused_csat_b), .total(unused_total), .mip_data(mip_data)
+        );
+
+        // ---- stages 5..LAT: select, then a delay line to the block's latency; the last
+        // register is the output register (reset, loads only a valid result)
+        localparam DL = LAT - 4;  // register stages after the table read (>= 3)
+        reg [DL-1:0]        dv_reg;
+        reg [(DL-1)*32-1:0] dd_reg;
+        reg [31:0]          out_reg;
+
+        always @(posedge clk) begin
+            if (rst)
+                dv_reg <= {DL{1'b0}};
+            else if (ce)
+                dv_reg <= {dv_reg[DL-2:0], sv_reg[2]};
+        end
+
+        always @(posedge clk) begin
+            if (ce)
+                dd_reg <= {dd_reg[(DL-2)*32-1:0], use_mip_reg ? mip_data : clut_a};
+        end
+
+        always @(posedge clk) begin
+            if (rst)
+                out_reg <= 32'd0;
+            else if (ce && dv_reg[DL-2])
+                out_reg <= dd_reg[(DL-2)*32 +: 32];
+        end
+
+        assign out_valid = dv_reg[DL-1];
+        assign rgba_out  = out_reg;
+    end
+endgenerate
+
+endmodule
+
+`default_nettype wire

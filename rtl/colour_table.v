@@ -1,0 +1,163 @@
+// colour_table: the colour map's register-array tables, one write port, registered read ports.
+//
+// Tables (built according to FILTER, the others are not built and read as 0):
+//   clut  2^NMAX entries RGBA8 (R at [7:0], A at [31:24])           FILTER 0, 1, 2
+//   csat  2^NMAX entries, 4 x u{CS_W}.0, channel c at [c*CS_W +: CS_W]: the inclusive
+//         prefix sums of clut (paper eq. 13), computed by the host     FILTER 1 (sat)
+//   mip   2^(NMAX+1) - 1 entries RGBA8, MIP level l at 2N - (2N >> l)  FILTER 2 (mip)
+// Read ports (registered, advance with ce; read-before-write on a same-clock write):
+//   FILTER 1: clut at clut_addr_a and clut_addr_b (the two window ends), csat at
+//             csat_addr_a and csat_addr_b, and total = csat[2^n_log2 - 1], read from a
+//             register file of the NMAX+1 entries csat[2^l - 1], captured as the host
+//             writes them (4 CS_W (NMAX+1) flip-flops: 576 full / reduced), not a third
+//             read port of csat
+//   FILTER 2: clut at clut_addr_a (point lookup), mip at mip_addr
+//   FILTER 0: clut at clut_addr_a
+// Storage: 32 2^NMAX (clut) + 4 CS_W 2^NMAX (csat, sat) or 32 (2^(NMAX+1) - 1) (mip) bits;
+// full and reduced (NMAX = 8, CS_W = 16, sat): 8192 + 16384 = 24576 bits.
+//
+// Write port (synchronous, independent of ce): wr_en, wr_table (0 clut, 1 csat, 2 mip;
+// 3 and tables not built are ignored), wr_addr (entries past a table's end are ignored),
+// wr_data (4 lanes of CS_W bits, channel c at [c*CS_W +: CS_W]; clut and mip take the low 8
+// bits of each lane). The tables are not reset: load them before use.
+// Latency 1 (reads), one read per port per enabled clock.
+
+`default_nettype none
+
+`include "tex_cfg.vh"
+
+module colour_table #(
+    parameter FILTER = `CFG_FILTER,          // 0 none (point lookup), 1 sat, 2 mip
+    parameter NMAX   = `CFG_N_LOG2_MAX,      // log2 of the table size (>= 1)
+    parameter CS_W   = `CFG_CSAT_W,          // summed-area table channel width
+    parameter NL_W   = `CFG_N_LOG2_W         // width of n_log2
+) (
+    input  wire                clk,
+    input  wire                ce,
+    // write port
+    input  wire                wr_en,
+    input  wire [1:0]          wr_table,
+    input  wire [NMAX:0]       wr_addr,
+    input  wire [4*CS_W-1:0]   wr_data,
+    // read ports
+    input  wire [NMAX-1:0]     clut_addr_a,
+    input  wire [NMAX-1:0]     clut_addr_b,
+    input  wire [NMAX-1:0]     csat_addr_a,
+    input  wire [NMAX-1:0]     csat_addr_b,
+    input  wire [NL_W-1:0]     n_log2,
+    input  wire [NMAX:0]       mip_addr,
+    output wire [31:0]         clut_a,
+    output wire [31:0]         clut_b,
+    output wire [4*CS_W-1:0]   csat_a,
+    output wire [4*CS_W-1:0]   csat_b,
+    output wire [4*CS_W-1:0]   total,
+    output wire [31:0]         mip_data
+);
+
+localparam [1:0] TABLE_CLUT = 2'd0;
+localparam [1:0] TABLE_CSAT = 2'd1;
+localparam [1:0] TABLE_MIP  = 2'd2;
+localparam integer DEPTH     = 1 << NMAX;              // clut, csat entries
+localparam integer MIP_DEPTH = (1 << (NMAX + 1)) - 1;  // mip entries
+
+// an RGBA8 entry from the low 8 bits of each write lane
+wire [31:0] wr_rgba = {wr_data[3*CS_W +: 8], wr_data[2*CS_W +: 8],
+                       wr_data[1*CS_W +: 8], wr_data[0*CS_W +: 8]};
+
+// clut: built in every configuration
+reg [31:0] clut_mem [0:DEPTH-1];
+reg [31:0] clut_a_reg;
+
+always @(posedge clk) begin
+    if (wr_en && wr_table == TABLE_CLUT && !wr_addr[NMAX])
+        clut_mem[wr_addr[NMAX-1:0]] <= wr_rgba;
+end
+
+always @(posedge clk) begin
+    if (ce)
+        clut_a_reg <= clut_mem[clut_addr_a];
+end
+
+assign clut_a = clut_a_reg;
+
+generate
+    if (FILTER == 1) begin : g_sat
+        reg [31:0]       clut_b_reg;
+        reg [4*CS_W-1:0] csat_mem [0:DEPTH-1];
+        reg [4*CS_W-1:0] csat_a_reg;
+        reg [4*CS_W-1:0] csat_b_reg;
+        reg [4*CS_W-1:0] total_reg;
+        wire csat_we = wr_en && wr_table == TABLE_CSAT && !wr_addr[NMAX];
+
+        always @(posedge clk) begin
+            if (csat_we)
+                csat_mem[wr_addr[NMAX-1:0]] <= wr_data;
+        end
+
+        // whole-table sums csat[2^l - 1], l = 0..NMAX, captured as they are written (a
+        // register per l, so that csat stays a plain two-read-port array)
+        reg [(NMAX+1)*4*CS_W-1:0] tot_reg;
+        genvar lv;
+        for (lv = 0; lv <= NMAX; lv = lv + 1) begin : g_tot
+            localparam [NMAX:0] LAST = (1 << lv) - 1;  // csat address 2^lv - 1
+            always @(posedge clk) begin
+                if (csat_we && wr_addr == LAST)
+                    tot_reg[lv*4*CS_W +: 4*CS_W] <= wr_data;
+            end
+        end
+
+        always @(posedge clk) begin
+            if (ce) begin
+                clut_b_reg <= clut_mem[clut_addr_b];
+                csat_a_reg <= csat_mem[csat_addr_a];
+                csat_b_reg <= csat_mem[csat_addr_b];
+                total_reg  <= tot_reg[n_log2*4*CS_W +: 4*CS_W];  // csat[N - 1]
+            end
+        end
+
+        assign clut_b   = clut_b_reg;
+        assign csat_a   = csat_a_reg;
+        assign csat_b   = csat_b_reg;
+        assign total    = total_reg;
+        assign mip_data = 32'd0;
+        // the mip table is not built in this configuration
+        wire unused_mip = &{1'b0, mip_addr};
+    end else if (FILTER == 2) begin : g_mip
+        reg [31:0] mip_mem [0:MIP_DEPTH-1];
+        reg [31:0] mip_reg;
+
+        always @(posedge clk) begin
+            if (wr_en && wr_table == TABLE_MIP && wr_addr != {(NMAX+1){1'b1}})
+                mip_mem[wr_addr] <= wr_rgba;
+        end
+
+        always @(posedge clk) begin
+            if (ce)
+                mip_reg <= mip_mem[mip_addr];
+        end
+
+        assign clut_b   = 32'd0;
+        assign csat_a   = {4*CS_W{1'b0}};
+        assign csat_b   = {4*CS_W{1'b0}};
+        assign total    = {4*CS_W{1'b0}};
+        assign mip_data = mip_reg;
+        // csat and the second clut port are not built; clut and mip use 8 bits per lane
+        wire unused_sat = &{1'b0, clut_addr_b, csat_addr_a, csat_addr_b, n_log2,
+                            wr_data[3*CS_W+8 +: CS_W-8], wr_data[2*CS_W+8 +: CS_W-8],
+                            wr_data[1*CS_W+8 +: CS_W-8], wr_data[0*CS_W+8 +: CS_W-8]};
+    end else begin : g_point
+        assign clut_b   = 32'd0;
+        assign csat_a   = {4*CS_W{1'b0}};
+        assign csat_b   = {4*CS_W{1'b0}};
+        assign total    = {4*CS_W{1'b0}};
+        assign mip_data = 32'd0;
+        // point lookup only: one clut read port, 8 bits per write lane
+        wire unused_filter = &{1'b0, clut_addr_b, csat_addr_a, csat_addr_b, n_log2, mip_addr,
+                               wr_data[3*CS_W+8 +: CS_W-8], wr_data[2*CS_W+8 +: CS_W-8],
+                               wr_data[1*CS_W+8 +: CS_W-8], wr_data[0*CS_W+8 +: CS_W-8]};
+    end
+endgenerate
+
+endmodule
+
+`default_nettype wire

@@ -1,0 +1,94 @@
+// sat_index: one end x of a box-filter window -> its colour-table addresses and weights.
+//
+// x is s{X_W}.{XF} in colour-table entries (XF = f_frac + 1). With k = floor(x / 2^XF)
+// (s{KW}.0, KW = X_W - XF) and fr = x mod 2^XF (u{XF}.{XF}), as golden _integral does:
+//   mod   (mode 0): kk = k mod N,          kx = floor(k / N)  (whole tables before x)
+//   clamp (mode 1): kk = clip(k, 0, N-1),  kx = k - kk        (whole entries past an edge)
+// so that the integral of the colour function from 0 to x is
+//   mod:   I(x) = ((kx total + csat[kk-1]) << XF) + fr clut[kk]        (csat[-1] = 0)
+//   clamp: I(x) = ((kx clut[kk] + csat[kk-1]) << XF) + fr clut[kk]
+// The clamp form equals golden's three cases, given csat = cumsum(clut): below (k < 0):
+// kk = 0, I = (k << XF) clut[0] + fr clut[0] = x clut[0]; above (k >= N): kk = N-1,
+// csat[N-2] = total - clut[N-1], so I = (total << XF) + (x - N 2^XF) clut[N-1]; inside: kx = 0.
+// Outputs: kk (clut address), kk - 1 mod 2^NMAX (csat address), first = (kk == 0)
+// (csat[kk-1] reads as 0), fr u{XF}.{XF}, kx s{KW}.0.
+// N = 2^n_log2, n_log2 <= NMAX. Latency 1 (outputs registered, not reset: an internal
+// stage of colour_map, which carries the valid bit); one x per enabled clock.
+
+`default_nettype none
+
+`include "tex_cfg.vh"
+
+module sat_index #(
+    parameter X_W  = `CFG_X_W,         // width of x (signed)
+    parameter XF   = `CFG_X_FRAC,      // fraction bits of x
+    parameter NMAX = `CFG_N_LOG2_MAX,  // log2 of the largest table (>= 1)
+    parameter NL_W = `CFG_N_LOG2_W,    // width of n_log2
+    parameter KW   = X_W - XF          // width of k and kx (derived: do not override)
+) (
+    input  wire            clk,
+    input  wire            ce,
+    input  wire [X_W-1:0]  x_in,       // signed
+    input  wire            mode,       // 0 mod, 1 clamp
+    input  wire [NL_W-1:0] n_log2,
+    output wire [NMAX-1:0] kk_out,
+    output wire [NMAX-1:0] km1_out,
+    output wire            first_out,
+    output wire [XF-1:0]   fr_out,
+    output wire [KW-1:0]   kx_out      // signed
+);
+
+wire signed [KW-1:0] k  = x_in[X_W-1:XF];   // floor(x / 2^XF)
+wire        [XF-1:0] fr = x_in[XF-1:0];
+wire      [NMAX-1:0] nm1 = ~({NMAX{1'b1}} << n_log2);  // N - 1
+
+reg [NMAX-1:0] kk;
+reg [KW-1:0]   kk_x;   // kk zero-extended to KW bits
+reg [KW-1:0]   nm1_x;  // N - 1 zero-extended to KW bits
+reg [KW-1:0]   kx;
+
+always @* begin
+    nm1_x = {KW{1'b0}};
+    nm1_x[NMAX-1:0] = nm1;
+    if (!mode)
+        kk = k[NMAX-1:0] & nm1;
+    else if (k[KW-1])
+        kk = {NMAX{1'b0}};
+    else if (k > $signed(nm1_x))
+        kk = nm1;
+    else
+        kk = k[NMAX-1:0];
+    kk_x = {KW{1'b0}};
+    kk_x[NMAX-1:0] = kk;
+    // (two statements: in one ?: the unsigned k - kk_x would make >>> a logical shift)
+    if (mode)
+        kx = k - kk_x;
+    else
+        kx = k >>> n_log2;
+end
+
+reg [NMAX-1:0] kk_reg;
+reg [NMAX-1:0] km1_reg;
+reg            first_reg;
+reg [XF-1:0]   fr_reg;
+reg [KW-1:0]   kx_reg;
+
+always @(posedge clk) begin
+    if (ce) begin
+        kk_reg    <= kk;
+        km1_reg   <= kk - 1'b1;
+        first_reg <= (kk == {NMAX{1'b0}});
+        fr_reg    <= fr;
+        kx_reg    <= kx;
+    end
+end
+
+assign kk_out    = kk_reg;
+assign km1_out   = km1_reg;
+assign first_out = first_reg;
+assign fr_out    = fr_reg;
+assign kx_out    = kx_reg;
+
+endmodule
+
+`default_nettype wire

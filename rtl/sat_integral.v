@@ -1,0 +1,82 @@
+// sat_integral: one window end's share of the box-filter integral, per channel:
+//   p_out = (csat[kk-1] << XF) + fr clut[kk]       (mod 2^D_W)
+//   e_out = k_in * q_in                            (mod 2^TW, TW = D_W - XF)
+// p is the part of I(x) (sat_index) within the entry, e a whole-entry product: colour_map
+// feeds the multiplier k_in * q_in with kx * clut[kk] (clamp: entries past an edge) or,
+// in mod mode, with (kx_b - kx_a) times one byte of total (whole tables), so that the two
+// ends' multipliers together form D = I(b) - I(a) without a third one.
+//
+// Inputs: c_in = clut[kk] (RGBA8, channel c at [8c +: 8]); before_in = csat[kk-1]
+// (4 x u{CS_W}.0, channel c at [c*CS_W +: CS_W]), forced to 0 when first_in (kk == 0);
+// fr_in u{XF}.{XF}; k_in s{KW}.0; q_in 4 x u{QW}.0 (channel c at [c*QW +: QW]).
+// Outputs: p_out 4 x u{D_W}.{XF} (channel c at [c*D_W +: D_W]), e_out 4 x u{TW}.0
+// (channel c at [c*TW +: TW]), both modulo a power of two on purpose: colour_map uses
+// only D = I(b) - I(a), 0 <= D <= 255 * 2w < 2^D_W, and + - * commute with mod 2^D_W, so D
+// comes out exact.
+// Latency 1 (outputs registered, not reset: an internal stage of colour_map);
+// one vector per enabled clock.
+
+`default_nettype none
+
+`include "tex_cfg.vh"
+
+module sat_integral #(
+    parameter XF   = `CFG_X_FRAC,            // fraction bits of fr and of p
+    parameter KW   = `CFG_X_W - `CFG_X_FRAC, // width of k_in (signed)
+    parameter QW   = 8,                      // width of q_in (colour_map: max(8, CSAT_W - 8))
+    parameter CS_W = `CFG_CSAT_W,            // csat channel width
+    parameter D_W  = `CFG_D_W,               // width of p (mod 2^D_W); D_W >= CS_W + XF, XF + 8
+    parameter TW   = D_W - XF                // width of e (derived: do not override)
+) (
+    input  wire              clk,
+    input  wire              ce,
+    input  wire [31:0]       c_in,
+    input  wire [4*CS_W-1:0] before_in,
+    input  wire              first_in,
+    input  wire [XF-1:0]     fr_in,
+    input  wire [KW-1:0]     k_in,       // signed
+    input  wire [4*QW-1:0]   q_in,
+    output wire [4*D_W-1:0]  p_out,
+    output wire [4*TW-1:0]   e_out
+);
+
+genvar ch;
+generate
+    for (ch = 0; ch < 4; ch = ch + 1) begin : g_ch
+        reg        [D_W-1:0] b_x;   // csat[kk-1] << XF
+        reg        [D_W-1:0] fr_x;  // fr zero-extended
+        reg        [D_W-1:0] c_x;   // clut[kk] zero-extended
+        reg signed [TW-1:0]  k_x;   // k sign-extended
+        reg signed [TW-1:0]  q_x;   // q zero-extended
+        reg        [D_W-1:0] p_reg;
+        reg        [TW-1:0]  e_reg;
+
+        always @* begin
+            b_x = {D_W{1'b0}};
+            if (!first_in)
+                b_x[XF +: CS_W] = before_in[ch*CS_W +: CS_W];
+            fr_x = {D_W{1'b0}};
+            fr_x[XF-1:0] = fr_in;
+            c_x = {D_W{1'b0}};
+            c_x[7:0] = c_in[8*ch +: 8];
+            k_x = {TW{k_in[KW-1]}};
+            k_x[KW-1:0] = k_in;
+            q_x = {TW{1'b0}};
+            q_x[QW-1:0] = q_in[ch*QW +: QW];
+        end
+
+        always @(posedge clk) begin
+            if (ce) begin
+                p_reg <= b_x + fr_x * c_x;
+                e_reg <= k_x * q_x;
+            end
+        end
+
+        assign p_out[ch*D_W +: D_W] = p_reg;
+        assign e_out[ch*TW +: TW]   = e_reg;
+    end
+endgenerate
+
+endmodule
+
+`default_nettype wire

@@ -1,0 +1,287 @@
+"""colour_map (rtl/colour_map.v) against model/golden.py colour_map, bit for bit.
+
+Two halves in one file (the project's testbench convention):
+- pytest entries: `test_colour_map_rtl` over (simulator, configuration), and
+  `test_colour_map_filter_variants_rtl`, the same cocotb test on each configuration with
+  its filter switched to "mip" and to "none" (a header generated into
+  build/gen/<config>_<filter>/), so that every `CFG_FILTER branch is simulated;
+- the cocotb test `colour_map_vs_golden`: for a series of colour tables (random, one for
+  every N = 2^n_log2, n_log2 = 0..n_log2_max; all 255 and all 0, the quotient extremes;
+  a harsh 0/255 zebra; N = 1) it loads clut, csat and mip (golden build_tables) through the
+  write port (with random ce: writes must not depend on it, plus junk writes that must be
+  ignored: wr_table 3, tables the configuration does not build, addresses past a table's
+  end), then streams random vectors (f over the whole s{F_W} range and a realistic range,
+  w over [0, w_cap] uniformly and log-uniformly, both modes, filter on and off) and the
+  hard cases (every f in a list of edge values x every w in a list, both modes, filter on;
+  filter off on a subset) with random ce stalls and input gaps, and compares every output
+  bit with golden colour_map, computed vectorized per (mode, filter) group.
+
+Environment: SIM, CONFIG narrow the parametrization; SEED fixes the randomness;
+VECTORS = random vectors in all (default 2000; the hard cases come on top).
+"""
+from __future__ import annotations
+
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cocotb
+from cocotb.triggers import RisingEdge
+
+import tb.runner
+from model import golden
+from model.config import load_config, verilog_header
+from tb import pipe
+
+ROOT = Path(__file__).resolve().parents[2]
+SOURCES = ["colour_map.v", "colour_table.v", "sat_index.v", "sat_integral.v", "box_divide.v", "mip_index.v"]
+TABLE_CLUT, TABLE_CSAT, TABLE_MIP = 0, 1, 2
+
+
+def latency() -> int:
+    text = (ROOT / "rtl" / "tex_latency.vh").read_text()
+    return int(re.search(r"`define\s+LAT_COLOUR_MAP\s+(\d+)", text).group(1))
+
+
+# ---------------------------------------------------------------------------
+# stimulus
+
+
+def table_sets(cfg, r, variant=False):
+    """(name, n_log2, clut[N, 4], full) for every table the test loads; full: the whole
+    cross product of hard f and w values, else f x the w values that matter for this N."""
+    nmax = cfg.n_log2_max
+    big = 1 << nmax
+    zebra = np.where((np.arange(big) & 1)[:, None] == 1, 255, 0) * np.ones((1, 4), dtype=np.int64)
+    zebra[:, 3] = 255 - zebra[:, 3]  # alpha the other way round
+    edges = r.integers(0, 256, size=(big, 4))  # extremes at the ends (clamp mode's edge entries)
+    edges[0], edges[-1] = 255, 0
+    if variant:  # mip / none builds: fewer tables
+        sets = [("random N=1", 0, r.integers(0, 256, size=(1, 4)), True),
+                ("random N=8", 3, r.integers(0, 256, size=(8, 4)), False),
+                (f"random N={big}", nmax, r.integers(0, 256, size=(big, 4)), True),
+                (f"zebra N={big}", nmax, zebra, False)]
+        return [(name, n, np.asarray(c, dtype=np.int64), full) for name, n, c, full in sets]
+    sets = []
+    for n in range(nmax + 1):
+        sets.append((f"random N={1 << n}", n, r.integers(0, 256, size=(1 << n, 4)), n in (0, nmax)))
+    sets.append((f"all 255 N={big}", nmax, np.full((big, 4), 255), True))
+    sets.append(("all 255 N=1", 0, np.full((1, 4), 255), False))
+    sets.append((f"all 0 N={big}", nmax, np.zeros((big, 4), dtype=np.int64), False))
+    sets.append((f"zebra N={big}", nmax, zebra, False))
+    sets.append(("zebra N=2", 1, np.array([[0, 255, 0, 255], [255, 0, 255, 0]]), False))
+    sets.append((f"edges N={big}", nmax, edges, True))
+    return [(name, n, np.asarray(c, dtype=np.int64), full) for name, n, c, full in sets]
+
+
+def hard_f(cfg, n_log2):
+    ff, fw = cfg.f_frac, cfg.f_w
+    one, N = 1 << ff, 1 << n_log2
+    gsh = (1 << (cfg.w_cap_log2 + ff - 1)) >> n_log2  # clamp guard / N
+    fmin, fmax = -(1 << (fw - 1)), (1 << (fw - 1)) - 1
+    v = [0, 1, -1, one, one - 1, one + 1, -one, -one + 1, -one - 1, N * one, N * one - 1, N * one + 1,
+         -N * one, 2 * one + 3, -3 * one - 5,
+         one >> n_log2, (one >> n_log2) - 1, ((N - 1) * one) >> n_log2, (((N - 1) * one) >> n_log2) - 1,
+         one >> (n_log2 + 1), ((2 * N - 1) * one) >> (n_log2 + 1),
+         -gsh, -gsh - 1, -gsh + 1, one + gsh, one + gsh + 1, one + gsh - 1,
+         fmin, fmax, fmin + 1, fmax - 1, 1 << (fw - 2), -(1 << (fw - 2))]
+    return np.unique(np.clip(np.array(v, dtype=np.int64), fmin, fmax))
+
+
+def hard_w(cfg, n_log2, full=True):
+    ff = cfg.f_frac
+    one, N = 1 << ff, 1 << n_log2
+    cap = cfg.w_cap
+    if full:
+        v = [0, 1, 2, 3, one >> 1, one - 1, one, one + 1, N * one - 1, N * one, N * one + 1, 2 * N * one,
+             3 * N * one + 7, 5 * one + 12345, cap // 3, cap - 1, cap]
+    else:
+        v = [0, 1, one - 1, N * one - 1, N * one, N * one + 1, cap]
+    return np.unique(np.clip(np.array(v, dtype=np.int64), 0, cap))
+
+
+def random_vectors(cfg, r, n):
+    """n random (f, w, mode, filter_en): half over the whole formats, half realistic."""
+    fw, ff, cap = cfg.f_w, cfg.f_frac, cfg.w_cap
+    full = r.random(n) < 0.5
+    f = np.where(full, r.integers(-(1 << (fw - 1)), 1 << (fw - 1), size=n, dtype=np.int64),
+                 r.integers(-3 << ff, 4 << ff, size=n, dtype=np.int64))
+    e = r.integers(0, cfg.w_w, size=n)
+    w_log = (r.random(n) * (2.0 ** e)).astype(np.int64)
+    w = np.where(r.random(n) < 0.4, r.integers(0, cap + 1, size=n, dtype=np.int64), np.minimum(w_log, cap))
+    w = np.where(r.random(n) < 0.05, 0, w)
+    mode = r.integers(0, 2, size=n)
+    filt = (r.random(n) < 0.85).astype(np.int64)
+    return f, w, mode, filt
+
+
+def hard_vectors(cfg, n_log2, full=True):
+    fs, ws = hard_f(cfg, n_log2), hard_w(cfg, n_log2, full)
+    F, W = np.meshgrid(fs, ws, indexing="ij")
+    F, W = F.ravel(), W.ravel()
+    out = []
+    for mode in (golden.MODE_MOD, golden.MODE_CLAMP):
+        out.append((F, W, np.full(F.shape, mode), np.ones(F.shape, dtype=np.int64)))
+        # filter off: the point lookup, whatever w
+        wo = np.resize(np.array([0, 1 << cfg.f_frac, cfg.w_cap], dtype=np.int64), fs.shape)
+        out.append((fs, wo, np.full(fs.shape, mode), np.zeros(fs.shape, dtype=np.int64)))
+    return [np.concatenate(c) for c in zip(*out)]
+
+
+def expected(cfg, n_log2, clut, f, w, mode, filt):
+    """golden colour_map per (mode, filter) group -> packed RGBA words."""
+    out = np.zeros(f.shape, dtype=np.int64)
+    for m in (golden.MODE_MOD, golden.MODE_CLAMP):
+        for fe in (0, 1):
+            sel = (mode == m) & (filt == fe)
+            if not sel.any():
+                continue
+            tex = golden.TexInt(Q=np.zeros(10, dtype=np.int64), a=np.zeros(0, dtype=np.int64),
+                                T=np.zeros((0, 3, 3), dtype=np.int64), o=np.zeros((0, 3), dtype=np.int64),
+                                mode=m, n_log2=n_log2, filter=bool(fe), clut=clut)
+            rgba = golden.colour_map(cfg, tex, f[sel], w[sel]).astype(np.int64)
+            out[sel] = rgba[:, 0] | (rgba[:, 1] << 8) | (rgba[:, 2] << 16) | (rgba[:, 3] << 24)
+    return out
+
+
+# ---------------------------------------------------------------------------
+# cocotb side
+
+
+async def write_tables(dut, cfg, n_log2, clut, r):
+    """Load clut, csat and mip through the write port, ce random; then junk that must be ignored."""
+    csat, mip = golden.build_tables(clut)
+    cw, nmax = cfg.csat_w, cfg.n_log2_max
+    writes = [(TABLE_CLUT, a, e) for a, e in enumerate(clut)]
+    if cfg.filter == "sat":
+        writes += [(TABLE_CSAT, a, e) for a, e in enumerate(csat)]
+    if cfg.filter == "mip":
+        writes += [(TABLE_MIP, a, e) for a, e in enumerate(mip)]
+    junk = lambda: r.integers(0, 1 << cw, size=4)  # noqa: E731
+    for _ in range(4):
+        writes.append((3, int(r.integers(0, 2 << nmax)), junk()))
+        # addresses past the end of clut / csat (2^nmax entries) and mip (2^(nmax+1) - 1)
+        writes.append((TABLE_CLUT, int(r.integers(1 << nmax, 2 << nmax)), junk()))
+        writes.append((TABLE_CSAT, int(r.integers(1 << nmax, 2 << nmax)), junk()))
+        writes.append((TABLE_MIP, (2 << nmax) - 1, junk()))
+        # tables the configuration does not build
+        if cfg.filter != "sat":
+            writes.append((TABLE_CSAT, int(r.integers(0, 1 << n_log2)), junk()))
+        if cfg.filter != "mip":
+            writes.append((TABLE_MIP, int(r.integers(0, (2 << n_log2) - 1)), junk()))
+    # a clut / mip entry carries 8 bits per lane: set the upper lane bits, they must be ignored
+    hi = ((1 << cw) - 1) ^ 0xFF
+    dut.in_valid.value = 0
+    for table, addr, e in writes:
+        e = [int(x) | (hi if table in (TABLE_CLUT, TABLE_MIP) else 0) for x in e]
+        dut.wr_en.value = 1
+        dut.wr_table.value = table
+        dut.wr_addr.value = addr
+        dut.wr_data.value = pipe.pack(e, cw)
+        dut.ce.value = int(r.random() < 0.5)
+        await RisingEdge(dut.clk)
+    dut.wr_en.value = 0
+    dut.ce.value = 1
+
+
+@cocotb.test()
+async def colour_map_vs_golden(dut):
+    cfg = pipe.cfg()
+    r = pipe.rng(11)
+    lat = latency()
+    dut.wr_en.value = 0
+    await pipe.start(dut)
+    # after reset, before any table or vector: outputs resolved and 0 (no X)
+    assert dut.out_valid.value.is_resolvable and int(dut.out_valid.value) == 0, "out_valid after reset"
+    assert dut.rgba_out.value.is_resolvable and int(dut.rgba_out.value) == 0, "rgba_out after reset"
+    dut.wr_en.value = 0
+    dut.wr_table.value = 0
+    dut.wr_addr.value = 0
+    dut.wr_data.value = 0
+    fmask, wmask = (1 << cfg.f_w) - 1, (1 << cfg.w_w) - 1
+    sets = table_sets(cfg, r, variant=os.environ.get("CM_VARIANT") == "1")
+    n_rand = -(-pipe.n_vectors() // len(sets))
+    total = 0
+    for name, n_log2, clut, full in sets:
+        await write_tables(dut, cfg, n_log2, clut, r)
+        hf, hw, hm, he = hard_vectors(cfg, n_log2, full)
+        rf, rw, rm, re_ = random_vectors(cfg, r, n_rand)
+        f = np.concatenate([hf, rf])
+        w = np.concatenate([hw, rw])
+        mode = np.concatenate([hm, rm])
+        filt = np.concatenate([he, re_])
+        perm = r.permutation(len(f))
+        f, w, mode, filt = f[perm], w[perm], mode[perm], filt[perm]
+        exp = expected(cfg, n_log2, clut, f, w, mode, filt)
+        fl, wl, ml, el = f.tolist(), w.tolist(), mode.tolist(), filt.tolist()
+
+        def apply(i):
+            dut.f_in.value = fl[i] & fmask
+            dut.w_in.value = wl[i] & wmask
+            dut.mode.value = ml[i]
+            dut.n_log2.value = n_log2
+            dut.filter_en.value = el[i]
+
+        def sample():
+            return int(dut.rgba_out.value)
+
+        got = await pipe.run_vectors(dut, apply, sample, len(f), lat, seed=int(r.integers(1 << 30)))
+        got = np.array(got, dtype=np.int64)
+        bad = np.nonzero(got != exp)[0]
+        if len(bad):
+            lines = []
+            for i in bad[:10]:
+                lines.append(f"  vector {i}: f={fl[i]} w={wl[i]} mode={ml[i]} filter_en={el[i]} n_log2={n_log2}: "
+                             f"expected {int(exp[i]):08x} got {int(got[i]):08x}")
+            raise AssertionError(f"table '{name}': {len(bad)} of {len(f)} vectors differ\n" + "\n".join(lines))
+        total += len(f)
+        dut._log.info(f"table '{name}': {len(f)} vectors ({len(hf)} hard cases) bit-exact")
+    dut._log.info(f"{total} vectors over {len(sets)} tables, latency {lat}: all bit-exact")
+
+
+# ---------------------------------------------------------------------------
+# pytest side
+
+
+@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+def test_colour_map_rtl(sim, config):
+    tb.runner.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim, config=config,
+                  test_dir=Path(__file__).parent)
+
+
+def _variant_gen_dir(config: str, filt: str) -> tuple[Path, Path]:
+    """build/gen/<config>_<filt>/: the configuration with its filter switched, and its header."""
+    out = ROOT / "build" / "gen" / f"{config}_{filt}"
+    out.mkdir(parents=True, exist_ok=True)
+    text = (ROOT / "config" / f"{config}.toml").read_text()
+    text, n = re.subn(r'(?m)^filter\s*=\s*"[a-z]+"', f'filter = "{filt}"', text)
+    assert n == 1, f"config/{config}.toml: no features.filter line"
+    toml = out / f"{config}_{filt}.toml"
+    header = out / "tex_cfg.vh"
+    for p, t in ((toml, text),):
+        if not p.exists() or p.read_text() != t:
+            p.write_text(t)
+    h = verilog_header(load_config(toml))
+    if not header.exists() or header.read_text() != h:
+        header.write_text(h)
+    return out, toml
+
+
+def _variant_params():
+    """Icarus only unless SIM= asks for a simulator (the variants are a cheap extra check)."""
+    sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["icarus"]
+    cfgs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(tb.runner.CONFIGS)
+    return [(s, c, f) for s in sims for c in cfgs for f in ("mip", "none")]
+
+
+@pytest.mark.parametrize("sim,config,filt", _variant_params())
+def test_colour_map_filter_variants_rtl(sim, config, filt, monkeypatch):
+    """The same cocotb test with the configuration's filter switched to mip / none."""
+    gdir, toml = _variant_gen_dir(config, filt)
+    monkeypatch.setattr(tb.runner, "gen_dir", lambda _config: gdir)
+    tb.runner.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim,
+                  config=f"{config}_{filt}", extra_env={"CONFIG": str(toml), "CM_VARIANT": "1"},
+                  test_dir=Path(__file__).parent)
