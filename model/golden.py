@@ -243,7 +243,12 @@ def colour_map(cfg: Config, tex: TexInt, f, w):
     edge entry). Filter "sat": D = I(u + w/2) - I(u - w/2) (eq. 15 and every edge
     case of 3.3.2 as one integral), out = floor(D / w + 1/2); w = 0 or filter off:
     the point lookup C(u). Filter "mip": level floor(log2 w), point lookup in it.
+
+    Contract (as the RTL's): 0 <= w <= 2^(w_cap_log2 + f_frac) (filter_width saturates
+    there) and csat = cumsum(clut), mip from build_tables (the host writes them).
     """
+    if np.any(np.asarray(w) > (1 << (cfg.w_cap_log2 + cfg.f_frac))) or np.any(np.asarray(w) < 0):
+        raise ValueError(f"colour_map: w outside [0, 2^{cfg.w_cap_log2 + cfg.f_frac}]")
     n_log2 = tex.n_log2
     n = 1 << n_log2
     ff = cfg.f_frac
@@ -270,8 +275,10 @@ def colour_map(cfg: Config, tex: TexInt, f, w):
     a2, b2 = 2 * u - w, 2 * u + w
     D = _integral(cfg, tex, b2, xf) - _integral(cfg, tex, a2, xf)
     wc = np.maximum(w, 1)[..., None]
-    out = (D + wc) // (2 * wc)
-    return np.where((w > 0)[..., None], out, point).astype(np.uint8)
+    out = np.where((w > 0)[..., None], (D + wc) // (2 * wc), point)
+    if out.size and (out.min() < 0 or out.max() > 255):  # impossible for consistent tables: never wrap silently
+        raise ValueError("colour_map: average outside 0..255 (inconsistent csat/clut tables?)")
+    return out.astype(np.uint8)
 
 
 def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):

@@ -354,7 +354,7 @@ def test_mip_lookup_levels():
     # w = 4 entries -> level 2 (blocks of 4), f at entry 10 -> block 2 = mean(8..11) = 9.5 -> 10 (half up)
     out = G.colour_map(cfg, tex, np.array([(10 << ff) // 256]), np.array([4 << ff]))
     assert out[0, 0] == 10
-    out = G.colour_map(cfg, tex, np.array([0]), np.array([(1 << 20) << ff]))  # w >= N: top level, the average
+    out = G.colour_map(cfg, tex, np.array([0]), np.array([1 << (cfg.w_cap_log2 + ff)]))  # w >= N: top level, the average
     assert out[0, 0] == (sum(range(256)) + 128) >> 8
     cfg.filter = "sat"
 
