@@ -59,11 +59,14 @@ def run_frame(scene_name: str, config_name: str, sim: str, size: int, out_root: 
     rtl_l, gold_l, ref_l = [], [], []
     cycles = 0
     sim_s = 0.0
+    stream_s = 0.0
     mismatches = []
     for pd in pds:
         g = golden.texture_pipeline(cfg, pd.ti, pd.si, pd.Jm, pd.je)
         if len(pd.si):
-            r, cyc, secs = run_frame_rtl(config_name, sim, pd.ti, pd.si, pd.Jm, pd.je, gaps=gaps, stalls=stalls)
+            r, cyc, secs, stats = run_frame_rtl(config_name, sim, pd.ti, pd.si, pd.Jm, pd.je, gaps=gaps,
+                                                stalls=stalls, return_stats=True)
+            stream_s += sum(st.get("stream_wall_us", 0) for st in stats) / 1e6
         else:
             r, cyc, secs = g.copy(), 0, 0.0
         cycles += cyc
@@ -105,7 +108,10 @@ def run_frame(scene_name: str, config_name: str, sim: str, size: int, out_root: 
         "mismatched_pixels": n_bad, "bit_exact": n_bad == 0,
         "psnr_vs_reference_db": cr["psnr_db"], "max_abs_error_lsb": cr["max_abs_error_lsb"],
         "cycles": int(cycles), "cycles_per_pixel": round(cycles / px, 4) if px else None,
-        "sim_seconds": round(sim_s, 3), "rtl_pixels_per_second": round(px / sim_s) if sim_s > 0 else None,
+        "sim_seconds": round(sim_s, 3), "stream_seconds": round(stream_s, 3),
+        # streaming only (the HDL harness times its pixel loop); with simulator start-up apart
+        "rtl_pixels_per_second": round(px / stream_s) if stream_s > 0 else None,
+        "rtl_pixels_per_second_with_startup": round(px / sim_s) if sim_s > 0 else None,
         "input_gaps_percent": gaps, "output_stalls_percent": stalls,
         "first_mismatches": [m for m in mismatches if "count" not in m][:10],
         "seconds": round(time.perf_counter() - t0, 2),
@@ -131,11 +137,14 @@ def conformance(size: int, sim: str) -> int:
          f"Written by `make frames` ({size}x{size}, {sim}). Every pixel of every texture pass of the RTL "
          "is compared with the golden model; `bit_exact` means no bit differs.", "",
          "![RTL images](images/conformance.png)", "",
-         "| scene | config | bit_exact | mismatched pixels | PSNR vs reference (dB) | cycles/pixel | RTL pixels/s |",
-         "|---|---|---|---|---|---|---|"]
+         "RTL pixels/s: simulator wall time of the streaming loop; with start-up: including the simulator's "
+         "start (about 2 s a pass).", "",
+         "| scene | config | bit_exact | mismatched pixels | PSNR vs reference (dB) | cycles/pixel | RTL pixels/s | with start-up |",
+         "|---|---|---|---|---|---|---|---|"]
     for r in reps:
         L.append(f"| {r['scene']} | {r['config']} | {r['bit_exact']} | {r['mismatched_pixels']} | "
-                 f"{r['psnr_vs_reference_db']} | {r['cycles_per_pixel']} | {r['rtl_pixels_per_second']} |")
+                 f"{r['psnr_vs_reference_db']} | {r['cycles_per_pixel']} | {r['rtl_pixels_per_second']} | "
+                 f"{r['rtl_pixels_per_second_with_startup']} |")
     (ROOT / "docs" / "conformance.md").write_text("\n".join(L) + "\n")
     return 0 if all(r["bit_exact"] for r in reps) else 1
 
