@@ -90,8 +90,9 @@ def run(toplevel: str, sources, test_module: str, sim: str, config: str, extra_e
     if shutil.which("iverilog" if sim == "icarus" else "verilator") is None:
         raise RuntimeError(f"{sim}: simulator not found on PATH (run `make setup`)")
     gdir = gen_dir(config)
-    build_dir = ROOT / "build" / "sim" / toplevel / f"{config}-{sim}"
     waves = os.environ.get("WAVES") == "1"
+    # a traced build is a different build (dump module, --trace-fst): its own directory
+    build_dir = ROOT / "build" / "sim" / toplevel / f"{config}-{sim}{'-waves' if waves else ''}"
     runner = get_runner(sim)
     build_args = []
     if sim == "verilator":
