@@ -32,7 +32,7 @@ help:
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
 
 setup:
-	@command -v apt-get >/dev/null && { apt-get update -qq && apt-get install -y -qq iverilog yosys make g++ >/dev/null; } \
+	@command -v apt-get >/dev/null && { apt-get update -qq && apt-get install -y -qq iverilog yosys make g++ liblz4-dev zlib1g-dev >/dev/null; } \
 	  || echo "setup: apt-get not available; install iverilog and yosys yourself"
 	python3 -m venv $(VENV)
 	$(PIP) install -q --upgrade pip==24.3.1

@@ -119,10 +119,15 @@ def run(toplevel: str, sources, test_module: str, sim: str, config: str, extra_e
         "GEN_DIR": str(gdir),
     }
     env.update(extra_env or {})
+    # the runner builds the simulator's PYTHONPATH from sys.path: the test module's folder must be on it;
+    # the simulator runs in the build directory, so results and waveforms stay out of the source tree
+    for p in (str(ROOT), str(test_dir or ROOT / "tb")):
+        if p not in sys.path:
+            sys.path.append(p)
     results = runner.test(
         hdl_toplevel=toplevel,
         test_module=test_module,
-        test_dir=test_dir,
+        test_dir=build_dir,
         build_dir=build_dir,
         extra_env=env,
         seed=s,
