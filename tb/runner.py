@@ -124,17 +124,28 @@ def run(toplevel: str, sources, test_module: str, sim: str, config: str, extra_e
     for p in (str(ROOT), str(test_dir or ROOT / "tb")):
         if p not in sys.path:
             sys.path.append(p)
-    results = runner.test(
-        hdl_toplevel=toplevel,
-        test_module=test_module,
-        test_dir=build_dir,
-        build_dir=build_dir,
-        extra_env=env,
-        seed=s,
-        waves=waves,
-        timescale=("1ns", "1ps"),
-        plusargs=[f"+GEN_DIR={gdir}"],
-    )
+    # cocotb's runner lets the calling process's environment override extra_env (a CONFIG=
+    # set in the shell would win over a variant's CONFIG), so set ours for the duration
+    saved = {k: os.environ.get(k) for k in env}
+    os.environ.update(env)
+    try:
+        results = runner.test(
+            hdl_toplevel=toplevel,
+            test_module=test_module,
+            test_dir=build_dir,
+            build_dir=build_dir,
+            extra_env=env,
+            seed=s,
+            waves=waves,
+            timescale=("1ns", "1ps"),
+            plusargs=[f"+GEN_DIR={gdir}"],
+        )
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
     n_tests, n_fail = get_results(results)
     assert n_tests > 0, f"{toplevel}: no cocotb test ran"
     assert n_fail == 0, f"{toplevel} [{config} {sim}]: {n_fail} of {n_tests} cocotb tests failed (SEED={s})"
