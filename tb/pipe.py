@@ -114,3 +114,32 @@ async def _after_readonly(dut):
     from cocotb.triggers import Timer
 
     await Timer(1, unit="ns")
+
+
+async def run_batches(dut, batches, params, vectors, sample, latency: int, junk: dict, seed: int):
+    """Stream vector batches that each hold one parameter set, draining between sets.
+
+    batches: [(begin, end)] vector index ranges; params(b) drives the parameter inputs
+    for the batch starting at b; vectors: {port name: list of packed words per vector};
+    junk: {port name: width} of every input that gets unrelated random values for 0-3
+    clocks with in_valid = 0 between batches (nothing may keep them). The pipeline is
+    empty when run_vectors returns, so parameters change only between passes, as
+    texture_pipeline guarantees. Returns all samples in order.
+    """
+    ri = random.Random(seed + 7)
+    got = []
+    for k, (b, e) in enumerate(batches):
+        dut.in_valid.value = 0
+        for _ in range(ri.randint(0, 3)):
+            dut.ce.value = ri.randint(0, 1)
+            for name, width in junk.items():
+                getattr(dut, name).value = ri.getrandbits(width)
+            await RisingEdge(dut.clk)
+        params(b)
+
+        def apply(i, b=b):
+            for name, words in vectors.items():
+                getattr(dut, name).value = words[b + i]
+
+        got += await run_vectors(dut, apply, sample, e - b, latency=latency, seed=seed * 100003 + k)
+    return got
