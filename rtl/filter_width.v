@@ -185,7 +185,8 @@ end
 localparam HB = SH_W;  // bits of bitlen(mh), 0..MH_W (checked at the top)
 
 wire [MH_W-1:0]        mh = ax_reg[GABS_W-1:NORM_BITS] | ay_reg[GABS_W-1:NORM_BITS];
-wire [(HB+1)*MH_W-1:0] mh_lvl;  // level b value at [b*MH_W +: MH_W]; level HB is mh
+// split_var: each level is its own signal (older Verilators see the packed chain as a loop)
+wire [(HB+1)*MH_W-1:0] mh_lvl /* verilator split_var */;  // level b value at [b*MH_W +: MH_W]; level HB is mh
 wire [HB-1:0]          mh_pos;  // index of the top one (0 if mh == 0)
 
 assign mh_lvl[HB*MH_W +: MH_W] = mh;
@@ -300,7 +301,7 @@ wire signed [E_W-1:0] e = e_dly_reg[(SQ_LAT-1)*E_W +: E_W];
 
 // bitlen(r), by binary search as in stage 3
 localparam RB = BLR_W;
-wire [(RB+1)*R_W-1:0] r_lvl;
+wire [(RB+1)*R_W-1:0] r_lvl /* verilator split_var */;  // levels as for mh_lvl
 wire [RB-1:0]         r_pos;
 
 assign r_lvl[RB*R_W +: R_W] = r;
