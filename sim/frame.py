@@ -175,6 +175,9 @@ def main(argv=None) -> int:
     except (FormatError, ConfigError) as e:
         print(f"frame: {e}", file=sys.stderr)
         return 2
+    except RuntimeError as e:  # sim.frame_rtl.FrameRunError: a missing simulator, a failed build or run
+        print(f"frame: {e}", file=sys.stderr)
+        return 1
     print(json.dumps(rep, indent=2))
     if not rep["bit_exact"]:
         print(f"frame: {rep['mismatched_pixels']} pixels differ; first: {rep['first_mismatches'][:3]}", file=sys.stderr)

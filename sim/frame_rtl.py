@@ -20,6 +20,7 @@ import fcntl
 import hashlib
 import itertools
 import os
+import shutil
 import sys
 import time
 from pathlib import Path
@@ -127,6 +128,9 @@ def build(config: str, sim: str) -> Path:
     """Build the harness for (config, sim) unless the stamped build is current; its directory."""
     if sim == "verilator":
         setup_verilator_env()
+    tool = "iverilog" if sim == "icarus" else "verilator"
+    if shutil.which(tool) is None:
+        raise FrameRunError(f"{tool}: not found on PATH (run `make setup`)")
     gdir = gen_dir(config)
     bdir = build_dir(config, sim)
     bdir.mkdir(parents=True, exist_ok=True)
