@@ -318,10 +318,9 @@ def main(argv=None) -> int:
         print(f"config: {e}", file=sys.stderr)
         return 2
     if len(argv) > 1:
-        out = Path(argv[1])
-        out.mkdir(parents=True, exist_ok=True)
-        (out / "tex_cfg.vh").write_text(verilog_header(cfg))
-        (out / "perm.hex").write_text(perm_hex(cfg))
+        from model.gen_rtl import write  # the one writer of generated files
+
+        write(cfg, argv[1])
     else:
         sys.stdout.write(verilog_header(cfg))
     return 0

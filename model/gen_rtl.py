@@ -1,6 +1,7 @@
 """Verilog includes generated from a configuration (tables the RTL must not type in).
 
-`python -m model.gen_rtl CONFIG OUTDIR` writes OUTDIR/perm_rom.vh: the lattice hash
+`python -m model.gen_rtl CONFIG OUTDIR` writes every generated file into OUTDIR: tex_cfg.vh
+(the widths, model/config.py verilog_header), perm.hex, and perm_rom.vh: the lattice hash
 permutation of the configuration (model/config.py permutation(), 2^hash_bits entries)
 as a ROM (constant array perm_rom) read by the function `perm_lookup`. rtl/noise_hash.v
 includes it inside its module body; tb/runner.py gen_dir() regenerates it next to
@@ -12,7 +13,7 @@ import os
 import sys
 from pathlib import Path
 
-from model.config import ROOT, Config, ConfigError, load_config
+from model.config import Config, ConfigError, _rel, load_config, perm_hex, verilog_header
 
 
 def perm_rom(cfg: Config) -> str:
@@ -27,10 +28,8 @@ def perm_rom(cfg: Config) -> str:
     """
     hb = cfg.hash_bits
     n = 1 << hb
-    src = Path(cfg.path).resolve()
-    src = src.relative_to(ROOT) if src.is_relative_to(ROOT) else src
     lines = [
-        f"// Generated from {src} by model/gen_rtl.py. Do not edit.",
+        f"// Generated from {_rel(cfg.path)} by model/gen_rtl.py. Do not edit.",
         f"// Configuration: {cfg.name}. Lattice hash permutation perm[0..{n - 1}] (seed {cfg.seed}) as a",
         "// ROM (constant array) and its read function. Included inside a module body; needs tex_cfg.vh.",
         f"reg [`CFG_HASH_BITS-1:0] perm_rom [0:{n - 1}];",
@@ -52,7 +51,7 @@ def perm_rom(cfg: Config) -> str:
 
 
 # file name -> generator
-GENERATED = {"perm_rom.vh": perm_rom}
+GENERATED = {"tex_cfg.vh": verilog_header, "perm.hex": perm_hex, "perm_rom.vh": perm_rom}
 
 
 def write(cfg: Config, outdir) -> list[Path]:

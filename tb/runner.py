@@ -20,8 +20,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from model.config import load_config, perm_hex, verilog_header  # noqa: E402
-from model.gen_rtl import GENERATED  # noqa: E402
+from model.config import load_config  # noqa: E402
+from model.gen_rtl import write as write_generated  # noqa: E402
 
 SIMS = ("icarus", "verilator")
 CONFIGS = ("full", "reduced")
@@ -48,19 +48,9 @@ def setup_verilator_env() -> None:
 
 
 def gen_dir(config: str) -> Path:
-    """build/gen/<config>/ with tex_cfg.vh, perm.hex and model/gen_rtl.py's includes
-    (perm_rom.vh), rewritten when the config changes."""
-    cfg = load_config(config)
+    """build/gen/<config>/ with every generated include (model/gen_rtl.py), rewritten when the config changes."""
     out = ROOT / "build" / "gen" / config
-    out.mkdir(parents=True, exist_ok=True)
-    files = [("tex_cfg.vh", verilog_header(cfg)), ("perm.hex", perm_hex(cfg))]
-    files += [(name, gen(cfg)) for name, gen in GENERATED.items()]
-    for name, text in files:
-        p = out / name
-        if not p.exists() or p.read_text() != text:
-            tmp = p.with_suffix(p.suffix + f".{os.getpid()}")
-            tmp.write_text(text)
-            tmp.replace(p)
+    write_generated(load_config(config), out)
     return out
 
 
