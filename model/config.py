@@ -28,9 +28,11 @@ class ConfigError(ValueError):
 
 # key -> (section, type, (lo, hi) or allowed values)
 _SCHEMA = {
+    "quadric": ("features", str, ("full", "diagonal")),
     "noise_terms": ("features", int, (0, 8)),
     "blend": ("features", str, ("cubic", "linear")),
     "transform": ("features", str, ("affine", "pow2")),
+    "amplitude": ("features", str, ("any", "pow2")),
     "filter": ("features", str, ("sat", "mip", "none")),
     "noise_gradient": ("features", bool, (False, True)),
     "pixels_per_clock": ("features", int, (1, 1)),
@@ -51,6 +53,7 @@ _SCHEMA = {
     "c_frac": ("formats", int, (4, 20)),
     "norm_bits": ("formats", int, (4, 24)),
     "w_cap_log2": ("formats", int, (1, 20)),
+    "div_bits": ("formats", int, (0, 24)),
     "n_log2_max": ("formats", int, (0, 10)),
     "seed": ("hash", int, (0, 2**31 - 1)),
 }
@@ -82,9 +85,11 @@ def permutation(n: int, seed: int) -> np.ndarray:
 @dataclass
 class Config:
     name: str
+    quadric: str
     noise_terms: int
     blend: str
     transform: str
+    amplitude: str
     filter: str
     noise_gradient: bool
     pixels_per_clock: int
@@ -105,6 +110,7 @@ class Config:
     c_frac: int
     norm_bits: int
     w_cap_log2: int
+    div_bits: int
     n_log2_max: int
     seed: int
     path: str = ""
@@ -123,11 +129,17 @@ def _derive(c: Config) -> dict:
     d = {}
     smax = 1 << (c.s_w - 1)  # |s| <= smax (two's complement extreme)
     qmax = 1 << (c.q_w - 1)
-    # quadric: v_k = (Q_k0 s + Q_k1 t + Q_k2 r) >> s_frac + Q_k3      [frac q_frac]
-    vmax = (3 * qmax * smax >> c.s_frac) + 1 + qmax
+    if c.quadric == "diagonal":
+        # v_k = (Q_kk s_k >> s_frac) + Q_k3 and the factor v_k + Q_k3 of q  [frac q_frac]
+        vmax = (qmax * smax >> c.s_frac) + 1 + 2 * qmax
+        # q = (s (v0 + D) + t (v1 + G) + r (v2 + I)) >> s_frac + J
+        qsum = (3 * smax * vmax >> c.s_frac) + 1 + qmax
+    else:
+        # v_k = (Q_k0 s + Q_k1 t + Q_k2 r) >> s_frac + Q_k3              [frac q_frac]
+        vmax = (3 * qmax * smax >> c.s_frac) + 1 + qmax
+        # q = (s v0 + t v1 + r v2) >> s_frac + v3
+        qsum = (3 * smax * vmax >> c.s_frac) + 1 + vmax
     d["v_w"] = bits_signed(vmax)
-    # q = (s v0 + t v1 + r v2) >> s_frac + v3                          [frac q_frac]
-    qsum = (3 * smax * vmax >> c.s_frac) + 1 + vmax
     d["qv_w"] = bits_signed(qsum)
     # q and 2v re-expressed with f_frac / c_frac fraction bits
     d["qf_w"] = bits_signed(_shift_bound(qsum, c.f_frac - c.q_frac))
@@ -284,8 +296,10 @@ def verilog_header(cfg: Config) -> str:
         "`define TEX_CFG_VH",
     ]
     enums = {
+        "quadric": {"full": 0, "diagonal": 1},
         "blend": {"linear": 0, "cubic": 1},
         "transform": {"affine": 0, "pow2": 1},
+        "amplitude": {"any": 0, "pow2": 1},
         "filter": {"none": 0, "sat": 1, "mip": 2},
     }
     for key in _SCHEMA:

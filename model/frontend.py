@@ -498,7 +498,7 @@ def composite_over(rgba_layers, masks, background) -> np.ndarray:
 # ---------------------------------------------------------------------------- fixed-point limits
 
 # The input limits of the smallest configuration (reduced hardware), for scene authors.
-REDUCED_LIMITS = dict(s_max=100.0, q_max=60.0, t_max=100.0, t_pow2=(-4, 6), a_max=4.0,
+REDUCED_LIMITS = dict(s_max=100.0, q_max=60.0, q_diagonal=True, t_max=100.0, t_pow2=(-4, 6), a_max=4.0,
                       max_terms=8, clut_max=256)
 
 
@@ -512,7 +512,7 @@ def _pow2_ok(x, kmin, kmax):
 def fixed_point_violations(scene: Scene, passes=None, limits=REDUCED_LIMITS) -> list:
     """Every way the scene (and, if given, its passes) leaves the reduced hardware's input ranges.
 
-    Checks: |quadric coefficients| < q_max; at most max_terms noise terms; |a| < a_max; T diagonal
+    Checks: |quadric coefficients| < q_max, and B = C = F = 0 if q_diagonal; at most max_terms noise terms; |a| < a_max; T diagonal
     with entries 0 or 2^k, k in t_pow2, |T| < t_max; colour table N a power of two <= clut_max;
     and for passes, |s|, |t|, |r| < s_max on every covered pixel. Returns a list of messages.
     """
@@ -521,6 +521,8 @@ def fixed_point_violations(scene: Scene, passes=None, limits=REDUCED_LIMITS) -> 
     for name, t in scene.textures.items():
         if np.any(np.abs(t.Q) >= L["q_max"]):
             out.append(f"texture.{name}.quadric: |coefficient| >= {L['q_max']}")
+        if L.get("q_diagonal") and np.any(np.asarray(t.Q)[[1, 2, 5]] != 0):
+            out.append(f"texture.{name}.quadric: cross terms B, C, F not 0 (diagonal quadric)")
         if len(t.terms) > L["max_terms"]:
             out.append(f"texture.{name}.noise: more than {L['max_terms']} terms")
         for i, nt in enumerate(t.terms):

@@ -100,15 +100,27 @@ def quadric_mac(cfg: Config, Q, s):
 
     s: int64 [..., 3] s{s_w}.{s_frac}; Q: int64 [10] A..J s{q_w}.{q_frac}.
     Returns q [...] with f_frac fraction bits and cq [..., 3] with c_frac bits.
+
+    quadric = "diagonal" (B = C = F = 0, checked): 6 products instead of 15,
+      v_k = (Q_kk s_k >> s_frac) + Q_k3,  q = ((sum_k s_k (v_k + Q_k3)) >> s_frac) + J
+    (one floor for the whole quadratic-plus-linear sum instead of two).
     """
     A, B, C, D, E, F, G, H, I, J = (int(x) for x in Q)
     s0, s1, s2 = s[..., 0], s[..., 1], s[..., 2]
     sf = cfg.s_frac
-    v0 = ((A * s0 + B * s1 + C * s2) >> sf) + D
-    v1 = ((B * s0 + E * s1 + F * s2) >> sf) + G
-    v2 = ((C * s0 + F * s1 + H * s2) >> sf) + I
-    v3 = ((D * s0 + G * s1 + I * s2) >> sf) + J
-    q = ((s0 * v0 + s1 * v1 + s2 * v2) >> sf) + v3
+    if cfg.quadric == "diagonal":
+        if B or C or F:
+            raise ValueError(f"quadric_mac: configuration {cfg.name!r} has a diagonal quadric; B, C, F must be 0")
+        v0 = ((A * s0) >> sf) + D
+        v1 = ((E * s1) >> sf) + G
+        v2 = ((H * s2) >> sf) + I
+        q = ((s0 * (v0 + D) + s1 * (v1 + G) + s2 * (v2 + I)) >> sf) + J
+    else:
+        v0 = ((A * s0 + B * s1 + C * s2) >> sf) + D
+        v1 = ((B * s0 + E * s1 + F * s2) >> sf) + G
+        v2 = ((C * s0 + F * s1 + H * s2) >> sf) + I
+        v3 = ((D * s0 + G * s1 + I * s2) >> sf) + J
+        q = ((s0 * v0 + s1 * v1 + s2 * v2) >> sf) + v3
     qf = shift(q, cfg.f_frac - cfg.q_frac)
     sh = cfg.c_frac - cfg.q_frac + 1  # the factor 2 of 2 Q x is a shift
     cq = np.stack([shift(v0, sh), shift(v1, sh), shift(v2, sh)], axis=-1)

@@ -48,6 +48,13 @@ def quantize_texture(cfg: Config, tex: TextureParams) -> tuple[TexInt, dict]:
         [int(to_fixed(f"quadric.{n}", tex.Q[i], cfg.q_w, cfg.q_frac)) for i, n in enumerate(QUADRIC_NAMES)],
         dtype=np.int64,
     )
+    if cfg.quadric == "diagonal":
+        for i in (1, 2, 5):  # B, C, F: the cross terms
+            if tex.Q[i] != 0:
+                raise FormatError(
+                    f"quadric.{QUADRIC_NAMES[i]} = {float(tex.Q[i]):.6g}: configuration {cfg.name} "
+                    f"(quadric diagonal) needs B = C = F = 0"
+                )
     n_entries = tex.clut.shape[0]
     n_log2 = int(n_entries).bit_length() - 1
     if n_entries < 1 or (1 << n_log2) != n_entries or n_log2 > cfg.n_log2_max:
@@ -62,6 +69,13 @@ def quantize_texture(cfg: Config, tex: TextureParams) -> tuple[TexInt, dict]:
     period = float(1 << cfg.hash_bits)
     for i, term in enumerate(used):
         a[i] = to_fixed(f"noise[{i}].a", term.a, cfg.a_w, cfg.a_frac)
+        if cfg.amplitude == "pow2":
+            ia = abs(int(a[i]))
+            if ia & (ia - 1) or ia / (1 << cfg.a_frac) != abs(term.a):
+                raise FormatError(
+                    f"noise[{i}].a = {term.a:.6g}: configuration {cfg.name} (amplitude pow2) "
+                    f"needs 0 or +-2^k in {fmt_name(cfg.a_w, cfg.a_frac)}"
+                )
         T[i] = to_fixed(f"noise[{i}].T", term.T, cfg.t_w, cfg.t_frac)
         if cfg.transform == "pow2":
             _check_pow2(cfg, i, term.T, T[i])

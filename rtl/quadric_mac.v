@@ -7,6 +7,12 @@
  *   q_out  = q   shifted by f_frac - q_frac     (left, or floor right)
  *   cq_out = v_k shifted by c_frac - q_frac + 1 (the factor 2 is a shift)
  *
+ * `CFG_QUADRIC 1 (diagonal: B = C = F = 0, model/quantize.py guarantees it; B, C, F
+ * are not read) computes the same form with 6 products instead of 15:
+ *
+ *   v_k = ((Q_kk s_k) >>> s_frac) + Q_k3                       k = 0..2
+ *   q   = ((s (v0 + D) + t (v1 + G) + r (v2 + I)) >>> s_frac) + J
+ *
  * Products are full precision and each three-product sum is formed before its
  * floor shift (>>> = floor), exactly as the golden model; every word is wide
  * enough for the worst-case magnitude (model/config.py derives V_W, QV_W, QF_W),
@@ -32,9 +38,9 @@
  * vector's exit; texture_pipeline guarantees it: parameters are written only
  * when the pipeline is empty (between passes).
  *
- *   stage 1: the 12 products Q_kj * s_j
- *   stage 2: v0..v3 (+ Q_k3, read from q_coef)
- *   stage 3: the 3 products s_j * v_j
+ *   stage 1: the 12 products Q_kj * s_j (diagonal: the 3 products Q_kk * s_k)
+ *   stage 2: v0..v3 (+ Q_k3, read from q_coef) (diagonal: v0..v2 and v_k + Q_k3)
+ *   stage 3: the 3 products s_j * v_j (diagonal: s_k * (v_k + Q_k3))
  *   stage 4: q, and the output shifts
  */
 
@@ -44,6 +50,7 @@
 `default_nettype none
 
 module quadric_mac #(
+    parameter DIAG   = `CFG_QUADRIC, // 1: diagonal quadric (B = C = F = 0, not read)
     parameter S_W    = `CFG_S_W,     // texture coordinate word width
     parameter S_FRAC = `CFG_S_FRAC,  // texture coordinate fraction bits
     parameter Q_W    = `CFG_Q_W,     // quadric coefficient word width
@@ -123,43 +130,11 @@ end
 assign out_valid = valid_reg[LATENCY-1];
 
 // ---------------------------------------------------------------------------
-// stage 1: products Q_kj * s_j (row k of Q times (s, t, r))
+// stages 1-3: v_k = (Q x)_k (the gradient), and the products r_k of stage 3 with
+// the q term v3 (full) or J (diagonal) beside them
 
-reg signed [P1_W-1:0] p00_reg, p01_reg, p02_reg;  // A s, B t, C r
-reg signed [P1_W-1:0] p10_reg, p11_reg, p12_reg;  // B s, E t, F r
-reg signed [P1_W-1:0] p20_reg, p21_reg, p22_reg;  // C s, F t, H r
-reg signed [P1_W-1:0] p30_reg, p31_reg, p32_reg;  // D s, G t, I r
-reg signed [S_W-1:0]  s0_1_reg, s1_1_reg, s2_1_reg;
-
-always @(posedge clk) begin
-    if (ce) begin
-        p00_reg <= qa * s0;  p01_reg <= qb * s1;  p02_reg <= qc * s2;
-        p10_reg <= qb * s0;  p11_reg <= qe * s1;  p12_reg <= qf * s2;
-        p20_reg <= qc * s0;  p21_reg <= qf * s1;  p22_reg <= qh * s2;
-        p30_reg <= qd * s0;  p31_reg <= qg * s1;  p32_reg <= qi * s2;
-        s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
-    end
-end
-
-// ---------------------------------------------------------------------------
-// stage 2: v_k = (sum >>> S_FRAC) + Q_k3
-//
-// The sum is exact in M1_W bits; bits [S_FRAC + V_W - 1 : S_FRAC] are
-// floor(sum / 2^S_FRAC) modulo 2^V_W, and the final v_k fits V_W (config), so
-// adding Q_k3 modulo 2^V_W gives v_k exactly.
-
-/* verilator lint_off UNUSEDSIGNAL */
-// the S_FRAC low bits are dropped by the floor shift; the bits above
-// S_FRAC + V_W are sign copies of a value that fits V_W (model/config.py: v_w)
-wire signed [M1_W-1:0] m0 = {{2{p00_reg[P1_W-1]}}, p00_reg} + {{2{p01_reg[P1_W-1]}}, p01_reg}
-                          + {{2{p02_reg[P1_W-1]}}, p02_reg};
-wire signed [M1_W-1:0] m1 = {{2{p10_reg[P1_W-1]}}, p10_reg} + {{2{p11_reg[P1_W-1]}}, p11_reg}
-                          + {{2{p12_reg[P1_W-1]}}, p12_reg};
-wire signed [M1_W-1:0] m2 = {{2{p20_reg[P1_W-1]}}, p20_reg} + {{2{p21_reg[P1_W-1]}}, p21_reg}
-                          + {{2{p22_reg[P1_W-1]}}, p22_reg};
-wire signed [M1_W-1:0] m3 = {{2{p30_reg[P1_W-1]}}, p30_reg} + {{2{p31_reg[P1_W-1]}}, p31_reg}
-                          + {{2{p32_reg[P1_W-1]}}, p32_reg};
-/* verilator lint_on UNUSEDSIGNAL */
+reg signed [P2_W-1:0] r0_reg, r1_reg, r2_reg;
+reg signed [V_W-1:0]  v0_3_reg, v1_3_reg, v2_3_reg, v3_3_reg;
 
 // Q_k3 (D, G, I, J: stable parameters, read directly) sign-extended to V_W
 // (V_W > Q_W always: v_w bounds |Q_k3| + more)
@@ -168,33 +143,117 @@ wire signed [V_W-1:0] q13_x = {{(V_W-Q_W){qg[Q_W-1]}}, qg};
 wire signed [V_W-1:0] q23_x = {{(V_W-Q_W){qi[Q_W-1]}}, qi};
 wire signed [V_W-1:0] q33_x = {{(V_W-Q_W){qj[Q_W-1]}}, qj};
 
-reg signed [V_W-1:0] v0_reg, v1_reg, v2_reg, v3_reg;
-reg signed [S_W-1:0] s0_2_reg, s1_2_reg, s2_2_reg;
+generate
+    if (DIAG != 0) begin : g_diag
+        // stage 1: Q_kk * s_k
+        reg signed [P1_W-1:0] p00_reg, p11_reg, p22_reg;  // A s, E t, H r
+        reg signed [S_W-1:0]  s0_1_reg, s1_1_reg, s2_1_reg;
 
-always @(posedge clk) begin
-    if (ce) begin
-        v0_reg <= m0[S_FRAC +: V_W] + q03_x;
-        v1_reg <= m1[S_FRAC +: V_W] + q13_x;
-        v2_reg <= m2[S_FRAC +: V_W] + q23_x;
-        v3_reg <= m3[S_FRAC +: V_W] + q33_x;
-        s0_2_reg <= s0_1_reg;  s1_2_reg <= s1_1_reg;  s2_2_reg <= s2_1_reg;
+        always @(posedge clk) begin
+            if (ce) begin
+                p00_reg <= qa * s0;  p11_reg <= qe * s1;  p22_reg <= qh * s2;
+                s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
+            end
+        end
+
+        // stage 2: v_k = (p >>> S_FRAC) + Q_k3 and x_k = v_k + Q_k3; both fit V_W
+        // (model/config.py: v_w bounds |Q_kk s_k| >> S_FRAC + 1 + 2 |Q_k3|)
+        /* verilator lint_off UNUSEDSIGNAL */
+        // the S_FRAC low bits are dropped by the floor shift; the bits above
+        // S_FRAC + V_W are sign copies
+        wire signed [P1_W+1:0] m0 = {{2{p00_reg[P1_W-1]}}, p00_reg};
+        wire signed [P1_W+1:0] m1 = {{2{p11_reg[P1_W-1]}}, p11_reg};
+        wire signed [P1_W+1:0] m2 = {{2{p22_reg[P1_W-1]}}, p22_reg};
+        /* verilator lint_on UNUSEDSIGNAL */
+        wire signed [V_W-1:0] v0 = m0[S_FRAC +: V_W] + q03_x;
+        wire signed [V_W-1:0] v1 = m1[S_FRAC +: V_W] + q13_x;
+        wire signed [V_W-1:0] v2 = m2[S_FRAC +: V_W] + q23_x;
+
+        reg signed [V_W-1:0] v0_reg, v1_reg, v2_reg, x0_reg, x1_reg, x2_reg;
+        reg signed [S_W-1:0] s0_2_reg, s1_2_reg, s2_2_reg;
+
+        always @(posedge clk) begin
+            if (ce) begin
+                v0_reg <= v0;  v1_reg <= v1;  v2_reg <= v2;
+                x0_reg <= v0 + q03_x;  x1_reg <= v1 + q13_x;  x2_reg <= v2 + q23_x;
+                s0_2_reg <= s0_1_reg;  s1_2_reg <= s1_1_reg;  s2_2_reg <= s2_1_reg;
+            end
+        end
+
+        // stage 3: s_k * x_k; J stands in for v3
+        always @(posedge clk) begin
+            if (ce) begin
+                r0_reg <= s0_2_reg * x0_reg;
+                r1_reg <= s1_2_reg * x1_reg;
+                r2_reg <= s2_2_reg * x2_reg;
+                v0_3_reg <= v0_reg;  v1_3_reg <= v1_reg;  v2_3_reg <= v2_reg;  v3_3_reg <= q33_x;
+            end
+        end
+
+        /* verilator lint_off UNUSEDSIGNAL */
+        wire unused_cross = ^{qb, qc, qf};  // B, C, F: 0 by contract, not read
+        /* verilator lint_on UNUSEDSIGNAL */
+    end else begin : g_full
+        // stage 1: products Q_kj * s_j (row k of Q times (s, t, r))
+        reg signed [P1_W-1:0] p00_reg, p01_reg, p02_reg;  // A s, B t, C r
+        reg signed [P1_W-1:0] p10_reg, p11_reg, p12_reg;  // B s, E t, F r
+        reg signed [P1_W-1:0] p20_reg, p21_reg, p22_reg;  // C s, F t, H r
+        reg signed [P1_W-1:0] p30_reg, p31_reg, p32_reg;  // D s, G t, I r
+        reg signed [S_W-1:0]  s0_1_reg, s1_1_reg, s2_1_reg;
+
+        always @(posedge clk) begin
+            if (ce) begin
+                p00_reg <= qa * s0;  p01_reg <= qb * s1;  p02_reg <= qc * s2;
+                p10_reg <= qb * s0;  p11_reg <= qe * s1;  p12_reg <= qf * s2;
+                p20_reg <= qc * s0;  p21_reg <= qf * s1;  p22_reg <= qh * s2;
+                p30_reg <= qd * s0;  p31_reg <= qg * s1;  p32_reg <= qi * s2;
+                s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
+            end
+        end
+
+        // stage 2: v_k = (sum >>> S_FRAC) + Q_k3
+        //
+        // The sum is exact in M1_W bits; bits [S_FRAC + V_W - 1 : S_FRAC] are
+        // floor(sum / 2^S_FRAC) modulo 2^V_W, and the final v_k fits V_W (config), so
+        // adding Q_k3 modulo 2^V_W gives v_k exactly.
+
+        /* verilator lint_off UNUSEDSIGNAL */
+        // the S_FRAC low bits are dropped by the floor shift; the bits above
+        // S_FRAC + V_W are sign copies of a value that fits V_W (model/config.py: v_w)
+        wire signed [M1_W-1:0] m0 = {{2{p00_reg[P1_W-1]}}, p00_reg} + {{2{p01_reg[P1_W-1]}}, p01_reg}
+                                  + {{2{p02_reg[P1_W-1]}}, p02_reg};
+        wire signed [M1_W-1:0] m1 = {{2{p10_reg[P1_W-1]}}, p10_reg} + {{2{p11_reg[P1_W-1]}}, p11_reg}
+                                  + {{2{p12_reg[P1_W-1]}}, p12_reg};
+        wire signed [M1_W-1:0] m2 = {{2{p20_reg[P1_W-1]}}, p20_reg} + {{2{p21_reg[P1_W-1]}}, p21_reg}
+                                  + {{2{p22_reg[P1_W-1]}}, p22_reg};
+        wire signed [M1_W-1:0] m3 = {{2{p30_reg[P1_W-1]}}, p30_reg} + {{2{p31_reg[P1_W-1]}}, p31_reg}
+                                  + {{2{p32_reg[P1_W-1]}}, p32_reg};
+        /* verilator lint_on UNUSEDSIGNAL */
+
+        reg signed [V_W-1:0] v0_reg, v1_reg, v2_reg, v3_reg;
+        reg signed [S_W-1:0] s0_2_reg, s1_2_reg, s2_2_reg;
+
+        always @(posedge clk) begin
+            if (ce) begin
+                v0_reg <= m0[S_FRAC +: V_W] + q03_x;
+                v1_reg <= m1[S_FRAC +: V_W] + q13_x;
+                v2_reg <= m2[S_FRAC +: V_W] + q23_x;
+                v3_reg <= m3[S_FRAC +: V_W] + q33_x;
+                s0_2_reg <= s0_1_reg;  s1_2_reg <= s1_1_reg;  s2_2_reg <= s2_1_reg;
+            end
+        end
+
+        // stage 3: products s_j * v_j
+        always @(posedge clk) begin
+            if (ce) begin
+                r0_reg <= s0_2_reg * v0_reg;
+                r1_reg <= s1_2_reg * v1_reg;
+                r2_reg <= s2_2_reg * v2_reg;
+                v0_3_reg <= v0_reg;  v1_3_reg <= v1_reg;  v2_3_reg <= v2_reg;  v3_3_reg <= v3_reg;
+            end
+        end
     end
-end
-
-// ---------------------------------------------------------------------------
-// stage 3: products s_j * v_j
-
-reg signed [P2_W-1:0] r0_reg, r1_reg, r2_reg;
-reg signed [V_W-1:0]  v0_3_reg, v1_3_reg, v2_3_reg, v3_3_reg;
-
-always @(posedge clk) begin
-    if (ce) begin
-        r0_reg <= s0_2_reg * v0_reg;
-        r1_reg <= s1_2_reg * v1_reg;
-        r2_reg <= s2_2_reg * v2_reg;
-        v0_3_reg <= v0_reg;  v1_3_reg <= v1_reg;  v2_3_reg <= v2_reg;  v3_3_reg <= v3_reg;
-    end
-end
+endgenerate
 
 // ---------------------------------------------------------------------------
 // stage 4: q = (sum >>> S_FRAC) + v3, then the output shifts

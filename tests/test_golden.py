@@ -4,6 +4,8 @@ Tolerances are derived in docs/numerics.md; each test names the section it uses.
 """
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -129,10 +131,23 @@ def _quadric_bigint(cfg, Q, s):
     A, B, C, D, E, F, Gc, H, I, J = (int(x) for x in Q)
     s0, s1, s2 = (int(x) for x in s)
     sf = cfg.s_frac
+    if cfg.quadric == "diagonal":
+        v = [((A * s0) >> sf) + D, ((E * s1) >> sf) + Gc, ((H * s2) >> sf) + I]
+        x = [v[0] + D, v[1] + Gc, v[2] + I]
+        q = ((s0 * x[0] + s1 * x[1] + s2 * x[2]) >> sf) + J
+        return q, v + x  # x_k are V_W words of the RTL too
     v = [((A * s0 + B * s1 + C * s2) >> sf) + D, ((B * s0 + E * s1 + F * s2) >> sf) + Gc,
          ((C * s0 + F * s1 + H * s2) >> sf) + I, ((D * s0 + Gc * s1 + I * s2) >> sf) + J]
     q = ((s0 * v[0] + s1 * v[1] + s2 * v[2]) >> sf) + v[3]
     return q, v
+
+
+def _axis_aligned(cfg, Q):
+    """Q with B = C = F = 0 in a diagonal-quadric configuration (the only quadrics it takes)."""
+    Q = np.array(Q, dtype=np.int64 if np.asarray(Q).dtype.kind in "iu" else np.float64)
+    if cfg.quadric == "diagonal":
+        Q[[1, 2, 5]] = 0
+    return Q
 
 
 @pytest.mark.parametrize("name", CONFIGS)
@@ -146,6 +161,7 @@ def test_quadric_extremes_do_not_overflow(name):
     cases += [(rng.choice([lo_q, hi_q, 0, 1, -1], 10), rng.choice([lo_s, hi_s, 0, -1], 3)) for _ in range(300)]
     cases += [(np.zeros(10, np.int64), np.array([hi_s, lo_s, 7]))]  # all-zero quadric
     for Q, s in cases:
+        Q = _axis_aligned(cfg, Q)
         qf, cq = G.quadric_mac(cfg, Q, np.asarray(s, np.int64)[None])
         q, v = _quadric_bigint(cfg, Q, s)
         assert int(qf[0]) == G.shift(q, cfg.f_frac - cfg.q_frac)
@@ -160,7 +176,7 @@ def test_quadric_extremes_do_not_overflow(name):
 def test_quadric_matches_float(name):
     cfg = load_config(name)
     rng = np.random.default_rng(2)
-    Qf = rng.uniform(-4, 4, 10)
+    Qf = _axis_aligned(cfg, rng.uniform(-4, 4, 10))
     s = rng.uniform(-8, 8, (2000, 3))
     tex, _ = quantize_texture(cfg, TextureParams(Q=Qf))
     si, _, _ = quantize_pixels(cfg, s, np.zeros((2000, 3, 2)))
@@ -173,6 +189,48 @@ def test_quadric_matches_float(name):
     assert np.abs(qf / (1 << cfg.f_frac) - ref).max() <= bound
     refg = R.quadric_gradient(Qq, sq)
     assert np.abs(cq / (1 << cfg.c_frac) - refg).max() <= 2 * 2.0 ** -cfg.q_frac + 2.0 ** -cfg.c_frac
+
+
+def test_diagonal_quadric_rejects_cross_terms():
+    """reduced has a diagonal quadric: a cross term is a one-line FormatError, never dropped silently."""
+    cfg = load_config("reduced")
+    assert cfg.quadric == "diagonal"
+    Qf = np.zeros(10)
+    Qf[5] = 0.25  # F: the t r term
+    with pytest.raises(FormatError, match=r"quadric\.F = 0\.25.*B = C = F = 0"):
+        quantize_texture(cfg, TextureParams(Q=Qf))
+    with pytest.raises(ValueError, match="diagonal"):
+        G.quadric_mac(cfg, np.array([0, 1, 0, 0, 0, 0, 0, 0, 0, 0]), np.zeros((1, 3), np.int64))
+
+
+def test_pow2_amplitude_rejects_other_values():
+    """reduced takes a_i = 0 or +-2^k only (shifts): anything else is a one-line FormatError."""
+    cfg = load_config("reduced")
+    assert cfg.amplitude == "pow2"
+    for a in (0.0, 0.5, -0.25, 1.0, -2.0):
+        quantize_texture(cfg, TextureParams(Q=np.zeros(10), terms=[NoiseTerm(a=a, T=np.eye(3), o=np.zeros(3))]))
+    for a in (0.3, -0.75, 3.0):
+        with pytest.raises(FormatError, match=rf"noise\[0\]\.a = {a:g}.*amplitude pow2"):
+            quantize_texture(cfg, TextureParams(Q=np.zeros(10), terms=[NoiseTerm(a=a, T=np.eye(3), o=np.zeros(3))]))
+
+
+@pytest.mark.parametrize("name", CONFIGS)
+def test_diagonal_quadric_equals_full_form(name):
+    """The diagonal form is x^T Q x: within one floor (2^-q_frac |s|-scaled) of the full form's value."""
+    cfg = load_config(name)
+    rng = np.random.default_rng(8)
+    Q = _axis_aligned(cfg, rng.integers(-(1 << (cfg.q_w - 1)), 1 << (cfg.q_w - 1), 10))
+    Q[[1, 2, 5]] = 0
+    s = rng.integers(-(1 << (cfg.s_w - 1)), 1 << (cfg.s_w - 1), (500, 3))
+    full = dataclasses.replace(cfg, quadric="full")
+    diag = dataclasses.replace(cfg, quadric="diagonal")
+    full.d, diag.d = cfg.d, cfg.d
+    qf_f, cq_f = G.quadric_mac(full, Q, s)
+    qf_d, cq_d = G.quadric_mac(diag, Q, s)
+    assert (cq_f == cq_d).all()  # v_k identical: the gradient does not change
+    # one floor fewer: q differs by at most the dropped floor of (D s + G t + I r) >> s_frac, < 1 LSB of q
+    lsb = G.shift(np.int64(1), cfg.f_frac - cfg.q_frac) if cfg.f_frac >= cfg.q_frac else 1
+    assert np.abs(qf_f - qf_d).max() <= max(1, int(lsb))
 
 
 # ---------------------------------------------------------------- noise

@@ -73,14 +73,17 @@ def _uniform(r, lo, hi, size=None):
 class Vectors:
     """Per-vector s and the Q of its group."""
 
-    def __init__(self):
+    def __init__(self, diagonal=False):
+        self.diagonal = diagonal
         self.s, self.Q, self.group, self.tag = [], [], [], []
         self.n_groups = 0
 
     def add(self, Q, s_rows, tag):
         g = self.n_groups
         self.n_groups += 1
-        Q = np.asarray(Q, dtype=np.int64).reshape(10)
+        Q = np.asarray(Q, dtype=np.int64).reshape(10).copy()
+        if self.diagonal:
+            Q[[1, 2, 5]] = 0  # B, C, F: a diagonal-quadric configuration takes axis-aligned quadrics only
         for s in np.asarray(s_rows, dtype=np.int64).reshape(-1, 3):
             self.s.append(s)
             self.Q.append(Q)
@@ -129,7 +132,7 @@ def aligned_Q(cfg, s, sign):
 
 
 def build_vectors(cfg, r, n_random):
-    v = Vectors()
+    v = Vectors(diagonal=cfg.quadric == "diagonal")
     slo, shi = _lim(cfg.s_w)
     qlo, qhi = _lim(cfg.q_w)
     one_s, one_q = 1 << cfg.s_frac, 1 << cfg.q_frac
@@ -225,17 +228,25 @@ def check_golden_bigint(cfg, s, Q, exp_qf, exp_cq):
     for i in range(len(s)):
         A, B, C, D, E, F, Gc, H, I, J = (int(x) for x in Q[i])
         s0, s1, s2 = (int(x) for x in s[i])
-        v0 = ((A * s0 + B * s1 + C * s2) >> sf) + D
-        v1 = ((B * s0 + E * s1 + F * s2) >> sf) + Gc
-        v2 = ((C * s0 + F * s1 + H * s2) >> sf) + I
-        v3 = ((D * s0 + Gc * s1 + I * s2) >> sf) + J
-        q = ((s0 * v0 + s1 * v1 + s2 * v2) >> sf) + v3
+        if cfg.quadric == "diagonal":
+            assert B == C == F == 0
+            v0, v1, v2 = ((A * s0) >> sf) + D, ((E * s1) >> sf) + Gc, ((H * s2) >> sf) + I
+            x = (v0 + D, v1 + Gc, v2 + I)  # the second factors of q: V_W words in the RTL too
+            q = ((s0 * x[0] + s1 * x[1] + s2 * x[2]) >> sf) + J
+            words_v = (v0, v1, v2) + x
+        else:
+            v0 = ((A * s0 + B * s1 + C * s2) >> sf) + D
+            v1 = ((B * s0 + E * s1 + F * s2) >> sf) + Gc
+            v2 = ((C * s0 + F * s1 + H * s2) >> sf) + I
+            v3 = ((D * s0 + Gc * s1 + I * s2) >> sf) + J
+            q = ((s0 * v0 + s1 * v1 + s2 * v2) >> sf) + v3
+            words_v = (v0, v1, v2, v3)
         qf = _shift(q, cfg.f_frac - cfg.q_frac)
         cq = [_shift(x, cfg.c_frac - cfg.q_frac + 1) for x in (v0, v1, v2)]
-        ok = (all(_fits(x, cfg.v_w) for x in (v0, v1, v2, v3)) and _fits(q, cfg.qv_w) and _fits(qf, cfg.qf_w)
+        ok = (all(_fits(x, cfg.v_w) for x in words_v) and _fits(q, cfg.qv_w) and _fits(qf, cfg.qf_w)
               and all(_fits(x, cfg.c_w) for x in cq))
         if not ok or qf != int(exp_qf[i]) or cq != [int(x) for x in exp_cq[i]]:
-            bad.append((i, (v0, v1, v2, v3, q, qf, cq)))
+            bad.append((i, (words_v, q, qf, cq)))
     return bad
 
 
