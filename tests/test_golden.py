@@ -255,7 +255,8 @@ def _noise_bound(cfg):
 def test_noise_value_matches_float_reference(name):
     cfg = load_config(name)
     rng = np.random.default_rng(3)
-    s = np.concatenate([rng.uniform(-100, 100, (3000, 3)), rng.uniform(-2, 2, (3000, 3))])
+    smax = min(100.0, 0.99 * 2.0 ** (cfg.s_w - 1 - cfg.s_frac))  # inside the s format
+    s = np.concatenate([rng.uniform(-smax, smax, (3000, 3)), rng.uniform(-2, 2, (3000, 3))])
     si, _, _ = quantize_pixels(cfg, s, np.zeros((len(s), 3, 2)))
     T = np.eye(3)
     a = 1 << cfg.a_frac
@@ -327,7 +328,7 @@ def _grid_case(cfg, rng, n_log2, size):
          (n << ff) + rng.integers(-2, 3, size)],
         rng.integers(0, 1 << (cfg.w_cap_log2 + ff), size),
     )
-    return f_int, np.maximum(w_int, 0)
+    return f_int, np.clip(w_int, 0, 1 << (cfg.w_cap_log2 + ff))  # filter_width saturates at the cap
 
 
 @pytest.mark.parametrize("mode", ["mod", "clamp"])
