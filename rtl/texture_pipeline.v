@@ -39,9 +39,9 @@
 //   parameter register is 0 (the tables are not reset). Write the parameters while no pixel
 //   is in flight; they are held, unchanged, during a pass.
 //
-// Pipeline: quadric_mac and K noise_term instances in parallel on s (quadric outputs delayed
-// to the longer of the two latencies), a registered binary adder tree of TREE_LEVELS =
-// clog2(K+1) stages for f and c, filter_width on c while f waits LAT_FILTER_WIDTH stages in a
+// Pipeline: quadric_mac and K noise_term instances in parallel on s (the quadric's input
+// delayed so that its outputs meet the terms' at the longer of the two latencies), a
+// registered adder tree of arity 4 for f and c (TREE_LEVELS = ceil(log4(K+1)) stages), filter_width on c while f waits LAT_FILTER_WIDTH stages in a
 // delay line, then colour_map. Jm, je and tlast travel in delay lines beside the data. Every
 // register of the datapath shares one clock enable
 //   ce = rst | !cm_valid | skid_ready_reg
@@ -109,6 +109,31 @@ module texture_pipeline #(
 // ---------------------------------------------------------------------------
 // Latencies and alignment
 
+// adder tree shape (arity TREE_ARITY, below): nodes on level l of a tree over n leaves
+function integer tree_nodes_of;
+    input integer n;
+    input integer l;
+    input integer arity;
+    integer i;
+    begin
+        tree_nodes_of = n;
+        for (i = 0; i < l; i = i + 1)
+            tree_nodes_of = (tree_nodes_of + arity - 1) / arity;
+    end
+endfunction
+
+// levels of register nodes down to one node
+function integer tree_levels_of;
+    input integer n;
+    input integer arity;
+    integer m;
+    begin
+        tree_levels_of = 0;
+        for (m = n; m > 1; m = (m + arity - 1) / arity)
+            tree_levels_of = tree_levels_of + 1;
+    end
+endfunction
+
 localparam LAT_QM      = `LAT_QUADRIC_MAC;
 localparam LAT_NT      = `LAT_NOISE_TERM;
 localparam LAT_FW      = `LAT_FILTER_WIDTH;
@@ -116,8 +141,8 @@ localparam LAT_CM      = `LAT_COLOUR_MAP;
 localparam LAT_FRONT   = (K > 0 && LAT_NT > LAT_QM) ? LAT_NT : LAT_QM;  // q and the terms meet here
 localparam DLY_Q       = LAT_FRONT - LAT_QM;                             // extra stages for q, cq
 localparam DLY_N       = LAT_FRONT - LAT_NT;                             // extra stages for an, ag
-localparam TREE_LEVELS = $clog2(K + 1);                                  // adder tree stages
-localparam TREE_LEAVES = 1 << TREE_LEVELS;                               // leaves, zero padded
+localparam TREE_ARITY  = 4;                                              // adder tree fan-in
+localparam TREE_LEVELS = tree_levels_of(K + 1, TREE_ARITY);                         // adder tree stages
 localparam DLY_J       = LAT_FRONT + TREE_LEVELS;                        // Jm, je to filter_width
 // total latency to the colour_map output (the skid buffer adds one more clock); for readers
 // and waveform viewers only, nothing below needs it
@@ -309,52 +334,57 @@ wire [JE_W-1:0]   px_je = s_axis_tdata[3*S_W + JM_W +: JE_W];
 // ---------------------------------------------------------------------------
 // Front: quadric_mac and K noise terms in parallel
 
+// The quadric is the shorter block: its input (s and valid, narrower than its outputs) waits
+// DLY_Q stages so that its outputs meet the noise terms' at LAT_FRONT.
+wire [3*S_W-1:0] qs_s;
+wire             qs_valid;
+generate
+    if (DLY_Q == 0) begin : g_qs0
+        assign qs_s     = px_s;
+        assign qs_valid = in_valid;
+    end else begin : g_qs
+        // one shift register per line (one process per line keeps event-driven simulators fast)
+        reg [DLY_Q*3*S_W-1:0] s_reg;
+        reg [DLY_Q:0]         v_reg;  // one spare bit: DLY_Q = 1 still has a legal shift expression
+        always @(posedge clk) if (ce) s_reg <= {s_reg[(DLY_Q-1)*3*S_W-1:0], px_s};
+        always @(posedge clk) begin
+            if (rst)
+                v_reg <= {(DLY_Q+1){1'b0}};
+            else if (ce)
+                v_reg <= {v_reg[DLY_Q-1:0], in_valid};
+        end
+        assign qs_s     = s_reg[(DLY_Q-1)*3*S_W +: 3*S_W];
+        assign qs_valid = v_reg[DLY_Q-1];
+    end
+endgenerate
+
 wire [QF_W-1:0]  qm_q;
 wire [3*C_W-1:0] qm_cq;
 wire             qm_valid;
 
 quadric_mac u_quadric_mac (
     .clk(clk), .rst(rst), .ce(ce),
-    .in_valid(in_valid),
-    .s_in(px_s),
+    .in_valid(qs_valid),
+    .s_in(qs_s),
     .q_coef(q_coef),
     .out_valid(qm_valid),
     .q_out(qm_q),
     .cq_out(qm_cq)
 );
 
-// quadric outputs delayed to LAT_FRONT, sign-extended to the sum widths (tree leaf 0)
-localparam QD_W = QF_W + 3*C_W + 1;
-wire [QD_W-1:0] qd_in = {qm_valid, qm_cq, qm_q};
-wire [QD_W-1:0] qd_out;
-generate
-    if (DLY_Q == 0) begin : g_qd0
-        assign qd_out = qd_in;
-    end else if (DLY_Q == 1) begin : g_qd1
-        reg [QD_W-1:0] d_reg;
-        always @(posedge clk) if (ce) d_reg <= qd_in;
-        assign qd_out = d_reg;
-    end else begin : g_qd
-        // one shift register (one process per line keeps event-driven simulators fast)
-        reg [DLY_Q*QD_W-1:0] d_reg;
-        always @(posedge clk) if (ce) d_reg <= {d_reg[(DLY_Q-1)*QD_W-1:0], qd_in};
-        assign qd_out = d_reg[(DLY_Q-1)*QD_W +: QD_W];
-    end
-endgenerate
-
 // Each term's outputs and the quadric's, sign-extended to the exact-sum widths, are the
 // leaves of the adder tree. (Wide flat buses are avoided on per-clock paths: every signal
 // below lives in its own generate block, which keeps event-driven simulators fast.)
 wire [K:0] front_valid;  // bit 0 quadric, bit 1+k noise term k
 
-assign front_valid[0] = qd_out[QF_W+3*C_W];
+assign front_valid[0] = qm_valid;
 wire [F_W-1:0]   q_f_ext;
-wire [3*C_W-1:0] q_c_ext = qd_out[QF_W +: 3*C_W];
+wire [3*C_W-1:0] q_c_ext = qm_cq;
 generate
     if (F_W > QF_W) begin : g_qext
-        assign q_f_ext = {{(F_W-QF_W){qd_out[QF_W-1]}}, qd_out[0 +: QF_W]};
+        assign q_f_ext = {{(F_W-QF_W){qm_q[QF_W-1]}}, qm_q};
     end else begin : g_qnoext
-        assign q_f_ext = qd_out[0 +: F_W];
+        assign q_f_ext = qm_q[F_W-1:0];
     end
 
     for (gi = 0; gi < K; gi = gi + 1) begin : g_term
@@ -406,19 +436,16 @@ generate
         end
     end
 
-    // tree leaves: 0 the quadric, 1..K the terms, zeros up to a power of two
-    for (gi = 0; gi < TREE_LEAVES; gi = gi + 1) begin : g_leaf
+    // tree leaves: 0 the quadric, 1..K the terms
+    for (gi = 0; gi <= K; gi = gi + 1) begin : g_leaf
         wire [F_W-1:0]   f;
         wire [3*C_W-1:0] c;
         if (gi == 0) begin : g_q
             assign f = q_f_ext;
             assign c = q_c_ext;
-        end else if (gi <= K) begin : g_n
+        end else begin : g_n
             assign f = g_term[gi-1].f_ext;
             assign c = g_term[gi-1].c_ext;
-        end else begin : g_zero
-            assign f = {F_W{1'b0}};
-            assign c = {3*C_W{1'b0}};
         end
     end
 endgenerate
@@ -427,52 +454,59 @@ endgenerate
 wire sum_in_valid = &front_valid;
 
 // ---------------------------------------------------------------------------
-// Adder tree: heap-ordered nodes n = 1..TREE_LEAVES-1 (children 2n and 2n+1; child indices
-// TREE_LEAVES.. are the leaves), every node a register, all leaves at the same depth:
-// TREE_LEVELS stages. Generated from the last node down, so a node's children exist before
-// it. Sums are modulo 2^F_W / 2^C_W of sign-extended operands, i.e. exact two's complement
-// sums: every partial sum is bounded by the whole sum's bound, which F_W and C_W hold
-// (model/config.py f_w, c_w).
+// Adder tree of arity TREE_ARITY: level 0 is the K + 1 leaves, level l has
+// tree_nodes(l) = ceil(tree_nodes(l - 1) / TREE_ARITY) nodes, each a register holding the
+// sum of its (up to TREE_ARITY) children; TREE_LEVELS levels down to one node (fewer
+// registers than a binary tree: one level for K <= 3, two for K <= 15). Sums are modulo
+// 2^F_W / 2^C_W of sign-extended operands, i.e. exact two's complement sums: every partial
+// sum is bounded by the whole sum's bound, which F_W and C_W hold (model/config.py f_w, c_w).
 
+genvar gl;
 generate
-    for (gi = TREE_LEAVES - 1; gi >= 1; gi = gi - 1) begin : g_add
-        wire [F_W-1:0]   fa, fb;
-        wire [3*C_W-1:0] ca, cb;
-        if (2*gi >= TREE_LEAVES) begin : g_from_leaves
-            assign fa = g_leaf[2*gi - TREE_LEAVES].f;
-            assign fb = g_leaf[2*gi + 1 - TREE_LEAVES].f;
-            assign ca = g_leaf[2*gi - TREE_LEAVES].c;
-            assign cb = g_leaf[2*gi + 1 - TREE_LEAVES].c;
-        end else begin : g_from_nodes
-            assign fa = g_add[2*gi].f_reg;
-            assign fb = g_add[2*gi + 1].f_reg;
-            assign ca = g_add[2*gi].c_reg;
-            assign cb = g_add[2*gi + 1].c_reg;
-        end
-        reg [F_W-1:0]   f_reg;
-        reg [3*C_W-1:0] c_reg;
-        always @(posedge clk) begin
-            if (ce) begin
-                f_reg                <= fa + fb;
-                c_reg[0*C_W +: C_W]  <= ca[0*C_W +: C_W] + cb[0*C_W +: C_W];
-                c_reg[1*C_W +: C_W]  <= ca[1*C_W +: C_W] + cb[1*C_W +: C_W];
-                c_reg[2*C_W +: C_W]  <= ca[2*C_W +: C_W] + cb[2*C_W +: C_W];
+    for (gl = 0; gl <= TREE_LEVELS; gl = gl + 1) begin : g_lvl
+        localparam NN = tree_nodes_of(K + 1, gl, TREE_ARITY);  // nodes (level 0: leaves) on this level
+        wire [NN*F_W-1:0]   f_bus;
+        wire [NN*3*C_W-1:0] c_bus;
+        if (gl == 0) begin : g_leaves
+            for (gi = 0; gi < NN; gi = gi + 1) begin : g_in
+                assign f_bus[gi*F_W +: F_W]       = g_leaf[gi].f;
+                assign c_bus[gi*3*C_W +: 3*C_W]   = g_leaf[gi].c;
+            end
+        end else begin : g_nodes
+            localparam NP = tree_nodes_of(K + 1, gl - 1, TREE_ARITY);  // children on the level below
+            for (gi = 0; gi < NN; gi = gi + 1) begin : g_node
+                localparam NC = (NP - TREE_ARITY*gi < TREE_ARITY) ? NP - TREE_ARITY*gi : TREE_ARITY;
+                wire [NC*F_W-1:0]   f_kids = g_lvl[gl-1].f_bus[TREE_ARITY*gi*F_W +: NC*F_W];
+                wire [NC*3*C_W-1:0] c_kids = g_lvl[gl-1].c_bus[TREE_ARITY*gi*3*C_W +: NC*3*C_W];
+                reg  [F_W-1:0]      f_sum_c;
+                reg  [3*C_W-1:0]    c_sum_c;
+                integer             k, ch;
+                always @* begin
+                    f_sum_c = {F_W{1'b0}};
+                    c_sum_c = {3*C_W{1'b0}};
+                    for (k = 0; k < NC; k = k + 1) begin
+                        f_sum_c = f_sum_c + f_kids[k*F_W +: F_W];
+                        for (ch = 0; ch < 3; ch = ch + 1)
+                            c_sum_c[ch*C_W +: C_W] = c_sum_c[ch*C_W +: C_W] + c_kids[(3*k + ch)*C_W +: C_W];
+                    end
+                end
+                reg [F_W-1:0]   f_reg;
+                reg [3*C_W-1:0] c_reg;
+                always @(posedge clk) begin
+                    if (ce) begin
+                        f_reg <= f_sum_c;
+                        c_reg <= c_sum_c;
+                    end
+                end
+                assign f_bus[gi*F_W +: F_W]     = f_reg;
+                assign c_bus[gi*3*C_W +: 3*C_W] = c_reg;
             end
         end
     end
 endgenerate
 
-wire [F_W-1:0]   f_sum;
-wire [3*C_W-1:0] c_sum;
-generate
-    if (TREE_LEVELS == 0) begin : g_sum0
-        assign f_sum = g_leaf[0].f;
-        assign c_sum = g_leaf[0].c;
-    end else begin : g_sum
-        assign f_sum = g_add[1].f_reg;
-        assign c_sum = g_add[1].c_reg;
-    end
-endgenerate
+wire [F_W-1:0]   f_sum = g_lvl[TREE_LEVELS].f_bus;
+wire [3*C_W-1:0] c_sum = g_lvl[TREE_LEVELS].c_bus;
 
 // valid through the tree (reset: no spurious pixel after rst)
 wire sum_valid;

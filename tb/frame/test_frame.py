@@ -155,7 +155,12 @@ def random_texture(cfg, r, kind: str, mode=None, filt=None, n_log2=None) -> TexI
     K = cfg.noise_terms
     full = kind == "full"
     Q = _sint(r, cfg.q_w, 10, None if full else cfg.q_frac + 2)
+    if cfg.quadric == "diagonal":
+        Q[[1, 2, 5]] = 0  # B, C, F: a diagonal-quadric configuration takes no cross terms
     a = _sint(r, cfg.a_w, K, None if full else cfg.a_frac)
+    if cfg.amplitude == "pow2":  # 0 or +-2^k, k over the format (full) or up to 1.0 (real)
+        kmax = cfg.a_w - 2 if full else cfg.a_frac
+        a = (1 << r.integers(0, kmax + 1, size=K)) * r.choice(np.array([-1, 1], dtype=np.int64), size=K)
     if K:
         a[r.random(K) < 0.15] = 0  # some terms off
     if cfg.transform == "pow2":
