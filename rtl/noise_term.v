@@ -28,6 +28,19 @@
 // off-diagonal entries are ignored), so T_jj s_j and g_j T_jj are barrel shifts by
 // e = the priority-encoded highest set bit of T_jj (0 when T_jj = 0); no multipliers.
 //
+// Amplitude (`CFG_AMPLITUDE): any (0) uses multipliers for a n and a h. pow2 (1): a is
+// 0 or +-2^e (model/quantize.py guarantees it), e in 0..A_W-2 for a > 0 and 0..A_W-1
+// for a < 0 (-2^(A_W-1), the format's most negative value, is legal). a_in is decoded
+// once, combinationally, into ac_in = {zero, neg, e} (1 + 1 + EA_W bits, EA_W =
+// clog2(A_W)): e = the lowest set bit of a_in (2^e has bit e alone, -2^e bits e..A_W-1),
+// neg = the sign bit. Stage 8 then forms sign(a) n as s{N_W+1} and sign(a) h_k as
+// s{H_W+1} (a conditional negation, 0 when a = 0; one extra bit so that even the most
+// negative word negates exactly), shifts it left by e in the A_W + N_W (A_W + H_W) bit
+// product word (|a n| <= 2^(A_W-1) 2^(N_W-1) < 2^(A_W+N_W-1): no overflow) and takes
+// the same floor shift (>> AN_SHIFT, >> A_FRAC) as the multiplier path: the products
+// are exactly a n and a h_k, so the results equal the golden model's for every n, h
+// and legal a. No multipliers.
+//
 // Pipeline (LATENCY = `LAT_NOISE_TERM = 8 register stages, one vector per enabled clock):
 //   1  transform products T_jk s_k (pow2: shifts)
 //   2  p = sum + o -> cell ip, fraction fp
@@ -36,11 +49,12 @@
 //   5  y lerps -> fz (2); gradient: z lerps of the x and y differences
 //   6  z lerp -> n; gradient: g = (. dw) >> P_FRAC (cubic; linear: dw = 1, a wire)
 //   7  h = (g T) >> H_SHIFT (pow2: shifts); n delayed
-//   8  an = (a n) >> AN_SHIFT, ag = (a h) >> A_FRAC (output registers)
+//   8  an = (a n) >> AN_SHIFT, ag = (a h) >> A_FRAC (pow2: shifts; output registers)
 //
 // Parameters: a_in, t_in, o_in are per-pass parameters, not per-vector data. No
 // register carries them down the pipeline: each is read directly by the stage that
-// needs it (t_in by stages 1 and 7, o_in by stage 2, a_in by stage 8).
+// needs it (t_in by stages 1 and 7, o_in by stage 2, a_in by stage 8; pow2 T and a
+// through their combinational decoders, tc_in and ac_in).
 // CONTRACT: a_in, t_in, o_in must be stable from the first vector's entry until the
 // last vector's exit; texture_pipeline guarantees it: parameters are written only
 // when the pipeline is empty (between passes). Changing them with vectors in flight
@@ -48,8 +62,10 @@
 // ce = 0 holds every register. rst clears the valid chain and the output registers
 // (the output registers load only with a valid vector, so no X reaches the outputs).
 //
-// Multipliers per term (affine, cubic, gradient): 9 T s + 6 blend + 7 value lerps +
-// 4 gradient lerps + 3 slopes + 9 g T + 1 a n + 3 a h = 42; pow2, linear: 7 + 4 + 1 + 3 = 15.
+// Multipliers per term (affine, cubic, any amplitude, gradient): 9 T s + 6 blend +
+// 7 value lerps + 4 gradient lerps + 3 slopes + 9 g T + 1 a n + 3 a h = 42; pow2 T,
+// linear, any amplitude: 7 + 4 + 1 + 3 = 15; pow2 T, linear, pow2 amplitude (reduced):
+// 7 + 4 = 11 (the lerps only).
 
 `default_nettype none
 
@@ -78,6 +94,7 @@ localparam LATENCY  = `LAT_NOISE_TERM;      // must equal STAGES (checked below)
 localparam AFFINE   = (`CFG_TRANSFORM == 0);
 localparam CUBIC    = (`CFG_BLEND == 1);
 localparam GRAD     = (`CFG_NOISE_GRADIENT != 0);
+localparam AMP_POW2 = (`CFG_AMPLITUDE == 1);
 
 localparam S_W      = `CFG_S_W;
 localparam T_W      = `CFG_T_W;
@@ -109,6 +126,8 @@ localparam HX_W     = HS_W + ((H_SHIFT < 0) ? -H_SHIFT : 0);
 localparam ANP_W    = A_W + N_W;
 localparam ANX_W    = ANP_W + ((AN_SHIFT < 0) ? -AN_SHIFT : 0);
 localparam AGP_W    = A_W + H_W;
+localparam EA_W     = $clog2(A_W);          // pow2 amplitude shift 0..A_W-1
+localparam AC_W     = AMP_POW2 ? EA_W + 2 : A_W;   // a as stage 8 reads it
 
 generate
     if (LATENCY != STAGES) begin : g_latency_mismatch
@@ -136,8 +155,28 @@ assign out_valid = valid_reg[STAGES-1];
 // Parameters, stable for the whole pass (see the contract in the header): read
 // directly where needed, not pipelined
 
-wire signed [A_W-1:0] a_s = a_in;   // stage 8
+wire [AC_W-1:0] ac_in;              // a as stage 8 needs it (any: a; pow2: {zero, neg, e})
 wire [TC_W-1:0] tc_in;              // T as the gradient stage (7) needs it
+
+generate
+    if (AMP_POW2) begin : g_a_pow2
+        // a = 2^e has bit e alone set, a = -2^e bits e..A_W-1 (-2^(A_W-1): bit A_W-1
+        // alone): either way e is the lowest set bit, and neg the sign bit
+        wire                zero = (a_in == {A_W{1'b0}});
+        reg     [EA_W-1:0]  e;
+        integer             i;
+        // priority encoder: the lowest set bit of a (0 when a = 0)
+        always @* begin
+            e = {EA_W{1'b0}};
+            for (i = A_W - 1; i >= 0; i = i - 1) begin
+                if (a_in[i]) e = i[EA_W-1:0];
+            end
+        end
+        assign ac_in = {zero, a_in[A_W-1], e};
+    end else begin : g_a_any
+        assign ac_in = a_in;
+    end
+endgenerate
 
 // ---------------------------------------------------------------------------
 // Stage 1: transform products (mod 2^ACC_W)
@@ -350,9 +389,22 @@ end
 // Stage 8: an = (a n) >> AN_SHIFT (output register)
 
 wire signed [N_W-1:0]   n8 = n7_reg;
-wire signed [ANX_W-1:0] an_prod = a_s * n8;   // exact: A_W + N_W bits
+wire signed [ANX_W-1:0] an_prod;              // a n, exact: A_W + N_W bits
 wire signed [ANX_W-1:0] an_sh;
 generate
+    if (AMP_POW2) begin : g_an_pow2
+        // a n = sign(a) n << e (0 when a = 0)
+        wire                    zero  = ac_in[EA_W + 1];
+        wire                    neg   = ac_in[EA_W];
+        wire        [EA_W-1:0]  e     = ac_in[EA_W-1:0];
+        wire signed [N_W:0]     n_ext = {n8[N_W-1], n8};
+        wire signed [N_W:0]     n_sgn = zero ? {(N_W+1){1'b0}} : (neg ? -n_ext : n_ext);
+        wire signed [ANX_W-1:0] n_sx  = {{(ANX_W-N_W-1){n_sgn[N_W]}}, n_sgn};
+        assign an_prod = n_sx <<< e;
+    end else begin : g_an_any
+        wire signed [A_W-1:0] a_s = ac_in;
+        assign an_prod = a_s * n8;
+    end
     if (AN_SHIFT >= 0) begin : g_an_r
         assign an_sh = an_prod >>> AN_SHIFT;
     end else begin : g_an_l
@@ -514,7 +566,20 @@ generate
         reg [3*AG_W-1:0] ag_reg;
         for (gk = 0; gk < 3; gk = gk + 1) begin : g_ag
             wire signed [H_W-1:0]   h_k  = h_reg[gk*H_W +: H_W];
-            wire signed [AGP_W-1:0] prod = a_s * h_k;   // exact
+            wire signed [AGP_W-1:0] prod;               // a h_k, exact
+            if (AMP_POW2) begin : g_pow2
+                // a h_k = sign(a) h_k << e (0 when a = 0)
+                wire                    zero  = ac_in[EA_W + 1];
+                wire                    neg   = ac_in[EA_W];
+                wire        [EA_W-1:0]  e     = ac_in[EA_W-1:0];
+                wire signed [H_W:0]     h_ext = {h_k[H_W-1], h_k};
+                wire signed [H_W:0]     h_sgn = zero ? {(H_W+1){1'b0}} : (neg ? -h_ext : h_ext);
+                wire signed [AGP_W-1:0] h_sx  = {{(AGP_W-H_W-1){h_sgn[H_W]}}, h_sgn};
+                assign prod = h_sx <<< e;
+            end else begin : g_any
+                wire signed [A_W-1:0] a_s = ac_in;
+                assign prod = a_s * h_k;
+            end
             wire signed [AGP_W-1:0] sh   = prod >>> A_FRAC;
             always @(posedge clk) begin
                 if (rst) begin

@@ -123,12 +123,22 @@ def markdown(rep: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-KEEPS = {
-    "full": "8 noise terms with general affine T_i (multipliers), cubic blend, analytic noise gradient in the "
-            "filter width, SAT box filter with every mod/clamp edge case (exact integral + divider), 1 pixel/clock",
-    "reduced": "2 noise terms, T_i restricted to diagonal powers of two (shifts), linear blend, narrower words "
-               "(docs/numerics.md), the same exact SAT filter, 1 pixel/clock",
-}
+def keeps(name: str) -> str:
+    """What a configuration builds, in words, from its configuration file (nothing typed twice)."""
+    c = load_config(name)
+    quad = ("the general quadric (10 coefficients, 15 multipliers)" if c.quadric == "full"
+            else "an axis-aligned quadric (B = C = F = 0: 6 multipliers)")
+    trans = ("general affine T_i (multipliers)" if c.transform == "affine"
+             else "T_i diagonal powers of two (shifts)")
+    amp = "amplitudes a_i of any value (multipliers)" if c.amplitude == "any" else "amplitudes a_i = 0 or +-2^k (shifts)"
+    grad = "analytic noise gradient in the filter width" if c.noise_gradient else "no noise gradient in the filter width"
+    filt = {"sat": "SAT box filter with every mod/clamp edge case (exact integral, "
+                   + ("exact division" if c.div_bits == 0 else f"division on a {c.div_bits}-bit normalised width")
+                   + ")", "mip": "MIP-map colour-table filter", "none": "no colour-table filter"}[c.filter]
+    return (f"{quad}; {c.noise_terms} noise terms, {trans}, {amp}, {c.blend} blend, {grad}; {filt}; "
+            f"s{c.s_w}.{c.s_frac} coordinates, Jacobian mantissas {c.j_w} bits, colour index .{c.f_frac}, "
+            f"gradient .{c.c_frac}, filter width capped at 2^{c.w_cap_log2} entries (config/{name}.toml, "
+            f"docs/numerics.md); {c.pixels_per_clock} pixel/clock")
 
 
 def write_doc() -> None:
@@ -157,7 +167,7 @@ def write_doc() -> None:
     for b in next(iter(reps.values()))["blocks"]:
         L.append(f"| {b} | " + " | ".join(f"{reps[c]['blocks'][b]:,.0f} ({100 * reps[c]['blocks'][b] / reps[c]['ge_total']:.0f}%)"
                                           for c in reps) + " |")
-    L += ["", "## What each configuration keeps", ""] + [f"- `{c}`: {KEEPS[c]}." for c in reps]
+    L += ["", "## What each configuration keeps", ""] + [f"- `{c}`: {keeps(c)}." for c in reps]
     L += ["", "## Reproduce", "", "    make setup", "    make synth          # both configurations, synth/reports/",
           "    make synth-check    # fails when a configuration is over budget",
           "    make synth-blocks   # GE of each block for both configurations", ""]

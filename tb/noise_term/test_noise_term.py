@@ -13,14 +13,21 @@ applied, and the next batch starts.
 Stimulus: random vectors (a share over the full range of every input format, a
 share from realistic small ranges) in batches of 1..256 vectors (log-uniform, so
 both short fill/drain batches and long full-pipeline batches), each batch with its
-own random (a, T, o); in the pow2 configuration T is diagonal with entries 0 or 2^e
-(model/quantize.py _check_pow2). Then the hard cases of DESIGN.md that concern this block, as explicit
-vectors: negative coordinates and floors of negatives, cell fractions of exactly 0,
-1/2^p_frac and just below 1 (p = k 2^p_frac, k 2^p_frac + 1, k 2^p_frac - 1), the last
-lattice cell (the +1 corner wraps), coordinates and T at their format extremes (the
-transform wraps mod 2^p_w), T = 0, a = 0 and a at its extremes, offsets 0 and max,
+own random (a, T, o); with transform pow2 T is diagonal with entries 0 or 2^e
+(model/quantize.py _check_pow2), with amplitude pow2 a is 0 or +-2^k (model/quantize.py
+quantize_texture), k over the whole range the format holds (0..a_w-2 for a > 0,
+0..a_w-1 for a < 0: -2^(a_w-1) is legal), both signs; every amplitude of the stimulus,
+hard cases included, is legal for the configuration (check_formats asserts it).
+Then the hard cases of DESIGN.md that concern this block, as explicit vectors:
+negative coordinates and floors of negatives, cell fractions of exactly 0, 1/2^p_frac
+and just below 1 (p = k 2^p_frac, k 2^p_frac + 1, k 2^p_frac - 1), the last lattice
+cell (the +1 corner wraps), coordinates and T at their format extremes (the transform
+wraps mod 2^p_w), T = 0, a = 0 and a at its extremes, offsets 0 and max,
 corner values -1 and 1 - 2^-(hash_bits-1) under extreme amplitudes, and the steepest
-lattice slopes under extreme T and a (the output words' bounds).
+lattice slopes under extreme T and a (the output words' bounds); and an amplitude sweep:
+every a = 0, +-2^k the format holds (and, with amplitude any, its extremes) against the
+extreme corner values and the steepest slopes under the extreme T (every pow2
+amplitude shift, both signs, at the bounds of an and ag).
 Each hard case group with its own parameters is its own batch.
 Expected values: golden noise_term per batch, vectorized over the batch.
 """
@@ -101,7 +108,35 @@ def _uniform(r, lo, hi, size=None):
     return r.integers(lo, hi + 1, size=size, dtype=np.int64)
 
 
+def a_limits(cfg):
+    """(lo, hi): the most negative and most positive amplitudes legal for the configuration.
+
+    amplitude any: the format's extremes; pow2: -2^(a_w-1) (the format's most negative
+    value is -2^(a_w-1), a power of two that model/quantize.py accepts) and 2^(a_w-2).
+    """
+    lo, hi = _lim(cfg.a_w)
+    if cfg.amplitude == "pow2":
+        return lo, 1 << (cfg.a_w - 2)
+    return lo, hi
+
+
+def pow2_amplitudes(cfg):
+    """Every pow2 amplitude the format holds: 0, 2^k (k <= a_w-2), -2^k (k <= a_w-1)."""
+    return [0] + [1 << k for k in range(cfg.a_w - 1)] + [-(1 << k) for k in range(cfg.a_w)]
+
+
 def rand_a(cfg, r):
+    if cfg.amplitude == "pow2":
+        # 0 or +-2^k, k over every shift the format holds (a share near 1)
+        if r.random() < 0.1:
+            return 0
+        neg = r.random() < 0.5
+        kmax = cfg.a_w - 1 if neg else cfg.a_w - 2
+        if r.random() < 0.5:
+            k = int(_uniform(r, 0, kmax))
+        else:
+            k = int(np.clip(_uniform(r, cfg.a_frac - 3, cfg.a_frac + 3), 0, kmax))
+        return -(1 << k) if neg else 1 << k
     lo, hi = _lim(cfg.a_w)
     if r.random() < 0.5:
         return int(_uniform(r, lo, hi))
@@ -191,7 +226,7 @@ def build_vectors(cfg, r, n_random):
     v = Vectors(cfg)
     pf, pw, H = cfg.p_frac, cfg.p_w, cfg.hash_bits
     mask_p, mask_h = (1 << pw) - 1, (1 << H) - 1
-    alo, ahi = _lim(cfg.a_w)
+    alo, ahi = a_limits(cfg)
     slo, shi = _lim(cfg.s_w)
     one_s = 1 << cfg.s_frac
 
@@ -263,6 +298,21 @@ def build_vectors(cfg, r, n_random):
                     s = rand_s(cfg, r, 1)[0]
                     o = offset_for(cfg, T, s, [ix << pf, iy << pf, (iz << pf) | fz])
                     v.add(a, T, o, [s], f"{name} T{'+' if sign > 0 else '-'}")
+    # amplitude sweep: every pow2 amplitude (every shift e, both signs, and 0), plus the
+    # configuration's extremes, on the extreme corner values (an at its bounds) and on the
+    # steepest slopes under the extreme T (ag at its bounds), with a few random vectors
+    amps = set(pow2_amplitudes(cfg)) | {alo, ahi, alo + 1, ahi - 1, 1 << cfg.a_frac, -(1 << cfg.a_frac)}
+    amps = sorted(amps)
+    if cfg.amplitude == "pow2":
+        amps = [a for a in amps if a == 0 or not (abs(a) & (abs(a) - 1))]
+    for a in amps:
+        for name, T in (("lo", rand_T(cfg, r)), ("hi", rand_T(cfg, r)),
+                        ("steep_up", big_T(cfg, 1)), ("steep_down", big_T(cfg, -1))):
+            ix, iy, iz = cells_sp[name]
+            fz = 0 if name in ("lo", "hi") else 1 << (pf - 1)
+            s = rand_s(cfg, r, 3)
+            o = offset_for(cfg, T, s[0], [ix << pf, iy << pf, (iz << pf) | fz])
+            v.add(a, T, o, s, f"amplitude {a} {name}")
     n_hard = len(v.s)
 
     # ---- random batches of 1..MAX_BATCH vectors (log-uniform) sharing (a, T, o)
@@ -285,6 +335,9 @@ def check_formats(cfg, s, a, T, o):
             off[:, j, j] = 0
         d = T[:, [0, 1, 2], [0, 1, 2]]
         assert not off.any() and (d >= 0).all() and not (d & (d - 1)).any(), "pow2 stimulus T not 0 / 2^e diagonal"
+    if cfg.amplitude == "pow2":
+        m = np.abs(a)
+        assert not (m & (m - 1)).any(), "pow2 stimulus a not 0 / +-2^k"
 
 
 def batches(group):
