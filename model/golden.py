@@ -247,14 +247,40 @@ def _integral(cfg: Config, tex: TexInt, x, xf: int):
     return np.where(xe < 0, below, np.where(xe >= (n << xf), above, inside))
 
 
+def _box_divide(cfg: Config, D, w):
+    """out = the box average D / (2w) rounded, per channel (D [..., 4], w [...] > 0).
+
+    div_bits = 0: exact, floor((D + w) / (2w)) = floor(((D + w) >> 1) / w).
+    div_bits = B > 0: w normalised to B significant bits, both operands rounded half up
+    (docs/numerics.md "Colour map", with h(s) = 2^s >> 1):
+        sh0 = bitlen(w >> B), wr = w + h(sh0), sh = bitlen(wr >> B)   (sh0 or sh0 + 1)
+        den = wr >> sh                         = round(w / 2^sh), B bits (2^(B-1).. when sh > 0)
+        num = (D + w + 2 h(sh)) >> (sh + 1)    = round(((D + w) / 2) / 2^sh)
+        out = min(floor(num / den), 255)       (the min acts only for B <= 9)
+    sh = 0 (w < 2^B) is the exact division.
+    """
+    b = cfg.div_bits
+    w = w[..., None]
+    if b == 0:
+        return (D + w) // (2 * w)
+    one = I64(1)
+    sh0 = bitlen(w >> b)
+    wr = w + ((one << sh0) >> 1)
+    sh = bitlen(wr >> b)
+    den = wr >> sh
+    num = (D + w + (((one << sh) >> 1) << 1)) >> (sh + 1)
+    return np.minimum(num // den, 255)
+
+
 def colour_map(cfg: Config, tex: TexInt, f, w):
     """RGBA8 of f (f_frac bits, 1.0 = whole table) box-filtered over width w.
 
     u = f N (units 2^-f_frac entries); mod: u taken mod N; clamp: u saturated to
     [-W/2, N + W/2] with W = 2^w_cap_log2 (exact: any window beyond it sees only an
     edge entry). Filter "sat": D = I(u + w/2) - I(u - w/2) (eq. 15 and every edge
-    case of 3.3.2 as one integral), out = floor(D / w + 1/2); w = 0 or filter off:
-    the point lookup C(u). Filter "mip": level floor(log2 w), point lookup in it.
+    case of 3.3.2 as one integral), out = floor(D / w + 1/2) (div_bits = 0) or the
+    normalised division of _box_divide; w = 0 or filter off: the point lookup C(u).
+    Filter "mip": level floor(log2 w), point lookup in it.
 
     Contract (as the RTL's): 0 <= w <= 2^(w_cap_log2 + f_frac) (filter_width saturates
     there) and csat = cumsum(clut), mip from build_tables (the host writes them).
@@ -286,10 +312,10 @@ def colour_map(cfg: Config, tex: TexInt, f, w):
     xf = ff + 1
     a2, b2 = 2 * u - w, 2 * u + w
     D = _integral(cfg, tex, b2, xf) - _integral(cfg, tex, a2, xf)
-    wc = np.maximum(w, 1)[..., None]
-    out = np.where((w > 0)[..., None], (D + wc) // (2 * wc), point)
-    if out.size and (out.min() < 0 or out.max() > 255):  # impossible for consistent tables: never wrap silently
+    # 0 <= D <= 255 * 2w for consistent tables (the average is in 0..255): never wrap silently
+    if D.size and ((D < 0).any() or (D > 510 * w[..., None]).any()):
         raise ValueError("colour_map: average outside 0..255 (inconsistent csat/clut tables?)")
+    out = np.where((w > 0)[..., None], _box_divide(cfg, D, np.maximum(w, 1)), point)
     return out.astype(np.uint8)
 
 

@@ -4,7 +4,8 @@
 // Formats (widths `CFG_*, generated from config/<name>.toml):
 //   f_in   s{F_W}.{F_FRAC}   1.0 = the whole colour table
 //   w_in   u{W_W}.{F_FRAC}   colour-table entries; contract: w <= 2^(W_CAP_LOG2 + F_FRAC)
-//                            (filter_width saturates there; D_W and X_W are sized for it)
+//                            (filter_width saturates there; D_W and X_W are sized for it;
+//                            the normalised division's shift is at most W_W - B there)
 //   mode   0 mod (f taken mod 1), 1 clamp; filter_en 0: point lookup
 //   n_log2 N = 2^n_log2 entries, n_log2 <= N_LOG2_MAX; tables loaded for that N
 //   rgba_out RGBA8, channel c at [8c+7:8c] (R = 0, G = 1, B = 2, A = 3)
@@ -20,11 +21,21 @@
 //       formed by two KW x QW multipliers in either mode (mod: the bytes of total; QW = 8
 //       for N_LOG2_MAX <= 8);
 //       computed mod 2^D_W, exact since 0 <= D <= 255 * 2w < 2^D_W;
-//       out = floor((D + w) / (2w)) = floor(((D + w) >> 1) / w) by box_divide (8 quotient
-//       bits: D + w <= 511 w < 2^8 * 2w, so out <= 255, never 256);
+//       `CFG_DIV_BITS = 0 (exact): out = floor((D + w) / (2w)) = floor(((D + w) >> 1) / w)
+//       by box_divide on u{D_W-1} / u{W_W} (8 quotient bits: D + w <= 511 w < 2^8 * 2w, so
+//       out <= 255, never 256);
+//       `CFG_DIV_BITS = B > 0 (normalised; built when B < W_W, else w never has more than B
+//       bits and the exact division is built): h(s) = 2^s >> 1,
+//         sh0 = bitlen(w >> B), w_r = w + h(sh0), sh = bitlen(w_r >> B) (sh0 or sh0 + 1),
+//         den' = w_r >> sh = round(w / 2^sh) (u{B}, >= 2^(B-1) when sh > 0),
+//         num' = (D + w + 2 h(sh)) >> (sh + 1) = round(((D + w) / 2) / 2^sh),
+//         out = min(floor(num' / den'), 255) by box_divide on u{NQ_W} / u{B}, NQ_W = B + 8
+//         (num' < 256 den' for B >= 10: no saturation needed) or B + 9 with SAT (B <= 9:
+//         num' < 384 den', quotients up to 383 saturate); sh0, den', sh and w + 2 h(sh) are
+//         computed once for the four channels; error <= 1/2 + 513 / 2^(B+1) LSB;
 //       w = 0 or filter off: the point lookup clut[k], k = floor(u) mod N or clipped, which
 //       is the clut read at window end a when w is forced to 0 (a = b = 2u), fed through the
-//       divider as num = clut[k], den = 1.
+//       divider as num = clut[k], den = 1 (normalised: sh = 0).
 //   `CFG_FILTER 2 (mip): mip[2N - (2N >> l) + (floor(u) >> l)], l = clip(floor(log2 w), 0,
 //       n_log2) (mip_index); filter off: clut[k].
 //   `CFG_FILTER 0 (none): clut[k].
@@ -41,8 +52,10 @@
 // 32 (2^(NMAX+1) - 1) (24544), none 32 2^NMAX (8192).
 //
 // Pipeline (sat): 1 u | 2 a, b | 3 sat_index x2 | 4 colour_table reads, multiplier operands
-// | 5 sat_integral x2 | 6 numerator (D + w) >> 1, divisor | 7..14 box_divide (one quotient
-// bit per stage). mip/none: 1 u | 2-3 mip_index | 4 table reads | 5 select | 6..14 delay line.
+// | 5 sat_integral x2 (normalised: with sh0, den', sh, w + 2 h(sh) from w) | 6 numerator
+// (D + w) >> 1 (normalised: (D + w + 2 h(sh)) >> (sh + 1)), divisor | 7..14 box_divide (one
+// quotient bit per stage). mip/none: 1 u | 2-3 mip_index | 4 table reads | 5 select | 6..14
+// delay line.
 // Latency `LAT_COLOUR_MAP = 14 (register stages); throughput one pixel per enabled clock.
 // Reset (synchronous, active high) clears the valid chain and rgba_out (no X after reset);
 // rgba_out loads only with a valid result.
@@ -90,6 +103,23 @@ localparam TW     = D_W - XF;           // whole-entry part of D
 localparam QW     = (CS_W - 8 > 8) ? CS_W - 8 : 8;  // multiplier operand: a byte of total, or clut
 localparam GUARD  = WCAP + FF - 1;      // clamp guard W/2 = 2^GUARD (units 2^-FF entries)
 localparam CW     = (F_W > U_W) ? F_W : U_W;  // clamp comparison width
+
+// box-filter division (sat): exact (DIV_BITS = 0, or >= W_W: w never has more bits), or on
+// w normalised to B = DIV_BITS significant bits
+localparam DIV_BITS = `CFG_DIV_BITS;
+localparam NORM   = (FILTER == 1) && (DIV_BITS > 0) && (DIV_BITS < W_W);
+localparam B      = NORM ? DIV_BITS : 1;
+localparam HW     = W_W - B;            // high bits of w: sh0 = bitlen(w >> B), 0..HW
+localparam SH_W   = $clog2(HW + 2);     // sh = sh0 or sh0 + 1, 0..HW + 1
+localparam SAT    = (B <= 9) ? 1 : 0;   // num' / den' reaches 256 only for B <= 9
+localparam NQ_W   = B + 8 + SAT;        // num' < 256 den' (B >= 10), < 384 den' (B <= 9)
+
+// elaboration fails (unknown module) on an unsupported configuration
+generate
+    if (NORM && NQ_W > D_W - 1) begin : g_bad_params
+        colour_map_unsupported_div_bits u_error ();
+    end
+endgenerate
 
 // ---------------------------------------------------------------------------
 // Stage 1: u
@@ -309,7 +339,6 @@ generate
         );
 
         reg             s5_valid_reg;
-        reg [W_W-1:0]   s5_w_reg;
         reg             s5_mode_reg;
         reg [31:0]      s5_point_reg;   // clut[ka]: the point lookup when w = 0
 
@@ -322,71 +351,198 @@ generate
 
         always @(posedge clk) begin
             if (ce) begin
-                s5_w_reg     <= s4_w_reg;
                 s5_mode_reg  <= s4_mode_reg;
                 s5_point_reg <= clut_a;
             end
         end
 
-        // ---- stage 6: divider operands; num = (D + w) >> 1, den = w, or clut[k] / 1, with
-        // D = (whole << XF) + p_b - p_a, whole = e_b - e_a (clamp) or e_b + (e_a << 8) (mod)
-        wire                 w_zero = (s5_w_reg == {W_W{1'b0}});
-        wire [4*(D_W-1)-1:0] num;
-        reg  [D_W-1:0]       d_w;    // w zero-extended
-        reg  [W_W-1:0]       den;
-        always @* begin
-            d_w = {D_W{1'b0}};
-            d_w[W_W-1:0] = s5_w_reg;
-            den = s5_w_reg;
-            if (w_zero)
-                den[0] = 1'b1;
-        end
-        for (ch = 0; ch < 4; ch = ch + 1) begin : g_num
-            reg [TW-1:0]  ea_x;     // e_a (clamp: negated) or e_a << 8 (mod)
-            reg [TW-1:0]  whole;    // whole entries of D, mod 2^TW
-            reg [D_W-1:0] sum;      // D + w (< 2^D_W)
-            reg [D_W-2:0] pt;       // clut[k] zero-extended
+        if (!NORM) begin : g_exact
+            // ---- exact division (CFG_DIV_BITS = 0): the divisor is w itself
+            reg [W_W-1:0] s5_w_reg;
+            always @(posedge clk) begin
+                if (ce)
+                    s5_w_reg <= s4_w_reg;
+            end
+
+            // ---- stage 6: divider operands; num = (D + w) >> 1, den = w, or clut[k] / 1, with
+            // D = (whole << XF) + p_b - p_a, whole = e_b - e_a (clamp) or e_b + (e_a << 8) (mod)
+            wire                 w_zero = (s5_w_reg == {W_W{1'b0}});
+            wire [4*(D_W-1)-1:0] num;
+            reg  [D_W-1:0]       d_w;    // w zero-extended
+            reg  [W_W-1:0]       den;
             always @* begin
-                if (s5_mode_reg)
-                    ea_x = -e_a[ch*TW +: TW];
-                else
-                    ea_x = e_a[ch*TW +: TW] << 8;
-                whole = e_b[ch*TW +: TW] + ea_x;
-                sum = {whole, {XF{1'b0}}} + p_b[ch*D_W +: D_W] - p_a[ch*D_W +: D_W] + d_w;
-                pt = {(D_W-1){1'b0}};
-                pt[7:0] = s5_point_reg[8*ch +: 8];
+                d_w = {D_W{1'b0}};
+                d_w[W_W-1:0] = s5_w_reg;
+                den = s5_w_reg;
+                if (w_zero)
+                    den[0] = 1'b1;
             end
-            // floor((D + w) / 2w) = floor(((D + w) >> 1) / w): the LSB of D + w is not needed
-            assign num[ch*(D_W-1) +: D_W-1] = w_zero ? pt : sum[D_W-1:1];
-            wire unused_lsb = sum[0];
-        end
-
-        reg                  s6_valid_reg;
-        reg [4*(D_W-1)-1:0]  s6_num_reg;
-        reg [W_W-1:0]        s6_den_reg;
-
-        always @(posedge clk) begin
-            if (rst)
-                s6_valid_reg <= 1'b0;
-            else if (ce)
-                s6_valid_reg <= s5_valid_reg;
-        end
-
-        always @(posedge clk) begin
-            if (ce) begin
-                s6_num_reg <= num;
-                s6_den_reg <= den;
+            for (ch = 0; ch < 4; ch = ch + 1) begin : g_num
+                reg [TW-1:0]  ea_x;     // e_a (clamp: negated) or e_a << 8 (mod)
+                reg [TW-1:0]  whole;    // whole entries of D, mod 2^TW
+                reg [D_W-1:0] sum;      // D + w (< 2^D_W)
+                reg [D_W-2:0] pt;       // clut[k] zero-extended
+                always @* begin
+                    if (s5_mode_reg)
+                        ea_x = -e_a[ch*TW +: TW];
+                    else
+                        ea_x = e_a[ch*TW +: TW] << 8;
+                    whole = e_b[ch*TW +: TW] + ea_x;
+                    sum = {whole, {XF{1'b0}}} + p_b[ch*D_W +: D_W] - p_a[ch*D_W +: D_W] + d_w;
+                    pt = {(D_W-1){1'b0}};
+                    pt[7:0] = s5_point_reg[8*ch +: 8];
+                end
+                // floor((D + w) / 2w) = floor(((D + w) >> 1) / w): the LSB of D + w is not needed
+                assign num[ch*(D_W-1) +: D_W-1] = w_zero ? pt : sum[D_W-1:1];
+                wire unused_lsb = sum[0];
             end
-        end
 
-        // ---- stages 7..14: one quotient bit per stage (LAT_COLOUR_MAP = 6 + 8)
-        box_divide #(
-            .NUM_W(D_W - 1), .DEN_W(W_W), .Q_W(8), .LANES(4)
-        ) u_divide (
-            .clk(clk), .rst(rst), .ce(ce), .in_valid(s6_valid_reg),
-            .num_in(s6_num_reg), .den_in(s6_den_reg),
-            .out_valid(out_valid), .q_out(rgba_out)
-        );
+            reg                  s6_valid_reg;
+            reg [4*(D_W-1)-1:0]  s6_num_reg;
+            reg [W_W-1:0]        s6_den_reg;
+
+            always @(posedge clk) begin
+                if (rst)
+                    s6_valid_reg <= 1'b0;
+                else if (ce)
+                    s6_valid_reg <= s5_valid_reg;
+            end
+
+            always @(posedge clk) begin
+                if (ce) begin
+                    s6_num_reg <= num;
+                    s6_den_reg <= den;
+                end
+            end
+
+            // ---- stages 7..14: one quotient bit per stage (LAT_COLOUR_MAP = 6 + 8)
+            box_divide #(
+                .NUM_W(D_W - 1), .DEN_W(W_W), .Q_W(8), .LANES(4)
+            ) u_divide (
+                .clk(clk), .rst(rst), .ce(ce), .in_valid(s6_valid_reg),
+                .num_in(s6_num_reg), .den_in(s6_den_reg),
+                .out_valid(out_valid), .q_out(rgba_out)
+            );
+        end else begin : g_norm
+            // ---- normalised division (B = CFG_DIV_BITS > 0), docs/numerics.md "Colour map":
+            //   sh0 = bitlen(w >> B); t = w >> (sh0 - 1) (B + 1 bits; {w, 0} when sh0 = 0)
+            //   den' = round(w / 2^sh0) = (t + 1) >> 1, or, when t is all ones (the rounding
+            //   carries to 2^B), den' = 2^(B-1) with sh = sh0 + 1; else sh = sh0
+            //   num' = (D + w + 2 h(sh)) >> (sh + 1), h(s) = 2^s >> 1 (half of the dropped LSB)
+            // stage 5: sh, den' and w + 2 h(sh) from w, once for the four channels
+
+            // sh0 = bitlen(w >> B): leading-one detector on the HW high bits of w
+            reg [SH_W-1:0] sh0;
+            integer        i;
+            always @* begin
+                sh0 = {SH_W{1'b0}};
+                for (i = 0; i < HW; i = i + 1)
+                    if (s4_w_reg[B + i])
+                        sh0 = i[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
+            end
+
+            reg [W_W:0]    w2s;    // 2w >> sh0: < 2^(B+1), bits B..0 are t
+            reg [B:0]      t;
+            reg            ovf;    // t all ones: w rounds up to 2^B at shift sh0
+            reg [B-1:0]    den_n;  // den' = round(w / 2^sh)
+            reg [SH_W-1:0] sh;
+            reg [W_W:0]    h2;     // 2 h(sh): 2^sh, 0 when sh = 0
+            always @* begin
+                w2s = {s4_w_reg, 1'b0} >> sh0;
+                t = w2s[B:0];
+                ovf = &t;
+                den_n = t[B:1] + {{(B-1){1'b0}}, t[0]};
+                if (ovf) begin
+                    den_n = {B{1'b0}};
+                    den_n[B-1] = 1'b1;
+                end
+                sh = sh0 + {{(SH_W-1){1'b0}}, ovf};
+                h2 = {{W_W{1'b0}}, 1'b1} << sh;
+                if (sh == {SH_W{1'b0}})
+                    h2 = {(W_W+1){1'b0}};
+            end
+            // bitlen(w) <= B + sh0, so 2w >> sh0 has at most B + 1 bits
+            wire unused_w2s = |w2s[W_W:B+1];
+
+            reg [B-1:0]    s5_den_reg;
+            reg [SH_W-1:0] s5_sh_reg;
+            reg [W_W:0]    s5_wn_reg;   // w + 2 h(sh) (< 2^(W_W+1)); 0 iff w = 0
+
+            always @(posedge clk) begin
+                if (ce) begin
+                    s5_den_reg <= den_n;
+                    s5_sh_reg  <= sh;
+                    s5_wn_reg  <= {1'b0, s4_w_reg} + h2;
+                end
+            end
+
+            // ---- stage 6: num' = (D + w + 2 h(sh)) >> (sh + 1) (< 2^NQ_W), den' (w = 0:
+            // clut[k] / 1), with D = (whole << XF) + p_b - p_a as in the exact division
+            wire           w_zero = (s5_wn_reg == {(W_W+1){1'b0}});
+            wire [4*NQ_W-1:0] num;
+            reg  [D_W-1:0] d_wn;   // w + 2 h(sh) zero-extended
+            reg  [B-1:0]   den;
+            always @* begin
+                d_wn = {D_W{1'b0}};
+                d_wn[W_W:0] = s5_wn_reg;
+                den = s5_den_reg;   // 0 when w = 0
+                if (w_zero)
+                    den[0] = 1'b1;
+            end
+            for (ch = 0; ch < 4; ch = ch + 1) begin : g_num
+                reg [TW-1:0]  ea_x;     // e_a (clamp: negated) or e_a << 8 (mod)
+                reg [TW-1:0]  whole;    // whole entries of D, mod 2^TW
+                reg [D_W-1:0] sum;      // D + w + 2 h(sh) (< 2^D_W)
+                reg [D_W-2:0] nsh;      // sum >> (sh + 1)
+                reg [NQ_W-1:0] pt;      // clut[k] zero-extended
+                always @* begin
+                    if (s5_mode_reg)
+                        ea_x = -e_a[ch*TW +: TW];
+                    else
+                        ea_x = e_a[ch*TW +: TW] << 8;
+                    whole = e_b[ch*TW +: TW] + ea_x;
+                    sum = {whole, {XF{1'b0}}} + p_b[ch*D_W +: D_W] - p_a[ch*D_W +: D_W] + d_wn;
+                    nsh = sum[D_W-1:1] >> s5_sh_reg;
+                    pt = {NQ_W{1'b0}};
+                    pt[7:0] = s5_point_reg[8*ch +: 8];
+                end
+                assign num[ch*NQ_W +: NQ_W] = w_zero ? pt : nsh[NQ_W-1:0];
+                // sum's LSB is below the rounding; nsh < 2^NQ_W (num' < 256 den', or 384 den'
+                // with SAT: docs/numerics.md), its high bits are zero
+                wire unused_lsb = sum[0];
+                if (NQ_W < D_W - 1) begin : g_hi
+                    wire unused_hi = |nsh[D_W-2:NQ_W];
+                end
+            end
+
+            reg                  s6_valid_reg;
+            reg [4*NQ_W-1:0]     s6_num_reg;
+            reg [B-1:0]          s6_den_reg;
+
+            always @(posedge clk) begin
+                if (rst)
+                    s6_valid_reg <= 1'b0;
+                else if (ce)
+                    s6_valid_reg <= s5_valid_reg;
+            end
+
+            always @(posedge clk) begin
+                if (ce) begin
+                    s6_num_reg <= num;
+                    s6_den_reg <= den;
+                end
+            end
+
+            // ---- stages 7..14: one quotient bit per stage on B-bit divisors (LAT = 6 + 8);
+            // B <= 9: the quotient can reach 256 (up to 383), saturated to 255 (SAT)
+            box_divide #(
+                .NUM_W(NQ_W), .DEN_W(B), .Q_W(8), .LANES(4), .SAT(SAT)
+            ) u_divide (
+                .clk(clk), .rst(rst), .ce(ce), .in_valid(s6_valid_reg),
+                .num_in(s6_num_reg), .den_in(s6_den_reg),
+                .out_valid(out_valid), .q_out(rgba_out)
+            );
+        end
     end else begin : g_lookup
         // stage 1: filter_en selects the MIP map (sat: only w = 0 carries it)
         reg s1_filter_en_reg;

@@ -331,10 +331,19 @@ def _grid_case(cfg, rng, n_log2, size):
     return f_int, np.clip(w_int, 0, 1 << (cfg.w_cap_log2 + ff))  # filter_width saturates at the cap
 
 
+def _sat_error_bound(cfg):
+    """Bound on |golden - exact box average| on the grid (numerics.md "Colour map"): 1/2 LSB for
+    the exact division (div_bits = 0); 1/2 + 513 / 2^(B+1) for the division on w normalised to
+    B = div_bits bits (numerator and divisor rounded half up)."""
+    b = cfg.div_bits
+    return 0.5 if b == 0 else 0.5 + 513 / 2 ** (b + 1)
+
+
 @pytest.mark.parametrize("mode", ["mod", "clamp"])
 @pytest.mark.parametrize("name", CONFIGS)
 def test_sat_filter_within_half_lsb_of_exact_box(name, mode):
-    """On the grid, golden = round(exact box average): |golden - reference| <= 1/2 LSB."""
+    """On the grid, golden = round(exact box average): |golden - reference| <= 1/2 LSB with the
+    exact division (div_bits = 0); with div_bits = B > 0, <= 1/2 + 513 / 2^(B+1) LSB."""
     cfg = load_config(name)
     cfg.filter = "sat"  # the SAT path of this configuration's formats, whatever filter it builds
     rng = np.random.default_rng(7)
@@ -348,7 +357,46 @@ def test_sat_filter_within_half_lsb_of_exact_box(name, mode):
         w = w_int / (1 << cfg.f_frac) / n  # entries -> colour-map units
         ref = R.filtered_lookup(clut, f, w, mode)
         err = np.abs(got - ref)
-        assert err.max() <= 0.5 + 1e-9, (n_log2, err.max())
+        assert err.max() <= _sat_error_bound(cfg) + 1e-9, (n_log2, err.max(), _sat_error_bound(cfg))
+
+
+def test_normalised_division_bound_is_tight_and_div_bits_0_is_exact():
+    """The box-filter division (numerics.md "Colour map"). div_bits = 0, both configurations:
+    golden = round half up of the exact box average, bit for bit. div_bits = B > 0 (reduced):
+    within 1/2 + 513 / 2^(B+1) LSB, and the bound is nearly reached (the error exceeds
+    1/2 LSB, so a normalisation silently dropped would be noticed); w < 2^B is exact."""
+    rng = np.random.default_rng(12)
+    worst = {}
+    for name in CONFIGS:
+        cfg = load_config(name)
+        cfg.filter = "sat"
+        cfg0 = dataclasses.replace(cfg, div_bits=0)
+        bound = _sat_error_bound(cfg)
+        for mode in ("mod", "clamp"):
+            for n_log2 in (1, 3, cfg.n_log2_max):
+                n = 1 << n_log2
+                # random entries, and bright ones (the error grows with the average)
+                for clut in (rand_clut(rng, n), rng.integers(224, 256, size=(n, 4)).astype(np.uint8)):
+                    tex = tex_int(cfg, clut, mode)
+                    f_int, w_int = _grid_case(cfg, rng, n_log2, 5000)
+                    ref = R.filtered_lookup(clut, f_int / (1 << cfg.f_frac), w_int / (1 << cfg.f_frac) / n, mode)
+                    got0 = G.colour_map(cfg0, tex, f_int, w_int).astype(np.float64)
+                    # ties (average k + 1/2) round up; float error << 1e-9 << the grid 1/(2w)
+                    exact = np.where((w_int > 0)[:, None], np.floor(ref + 0.5 + 1e-9), ref)
+                    assert np.array_equal(got0, exact), (name, mode, n_log2)
+                    got = G.colour_map(cfg, tex, f_int, w_int).astype(np.float64)
+                    if cfg.div_bits == 0:
+                        assert np.array_equal(got, got0)
+                        continue
+                    narrow = w_int < (1 << cfg.div_bits)  # shift 0: the exact division
+                    assert np.array_equal(got[narrow], got0[narrow])
+                    err = np.abs(got - ref).max()
+                    assert err <= bound + 1e-9, (name, mode, n_log2, err, bound)
+                    worst[name] = max(worst.get(name, 0.0), err)
+    cfg = load_config("reduced")
+    assert cfg.div_bits > 0
+    bound = _sat_error_bound(cfg)
+    assert worst["reduced"] > 0.5 + (bound - 0.5) / 2, (worst, bound)
 
 
 @pytest.mark.parametrize("mode", ["mod", "clamp"])

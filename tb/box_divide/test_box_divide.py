@@ -2,20 +2,28 @@
 
 Two halves in one file (the project's testbench convention):
 - pytest entry `test_box_divide_rtl` over (simulator, configuration): the divider is built
-  with its defaults, the widths colour_map uses (NUM_W = D_W - 1, DEN_W = W_W, Q_W = 8,
-  LANES = 4 numerators sharing one divisor);
+  with its defaults, the widths colour_map's exact division uses (NUM_W = D_W - 1,
+  DEN_W = W_W, Q_W = 8, LANES = 4 numerators sharing one divisor);
+- pytest entry `test_box_divide_narrow_rtl`: the normalised division's widths (divisor of
+  B = div_bits bits, NUM_W = B + 8; docs/numerics.md "Colour map") for each configuration
+  with div_bits > 0, and the saturating build (SAT = 1, NUM_W = B + 9) that colour_map uses
+  for div_bits <= 9, at B = 9 and B = 4;
 - cocotb test `box_divide_vs_python`: random divisors (uniform over the whole DEN_W range
-  and log-uniform) with random numerators meeting the precondition num < den 2^Q_W, then
-  the edge cases: den = 1, den at its maximum, den = 2^k and 2^k - 1, quotients 0, 1,
-  2^Q_W - 1 and every exact multiple boundary (num = q den - 1, q den, q den + 1), num at
+  and log-uniform) with random numerators meeting the precondition num < den 2^Q_W
+  (SAT: num < den 2^(Q_W+1)), then the edge cases: den = 1, den at its maximum, den = 2^k
+  and 2^k - 1, quotients 0, 1, 2^Q_W - 1 (SAT: also 2^Q_W, 2^Q_W + 1, 3 2^(Q_W-1), the
+  largest) and every exact multiple boundary (num = q den - 1, q den, q den + 1), num at
   its maximum (den = 0 is outside the precondition: colour_map never divides by 0);
-  streamed with random ce stalls and input gaps. Expected: num // den per lane.
+  streamed with random ce stalls and input gaps. Expected: num // den per lane (SAT:
+  saturated to 2^Q_W - 1).
 
 Environment: SIM, CONFIG narrow the parametrization; SEED fixes the randomness;
-VECTORS = random vectors (default 2000; edge cases come on top).
+VECTORS = random vectors (default 2000; edge cases come on top). BD_NUM_W, BD_DEN_W, BD_SAT
+(set by the pytest entries) give the parameters the divider was built with.
 """
 from __future__ import annotations
 
+import os
 import random
 from pathlib import Path
 
@@ -24,27 +32,36 @@ import pytest
 import cocotb
 
 import tb.runner
+from model.config import load_config
 from tb import pipe
 
 Q_W, LANES = 8, 4  # box_divide's defaults, as colour_map instantiates it
 
 
 def widths(cfg):
-    return cfg.d_w - 1, cfg.w_w  # NUM_W, DEN_W (box_divide's defaults)
+    """NUM_W, DEN_W, SAT the divider was built with (default: box_divide's defaults)."""
+    num_w = int(os.environ.get("BD_NUM_W", cfg.d_w - 1))
+    den_w = int(os.environ.get("BD_DEN_W", cfg.w_w))
+    return num_w, den_w, int(os.environ.get("BD_SAT", 0))
 
 
-def model(num: int, den: int) -> int:
-    return num // den
+def model(num: int, den: int, sat: int = 0) -> int:
+    return min(num // den, (1 << Q_W) - 1) if sat else num // den
 
 
-def random_cases(r: random.Random, n: int, num_w: int, den_w: int):
+def limit(den: int, num_w: int, sat: int) -> int:
+    """Numerators below this meet the precondition and fit the numerator word."""
+    return min(den << (Q_W + (1 if sat else 0)), 1 << num_w)
+
+
+def random_cases(r: random.Random, n: int, num_w: int, den_w: int, sat: int = 0):
     out = []
     for _ in range(n):
         if r.random() < 0.5:
             den = r.randrange(1, 1 << den_w)
         else:
             den = r.randrange(1, 1 << r.randint(1, den_w))
-        lim = min(den << Q_W, 1 << num_w)  # precondition and the numerator word
+        lim = limit(den, num_w, sat)  # precondition and the numerator word
         nums = []
         for _ in range(LANES):
             x = r.random()
@@ -59,16 +76,17 @@ def random_cases(r: random.Random, n: int, num_w: int, den_w: int):
     return out
 
 
-def edge_cases(r: random.Random, num_w: int, den_w: int):
+def edge_cases(r: random.Random, num_w: int, den_w: int, sat: int = 0):
     qmax = (1 << Q_W) - 1
     dens = {1, 2, 3, (1 << den_w) - 1, 1 << (den_w - 1), (1 << (den_w - 1)) - 1, (1 << (den_w - 1)) + 1}
     dens |= {1 << k for k in range(den_w)} | {(1 << k) - 1 for k in range(2, den_w)}
+    qs = (1, 2, 127, 128, 254, 255) + ((256, 257, 383, 384, 511) if sat else ())
     out = []
-    for den in sorted(dens):
-        lim = min(den << Q_W, 1 << num_w)
+    for den in sorted(d for d in dens if d > 0):
+        lim = limit(den, num_w, sat)
         cand = {0, 1, den - 1, den, den + 1, lim - 1, (qmax * den) - 1, qmax * den, qmax * den + 1,
                 (den << (Q_W - 1)) - 1, den << (Q_W - 1), (1 << num_w) - 1}
-        cand |= {q * den + d for q in (1, 2, 127, 128, 254, 255) for d in (-1, 0, 1)}
+        cand |= {q * den + d for q in qs for d in (-1, 0, 1)}
         cand = sorted(c for c in cand if 0 <= c < lim)
         for i in range(0, len(cand), LANES):
             nums = cand[i:i + LANES]
@@ -80,11 +98,11 @@ def edge_cases(r: random.Random, num_w: int, den_w: int):
 @cocotb.test()
 async def box_divide_vs_python(dut):
     cfg = pipe.cfg()
-    num_w, den_w = widths(cfg)
+    num_w, den_w, sat = widths(cfg)
     assert len(dut.num_in) == LANES * num_w and len(dut.den_in) == den_w, "unexpected box_divide widths"
     seed = int(pipe.rng(23).integers(1 << 30))
     r = random.Random(seed)
-    cases = random_cases(r, pipe.n_vectors(), num_w, den_w) + edge_cases(r, num_w, den_w)
+    cases = random_cases(r, pipe.n_vectors(), num_w, den_w, sat) + edge_cases(r, num_w, den_w, sat)
     r.shuffle(cases)
     await pipe.start(dut)
     assert dut.out_valid.value.is_resolvable and int(dut.out_valid.value) == 0, "out_valid after reset"
@@ -102,14 +120,42 @@ async def box_divide_vs_python(dut):
     bad = []
     for i, ((nums, den), g) in enumerate(zip(cases, got)):
         q = pipe.unpack(g, Q_W, LANES, signed=False)
-        exp = [model(x, den) for x in nums]
+        exp = [model(x, den, sat) for x in nums]
         if q != exp:
             bad.append(f"  vector {i}: num={nums} den={den}: expected {exp} got {q}")
     assert not bad, f"{len(bad)} of {len(cases)} vectors differ\n" + "\n".join(bad[:10])
-    dut._log.info(f"{len(cases)} vectors x {LANES} lanes (NUM_W={num_w}, DEN_W={den_w}, Q_W={Q_W}): all exact")
+    dut._log.info(f"{len(cases)} vectors x {LANES} lanes (NUM_W={num_w}, DEN_W={den_w}, Q_W={Q_W}, SAT={sat}): "
+                  "all exact")
 
 
 @pytest.mark.parametrize("sim,config", tb.runner.sim_params())
 def test_box_divide_rtl(sim, config):
     tb.runner.run("box_divide", sources=["box_divide.v"], test_module="test_box_divide", sim=sim,
                   config=config, test_dir=Path(__file__).parent)
+
+
+def _narrow_params():
+    """(sim, config, B, SAT): each configuration's normalised divider (div_bits > 0), and the
+    saturating divider (B <= 9) at B = 9 and 4 (built under the first configuration)."""
+    out = []
+    for sim, config in tb.runner.sim_params():
+        b = load_config(config).div_bits
+        if b > 0:
+            out.append((sim, config, b, 1 if b <= 9 else 0))
+    sims = sorted({s for s, _ in tb.runner.sim_params()})
+    config = tb.runner.sim_params()[0][1]
+    out += [(sim, config, b, 1) for sim in sims for b in (9, 4)]
+    return out
+
+
+@pytest.mark.parametrize("sim,config,b,sat", _narrow_params())
+def test_box_divide_narrow_rtl(sim, config, b, sat, monkeypatch):
+    """colour_map's normalised division: DEN_W = B, NUM_W = B + 8 (+ 1 with SAT)."""
+    num_w = b + 8 + sat
+    gdir = tb.runner.gen_dir(config)
+    monkeypatch.setattr(tb.runner, "gen_dir", lambda _config: gdir)
+    tb.runner.run("box_divide", sources=["box_divide.v"], test_module="test_box_divide", sim=sim,
+                  config=f"{config}_n{num_w}_d{b}_s{sat}",
+                  parameters={"NUM_W": num_w, "DEN_W": b, "SAT": sat},
+                  extra_env={"CONFIG": config, "BD_NUM_W": str(num_w), "BD_DEN_W": str(b), "BD_SAT": str(sat)},
+                  test_dir=Path(__file__).parent)

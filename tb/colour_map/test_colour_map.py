@@ -1,10 +1,13 @@
 """colour_map (rtl/colour_map.v) against model/golden.py colour_map, bit for bit.
 
 Two halves in one file (the project's testbench convention):
-- pytest entries: `test_colour_map_rtl` over (simulator, configuration), and
+- pytest entries: `test_colour_map_rtl` over (simulator, configuration),
   `test_colour_map_filter_variants_rtl`, the same cocotb test on each configuration with
   its filter switched to "mip" and to "none" (a header generated into
-  build/gen/<config>_<filter>/), so that every `CFG_FILTER branch is simulated;
+  build/gen/<config>_<filter>/), so that every `CFG_FILTER branch is simulated, and
+  `test_colour_map_div_variants_rtl`, the same with formats.div_bits switched (build/gen/
+  <config>_div<B>/): the saturating normalised division (B = 4, 9 on reduced), B = W_W - 1
+  (shift 0 or 1) and a normalised division on full's wide w (B = 10);
 - the cocotb test `colour_map_vs_golden`: for a series of colour tables (random, one for
   every N = 2^n_log2, n_log2 = 0..n_log2_max; all 255 and all 0, the quotient extremes;
   a harsh 0/255 zebra; N = 1) it loads clut, csat and mip (golden build_tables) through the
@@ -13,8 +16,11 @@ Two halves in one file (the project's testbench convention):
   end), then streams random vectors (f over the whole s{F_W} range and a realistic range,
   w over [0, w_cap] uniformly and log-uniformly, both modes, filter on and off) and the
   hard cases (every f in a list of edge values x every w in a list, both modes, filter on;
-  filter off on a subset) with random ce stalls and input gaps, and compares every output
-  bit with golden colour_map, computed vectorized per (mode, filter) group.
+  filter off on a subset; with div_bits = B > 0 also the normalisation's edges: w around
+  every power of two from 2^(B-1) to the cap, at the rounding ties and where rounding w
+  carries into the next power of two, x a few f) with random ce stalls and input gaps, and
+  compares every output bit with golden colour_map, computed vectorized per (mode, filter)
+  group. The all-255 tables give the largest D (255 * 2w), where the quotient is largest.
 
 Environment: SIM, CONFIG narrow the parametrization; SEED fixes the randomness;
 VECTORS = random vectors in all (default 2000; the hard cases come on top).
@@ -103,6 +109,26 @@ def hard_w(cfg, n_log2, full=True):
     return np.unique(np.clip(np.array(v, dtype=np.int64), 0, cap))
 
 
+def norm_w(cfg):
+    """w at the edges of the normalised division (div_bits = B > 0; docs/numerics.md "Colour
+    map"): for every power of two 2^k, 2^(B-1) <= 2^k <= cap, with sh0 = bitlen(2^k) - B and
+    h = 2^(sh0-1): 2^k - 1, 2^k, 2^k + 1; the rounding ties 2^k + h - 1, 2^k + h (B = 9:
+    2^18 + 511 with all-255 entries is a quotient of 256, saturated); 2^k + 2h - 1, 2^k + 2h;
+    where rounding carries into 2^B (sh = sh0 + 1): 2^(k+1) - h - 1, 2^(k+1) - h; the cap."""
+    b, cap = cfg.div_bits, cfg.w_cap
+    if b == 0 or b >= cfg.w_w:
+        return np.zeros(0, dtype=np.int64)
+    v = [cap, cap - 1]
+    for k in range(b - 1, cfg.w_w):
+        p = 1 << k
+        v += [p - 1, p, p + 1]
+        sh0 = k + 1 - b
+        if sh0 >= 1:
+            h = 1 << (sh0 - 1)
+            v += [p + h - 1, p + h, p + 2 * h - 1, p + 2 * h, 2 * p - h - 1, 2 * p - h]
+    return np.unique(np.clip(np.array(v, dtype=np.int64), 1, cap))
+
+
 def random_vectors(cfg, r, n):
     """n random (f, w, mode, filter_en): half over the whole formats, half realistic."""
     fw, ff, cap = cfg.f_w, cfg.f_frac, cfg.w_cap
@@ -121,7 +147,12 @@ def random_vectors(cfg, r, n):
 def hard_vectors(cfg, n_log2, full=True):
     fs, ws = hard_f(cfg, n_log2), hard_w(cfg, n_log2, full)
     F, W = np.meshgrid(fs, ws, indexing="ij")
-    F, W = F.ravel(), W.ravel()
+    # the normalised division's edges (div_bits > 0) x a few f: 0, 1, 1/3 of the table,
+    # the middle of the last entry, just below 0, the largest
+    one, N = 1 << cfg.f_frac, 1 << n_log2
+    fn = np.array([0, 1, one // 3, ((2 * N - 1) * one) >> (n_log2 + 1), -one - 1, (1 << (cfg.f_w - 1)) - 1])
+    FN, WN = np.meshgrid(fn, norm_w(cfg), indexing="ij")
+    F, W = np.concatenate([F.ravel(), FN.ravel()]), np.concatenate([W.ravel(), WN.ravel()])
     out = []
     for mode in (golden.MODE_MOD, golden.MODE_CLAMP):
         out.append((F, W, np.full(F.shape, mode), np.ones(F.shape, dtype=np.int64)))
@@ -284,4 +315,39 @@ def test_colour_map_filter_variants_rtl(sim, config, filt, monkeypatch):
     monkeypatch.setattr(tb.runner, "gen_dir", lambda _config: gdir)
     tb.runner.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim,
                   config=f"{config}_{filt}", extra_env={"CONFIG": str(toml), "CM_VARIANT": "1"},
+                  test_dir=Path(__file__).parent)
+
+
+def _div_variant_gen_dir(config: str, bits: int) -> tuple[Path, Path]:
+    """build/gen/<config>_div<bits>/: the configuration with formats.div_bits switched, and its header."""
+    out = ROOT / "build" / "gen" / f"{config}_div{bits}"
+    out.mkdir(parents=True, exist_ok=True)
+    text = (ROOT / "config" / f"{config}.toml").read_text()
+    text, n = re.subn(r'(?m)^div_bits\s*=\s*\d+', f"div_bits = {bits}", text)
+    assert n == 1, f"config/{config}.toml: no formats.div_bits line"
+    toml = out / f"{config}_div{bits}.toml"
+    header = out / "tex_cfg.vh"
+    if not toml.exists() or toml.read_text() != text:
+        toml.write_text(text)
+    h = verilog_header(load_config(toml))
+    if not header.exists() or header.read_text() != h:
+        header.write_text(h)
+    return out, toml
+
+
+def _div_variant_params():
+    """Icarus only unless SIM= asks for a simulator; CONFIG= narrows the configurations."""
+    sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["icarus"]
+    cfgs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(tb.runner.CONFIGS)
+    bits = {"reduced": (4, 9, load_config("reduced").w_w - 1), "full": (10,)}
+    return [(s, c, b) for s in sims for c in cfgs for b in bits.get(c, ())]
+
+
+@pytest.mark.parametrize("sim,config,bits", _div_variant_params())
+def test_colour_map_div_variants_rtl(sim, config, bits, monkeypatch):
+    """The same cocotb test with the configuration's div_bits switched."""
+    gdir, toml = _div_variant_gen_dir(config, bits)
+    monkeypatch.setattr(tb.runner, "gen_dir", lambda _config: gdir)
+    tb.runner.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim,
+                  config=f"{config}_div{bits}", extra_env={"CONFIG": str(toml)},
                   test_dir=Path(__file__).parent)
