@@ -160,7 +160,11 @@ def _derive(c: Config) -> dict:
     d["an_w"] = bits_signed(an_max)
     # h_k = sum_j gn_j T_jk >> (n_frac + t_frac - c_frac); ag_k = a h_k >> a_frac
     d["h_shift"] = c.n_frac + c.t_frac - c.c_frac
-    h_max = _shift_bound(3 * 3 * nmax * tmax, -d["h_shift"])
+    # |g_j| <= 2 nmax (linear: lerps stay within the lattice span) or 3 nmax (cubic slope 1.5);
+    # pow2: T diagonal with 0 <= T_kk <= 2^(t_w - 2), one product per h_k
+    gmax = 3 * nmax if c.blend == "cubic" else 2 * nmax
+    hsum = gmax << (c.t_w - 2) if c.transform == "pow2" else 3 * gmax * tmax
+    h_max = _shift_bound(hsum, -d["h_shift"])
     d["h_w"] = bits_signed(h_max)
     ag_max = _shift_bound(amax * h_max, -c.a_frac)
     d["ag_w"] = bits_signed(ag_max)

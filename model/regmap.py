@@ -14,6 +14,8 @@ LSBs of the word):
     0x0100 + 16*k     noise term k < K:  +0 a_k; +1+3*j+m T_k[j][m]; +10+j o_k[j]
     0x1000 + n        clut[n]  RGBA8, R at [7:0]
     0x2000 + 4*n + ch csat[n] channel ch; channels 0..2 are staged, channel 3 commits
+                      (entries in ascending order: the last one, N - 1, is the whole-table sum
+                      the colour map keeps)
     0x3000 + m        mip[m]   RGBA8 (level l at offset 2N - (2N >> l))
 
 Pixel word: {je, Jm, s} with s at the LSBs:

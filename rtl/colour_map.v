@@ -47,8 +47,9 @@
 // [c*CSAT_W +: CSAT_W], clut and mip use the low 8 bits of each lane; wr_addr past a table's
 // end, wr_table 3 and tables the configuration does not build are ignored. The host computes
 // csat and mip (golden build_tables); the RTL equals golden for tables so built.
-// Storage: sat 32 2^NMAX + 4 CSAT_W 2^NMAX bits (full, reduced: 24576; plus the NMAX+1
-// whole-table sums csat[2^l - 1] as 4 CSAT_W (NMAX+1) = 576 flip-flops), mip 32 2^NMAX +
+// Storage: sat 32 2^NMAX + 4 CSAT_W 2^NMAX bits (full, reduced: 24576; plus the whole-table
+// sum csat[N - 1], the last csat entry written, as 4 CSAT_W = 64 flip-flops: write csat in
+// ascending order), mip 32 2^NMAX +
 // 32 (2^(NMAX+1) - 1) (24544), none 32 2^NMAX (8192).
 //
 // Pipeline (sat): 1 u | 2 a, b | 3 sat_index x2 | 4 colour_table reads, multiplier operands

@@ -7,10 +7,12 @@
 //   mip   2^(NMAX+1) - 1 entries RGBA8, MIP level l at 2N - (2N >> l)  FILTER 2 (mip)
 // Read ports (registered, advance with ce; read-before-write on a same-clock write):
 //   FILTER 1: clut at clut_addr_a and clut_addr_b (the two window ends), csat at
-//             csat_addr_a and csat_addr_b, and total = csat[2^n_log2 - 1], read from a
-//             register file of the NMAX+1 entries csat[2^l - 1], captured as the host
-//             writes them (4 CS_W (NMAX+1) flip-flops: 576 full / reduced), not a third
-//             read port of csat
+//             csat_addr_a and csat_addr_b, and total = csat[N - 1], the whole-table sum:
+//             a register (4 CS_W flip-flops) that takes every csat entry written, so it
+//             holds the last one. CONTRACT: the last csat write of a table load is entry
+//             N - 1 (write csat in ascending order, as golden build_tables and
+//             model/regmap.py do; an update of clut[j] rewrites csat[j..N-1], so it ends
+//             there too). Not a third read port of csat, and no n_log2 dependence.
 //   FILTER 2: clut at clut_addr_a (point lookup), mip at mip_addr
 //   FILTER 0: clut at clut_addr_a
 // Storage: 32 2^NMAX (clut) + 4 CS_W 2^NMAX (csat, sat) or 32 (2^(NMAX+1) - 1) (mip) bits;
@@ -86,23 +88,13 @@ generate
         reg [4*CS_W-1:0] csat_mem [0:DEPTH-1];
         reg [4*CS_W-1:0] csat_a_reg;
         reg [4*CS_W-1:0] csat_b_reg;
-        reg [4*CS_W-1:0] total_reg;
+        reg [4*CS_W-1:0] total_reg;  // the last csat entry written: csat[N - 1] (contract)
         wire csat_we = wr_en && wr_table == TABLE_CSAT && !wr_addr[NMAX];
 
         always @(posedge clk) begin
-            if (csat_we)
+            if (csat_we) begin
                 csat_mem[wr_addr[NMAX-1:0]] <= wr_data;
-        end
-
-        // whole-table sums csat[2^l - 1], l = 0..NMAX, captured as they are written (a
-        // register per l, so that csat stays a plain two-read-port array)
-        reg [(NMAX+1)*4*CS_W-1:0] tot_reg;
-        genvar lv;
-        for (lv = 0; lv <= NMAX; lv = lv + 1) begin : g_tot
-            localparam [NMAX:0] LAST = (1 << lv) - 1;  // csat address 2^lv - 1
-            always @(posedge clk) begin
-                if (csat_we && wr_addr == LAST)
-                    tot_reg[lv*4*CS_W +: 4*CS_W] <= wr_data;
+                total_reg <= wr_data;
             end
         end
 
@@ -111,17 +103,16 @@ generate
                 clut_b_reg <= clut_mem[clut_addr_b];
                 csat_a_reg <= csat_mem[csat_addr_a];
                 csat_b_reg <= csat_mem[csat_addr_b];
-                total_reg  <= tot_reg[n_log2*4*CS_W +: 4*CS_W];  // csat[N - 1]
             end
         end
 
         assign clut_b   = clut_b_reg;
         assign csat_a   = csat_a_reg;
         assign csat_b   = csat_b_reg;
-        assign total    = total_reg;
+        assign total    = total_reg;  // static during a pass: no read register needed
         assign mip_data = 32'd0;
-        // the mip table is not built in this configuration
-        wire unused_mip = &{1'b0, mip_addr};
+        // the mip table is not built in this configuration; total needs no n_log2
+        wire unused_mip = &{1'b0, mip_addr, n_log2};
     end else if (FILTER == 2) begin : g_mip
         reg [31:0] mip_mem [0:MIP_DEPTH-1];
         reg [31:0] mip_reg;

@@ -33,7 +33,9 @@
 //   0x1000 + n        clut[n], RGBA8 (R at [7:0]), n < 2^N_LOG2_MAX
 //   0x2000 + 4*n + ch csat[n] channel ch (u{CSAT_W}); channels 0..2 go to a staging
 //                     register, the write of channel 3 commits the whole entry n (write the
-//                     four words of an entry in order, channel 3 last)
+//                     four words of an entry in order, channel 3 last; the last csat entry
+//                     committed must be entry N - 1, the whole-table sum: write csat in
+//                     ascending order)
 //   0x3000 + m        mip[m], RGBA8, m < 2^(N_LOG2_MAX+1) - 1 (levels one after another)
 //   Table writes are forwarded to colour_map's write port one clock later. After rst every
 //   parameter register is 0 (the tables are not reset). Write the parameters while no pixel

@@ -189,6 +189,7 @@ def random_pixels(cfg, r, n: int, kind: str):
     Jm = _sint(r, cfg.j_w, (n, 3, 2))
     # je: where w is interesting (|c J| N around 1 entry: J ~ 2^-(n_log2 + a few)), plus the range
     je = r.integers(-(cfg.j_w - 1) - 12, -(cfg.j_w - 1) + 4, size=n).astype(np.int64)
+    je = np.clip(je, cfg.d["je_min"], cfg.d["je_max"])  # inside the exponent's format
     wide = r.random(n) < 0.2
     je[wide] = r.integers(cfg.d["je_min"], cfg.d["je_max"] + 1, size=int(wide.sum()))
     small = r.random(n) < 0.2
