@@ -172,7 +172,7 @@ def _derive(c: Config) -> dict:
     k = c.noise_terms
     fmax = _shift_bound(qsum, c.f_frac - c.q_frac) + k * an_max
     d["f_w"] = bits_signed(fmax)
-    cmax = cq_max + k * ag_max
+    cmax = cq_max + (k * ag_max if c.noise_gradient else 0)  # no noise gradient: grad f = grad q
     d["c_w"] = bits_signed(cmax)
     # screen gradient mantissa g = c . Jm (3 products)
     jmax = 1 << (c.j_w - 1)

@@ -428,13 +428,19 @@ generate
         end else begin : g_annoext
             assign f_ext = nd_out[0 +: F_W];
         end
-        for (gj = 0; gj < 3; gj = gj + 1) begin : g_agext
-            wire [AG_W-1:0] agk = nd_out[AN_W + gj*AG_W +: AG_W];
-            if (C_W > AG_W) begin : g_ext
-                assign c_ext[gj*C_W +: C_W] = {{(C_W-AG_W){agk[AG_W-1]}}, agk};
-            end else begin : g_noext
-                assign c_ext[gj*C_W +: C_W] = agk[C_W-1:0];
+        if (`CFG_NOISE_GRADIENT) begin : g_grad
+            for (gj = 0; gj < 3; gj = gj + 1) begin : g_agext
+                wire [AG_W-1:0] agk = nd_out[AN_W + gj*AG_W +: AG_W];
+                if (C_W > AG_W) begin : g_ext
+                    assign c_ext[gj*C_W +: C_W] = {{(C_W-AG_W){agk[AG_W-1]}}, agk};
+                end else begin : g_noext
+                    assign c_ext[gj*C_W +: C_W] = agk[C_W-1:0];
+                end
             end
+        end else begin : g_no_grad
+            // grad f = grad q: the terms' ag outputs are 0 by construction and not summed
+            assign c_ext = {3*C_W{1'b0}};
+            wire unused_ag = &{1'b0, nd_out[AN_W +: 3*AG_W]};
         end
     end
 
@@ -566,8 +572,30 @@ filter_width u_filter_width (
     .w_out(fw_w)
 );
 
-localparam FD_W = F_W + 1;
-wire [FD_W-1:0] fd_in = {jd_out[JD_W-1], f_sum};
+// While it waits, f is carried in FC_W <= F_W bits: colour_map reads only f mod 1 in mod mode
+// (the low F_FRAC bits), and in clamp mode compares f with thresholds inside
+// [-2^GUARD, 2^F_FRAC + 2^GUARD], GUARD = W_CAP_LOG2 + F_FRAC - 1, so saturating f to
+// +-2^(GUARD+1) there changes no result. mode_reg is static during a pass.
+localparam GUARD = `CFG_W_CAP_LOG2 + `CFG_F_FRAC - 1;
+localparam FC_W  = (GUARD + 3 < F_W) ? GUARD + 3 : F_W;
+wire [FC_W-1:0] f_carry;
+generate
+    if (FC_W < F_W) begin : g_fsat
+        wire signed [F_W-1:0] f_s   = f_sum;
+        wire signed [F_W-1:0] f_top = {{(F_W-GUARD-2){1'b0}}, 1'b1, {(GUARD+1){1'b0}}};  //  2^(GUARD+1)
+        wire signed [F_W-1:0] f_bot = -f_top;                                              // -2^(GUARD+1)
+        wire [F_W-1:0] f_clip = (f_s > f_top) ? f_top : (f_s < f_bot) ? f_bot : f_sum;
+        assign f_carry = mode_reg ? f_clip[FC_W-1:0] : f_sum[FC_W-1:0];
+        /* verilator lint_off UNUSEDSIGNAL */
+        wire unused_fhi = &{1'b0, f_clip[F_W-1:FC_W]};  // sign copies of a value that fits FC_W
+        /* verilator lint_on UNUSEDSIGNAL */
+    end else begin : g_fwhole
+        assign f_carry = f_sum;
+    end
+endgenerate
+
+localparam FD_W = FC_W + 1;
+wire [FD_W-1:0] fd_in = {jd_out[JD_W-1], f_carry};
 wire [FD_W-1:0] fd_out;
 generate
     if (LAT_FW == 0) begin : g_fd0
@@ -588,11 +616,19 @@ endgenerate
 // colour_map; tlast waits LAT_COLOUR_MAP stages beside it
 
 wire [31:0] cm_rgba;
+wire [F_W-1:0] f_cm;  // f back to F_W bits (sign-extended)
+generate
+    if (FC_W < F_W) begin : g_fext
+        assign f_cm = {{(F_W-FC_W){fd_out[FC_W-1]}}, fd_out[0 +: FC_W]};
+    end else begin : g_fnoext
+        assign f_cm = fd_out[0 +: F_W];
+    end
+endgenerate
 
 colour_map u_colour_map (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(fw_valid),
-    .f_in(fd_out[0 +: F_W]),
+    .f_in(f_cm),
     .w_in(fw_w),
     .mode(mode_reg),
     .n_log2(n_log2_reg),
@@ -608,12 +644,12 @@ colour_map u_colour_map (
 wire cm_last;
 generate
     if (LAT_CM == 0) begin : g_ld0
-        assign cm_last = fd_out[F_W];
+        assign cm_last = fd_out[FC_W];
     end else begin : g_ld
         reg [LAT_CM:0] l_reg;  // one spare bit: LAT_CM = 1 still has a legal shift expression
         always @(posedge clk) begin
             if (ce)
-                l_reg <= {l_reg[LAT_CM-1:0], fd_out[F_W]};
+                l_reg <= {l_reg[LAT_CM-1:0], fd_out[FC_W]};
         end
         assign cm_last = l_reg[LAT_CM-1];
     end

@@ -98,6 +98,9 @@ def run(toplevel: str, sources, test_module: str, sim: str, config: str, extra_e
         build_dir=build_dir,
         waves=waves,
         timescale=("1ns", "1ps"),
+        # Icarus: the runner's staleness check sees the sources, not the generated includes
+        # (a changed configuration); a rebuild takes about a second
+        always=sim == "icarus",
     )
     s = seed()
     print(f"[{toplevel} {config} {sim}] SEED={s}", flush=True)

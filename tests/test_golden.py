@@ -270,11 +270,17 @@ def test_noise_value_matches_float_reference(name):
 
 @pytest.mark.parametrize("name", CONFIGS)
 def test_noise_gradient_matches_float_reference(name):
+    """The gradient path at the configuration's formats (forced on where the configuration
+    leaves it out, which must then give ag = 0)."""
     cfg = load_config(name)
     rng = np.random.default_rng(4)
     s = rng.uniform(-50, 50, (3000, 3))
     si, _, _ = quantize_pixels(cfg, s, np.zeros((len(s), 3, 2)))
-    _, ag = G.noise_term(cfg, 1 << cfg.a_frac, np.eye(3, dtype=np.int64) << cfg.t_frac, np.zeros(3, np.int64), si)
+    args = (1 << cfg.a_frac, np.eye(3, dtype=np.int64) << cfg.t_frac, np.zeros(3, np.int64), si)
+    if not cfg.noise_gradient:
+        assert not G.noise_term(cfg, *args)[1].any()
+        cfg = dataclasses.replace(cfg, noise_gradient=True)
+    _, ag = G.noise_term(cfg, *args)
     p = np.floor(si * 2.0 ** (cfg.p_frac - cfg.s_frac)) / 2.0 ** cfg.p_frac
     ref = R.noise_gradient(p, cfg.perm, cfg.blend)
     # numerics.md "noise gradient": the bilerp of differences (span <= 4 per level, two

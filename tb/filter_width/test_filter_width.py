@@ -205,7 +205,8 @@ def build_vectors(cfg, r, n_random):
                             v.add(c, Jm, je, nl, "widest g")
                             v.add(c_neg, Jm, je, nl, "widest g")
     v.add([-cl] * 3, [[jlo, jlo]] * 3, cfg.je_max, cfg.n_log2_max, "widest g")
-    v.add([-cl] * 3, [[jlo, jlo]] * 3, je_for(0, cfg.gabs_w - nb, 0), 0, "widest g")
+    v.add([-cl] * 3, [[jlo, jlo]] * 3, int(np.clip(je_for(0, cfg.gabs_w - nb, 0), cfg.je_min, cfg.je_max)), 0,
+          "widest g")
     # gx or gy alone nonzero, both signs, every normalising shift
     for col in (0, 1):
         for sgn in (1, -1):
