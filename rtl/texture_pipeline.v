@@ -41,10 +41,14 @@
 //   parameter register is 0 (the tables are not reset). Write the parameters while no pixel
 //   is in flight; they are held, unchanged, during a pass.
 //
-// Pipeline: quadric_mac and K noise_term instances in parallel on s (the quadric's input
-// delayed so that its outputs meet the terms' at the longer of the two latencies), a
-// registered adder tree of arity 4 for f and c (TREE_LEVELS = ceil(log4(K+1)) stages), filter_width on c while f waits LAT_FILTER_WIDTH stages in a
-// delay line, then colour_map. Jm, je and tlast travel in delay lines beside the data. Every
+// Pipeline: quadric_mac and K noise_term instances in parallel on s, a registered adder tree
+// of arity 4 for f (TREE_LEVELS = ceil(log4(K+1)) stages), filter_width, then colour_map.
+// With the noise gradient (`CFG_NOISE_GRADIENT 1: grad f = grad q + sum a_i grad n_i), the
+// tree also sums the gradients and filter_width follows it; the quadric's input waits so that
+// its outputs meet the terms'. Without it (grad f = grad q), filter_width runs on the
+// quadric's gradient in parallel with the noise terms, and q waits for the terms instead.
+// f (in fewer bits, see below) or w waits for the other before colour_map; Jm, je and tlast
+// travel in delay lines (delay_line) beside the data. Every
 // register of the datapath shares one clock enable
 //   ce = rst | !cm_valid | skid_ready_reg
 // (the colour_map output is the last pipeline stage; it may advance whenever it is empty or
@@ -54,8 +58,8 @@
 // m_axis_tready never loses, duplicates or reorders a pixel. s_axis_tready = ce (& !rst):
 // a pixel enters whenever the pipeline advances.
 //
-// Latency: LATENCY = max(LAT_QUADRIC_MAC, LAT_NOISE_TERM) + TREE_LEVELS + LAT_FILTER_WIDTH
-// + LAT_COLOUR_MAP enabled clocks from s_axis to the colour_map output, plus one clock in the
+// Latency: LATENCY = T_CM + LAT_COLOUR_MAP enabled clocks from s_axis to the colour_map output,
+// T_CM = max(T_F, T_WD) = max(LAT_FRONT + TREE_LEVELS, DLY_J + LAT_FILTER_WIDTH) (below), plus one clock in the
 // skid buffer. Throughput: one pixel per clock while m_axis_tready is held high.
 // Reset: synchronous, active high; clears every valid bit, the output registers, the
 // parameter registers and the staging register (no output is X after reset).
@@ -141,15 +145,26 @@ localparam LAT_NT      = `LAT_NOISE_TERM;
 localparam LAT_FW      = `LAT_FILTER_WIDTH;
 localparam LAT_CM      = `LAT_COLOUR_MAP;
 localparam LAT_FRONT   = (K > 0 && LAT_NT > LAT_QM) ? LAT_NT : LAT_QM;  // q and the terms meet here
-localparam DLY_Q       = LAT_FRONT - LAT_QM;                             // extra stages for q, cq
 localparam DLY_N       = LAT_FRONT - LAT_NT;                             // extra stages for an, ag
 localparam TREE_ARITY  = 4;                                              // adder tree fan-in
-localparam TREE_LEVELS = tree_levels_of(K + 1, TREE_ARITY);                         // adder tree stages
-localparam DLY_J       = LAT_FRONT + TREE_LEVELS;                        // Jm, je to filter_width
+localparam TREE_LEVELS = tree_levels_of(K + 1, TREE_ARITY);              // adder tree stages
+localparam T_F         = LAT_FRONT + TREE_LEVELS;                        // f (and c) out of the tree
+// With the noise gradient (NG), grad f = grad q + sum a_i grad n_i comes out of the tree with
+// f, and filter_width follows the tree: the quadric's input waits DLY_Q so that its outputs
+// meet the terms'. Without it, grad f = grad q: filter_width takes the quadric's gradient
+// straight away, in parallel with the noise terms, and only q waits (DLY_QO) for the terms.
+localparam NG          = `CFG_NOISE_GRADIENT;
+localparam DLY_Q       = NG ? LAT_FRONT - LAT_QM : 0;                    // quadric input (s) delay
+localparam DLY_QO      = NG ? 0 : LAT_FRONT - LAT_QM;                    // quadric q output delay
+localparam DLY_J       = NG ? T_F : LAT_QM;                              // Jm, je to filter_width
+localparam T_WD        = DLY_J + LAT_FW;                                 // w out of filter_width
+localparam T_CM        = (T_WD > T_F) ? T_WD : T_F;                       // colour_map input
+localparam DLY_F       = T_CM - T_F;                                     // f waits for w
+localparam DLY_W       = T_CM - T_WD;                                    // or w waits for f
 // total latency to the colour_map output (the skid buffer adds one more clock); for readers
 // and waveform viewers only, nothing below needs it
 /* verilator lint_off UNUSEDPARAM */
-localparam LATENCY     = LAT_FRONT + TREE_LEVELS + LAT_FW + LAT_CM;
+localparam LATENCY     = T_CM + LAT_CM;
 /* verilator lint_on UNUSEDPARAM */
 
 localparam JM_W = 6*J_W;
@@ -336,29 +351,12 @@ wire [JE_W-1:0]   px_je = s_axis_tdata[3*S_W + JM_W +: JE_W];
 // ---------------------------------------------------------------------------
 // Front: quadric_mac and K noise terms in parallel
 
-// The quadric is the shorter block: its input (s and valid, narrower than its outputs) waits
-// DLY_Q stages so that its outputs meet the noise terms' at LAT_FRONT.
+// NG: the quadric is the shorter block: its input (s and valid, narrower than its outputs)
+// waits DLY_Q stages so that its outputs meet the noise terms' at LAT_FRONT.
 wire [3*S_W-1:0] qs_s;
 wire             qs_valid;
-generate
-    if (DLY_Q == 0) begin : g_qs0
-        assign qs_s     = px_s;
-        assign qs_valid = in_valid;
-    end else begin : g_qs
-        // one shift register per line (one process per line keeps event-driven simulators fast)
-        reg [DLY_Q*3*S_W-1:0] s_reg;
-        reg [DLY_Q:0]         v_reg;  // one spare bit: DLY_Q = 1 still has a legal shift expression
-        always @(posedge clk) if (ce) s_reg <= {s_reg[(DLY_Q-1)*3*S_W-1:0], px_s};
-        always @(posedge clk) begin
-            if (rst)
-                v_reg <= {(DLY_Q+1){1'b0}};
-            else if (ce)
-                v_reg <= {v_reg[DLY_Q-1:0], in_valid};
-        end
-        assign qs_s     = s_reg[(DLY_Q-1)*3*S_W +: 3*S_W];
-        assign qs_valid = v_reg[DLY_Q-1];
-    end
-endgenerate
+delay_line #(.W(3*S_W), .N(DLY_Q))           u_dly_qs (.clk(clk), .rst(rst), .ce(ce), .d_in(px_s), .d_out(qs_s));
+delay_line #(.W(1), .N(DLY_Q), .CLEAR(1))    u_dly_qv (.clk(clk), .rst(rst), .ce(ce), .d_in(in_valid), .d_out(qs_valid));
 
 wire [QF_W-1:0]  qm_q;
 wire [3*C_W-1:0] qm_cq;
@@ -379,14 +377,18 @@ quadric_mac u_quadric_mac (
 // below lives in its own generate block, which keeps event-driven simulators fast.)
 wire [K:0] front_valid;  // bit 0 quadric, bit 1+k noise term k
 
-assign front_valid[0] = qm_valid;
+// !NG: q (and its valid) wait DLY_QO stages for the terms; its gradient goes to filter_width
+wire [QF_W-1:0] qo_q;
+delay_line #(.W(QF_W), .N(DLY_QO))        u_dly_qo (.clk(clk), .rst(rst), .ce(ce), .d_in(qm_q), .d_out(qo_q));
+delay_line #(.W(1), .N(DLY_QO), .CLEAR(1)) u_dly_qov (.clk(clk), .rst(rst), .ce(ce), .d_in(qm_valid),
+                                                       .d_out(front_valid[0]));
 wire [F_W-1:0]   q_f_ext;
-wire [3*C_W-1:0] q_c_ext = qm_cq;
+wire [3*C_W-1:0] q_c_ext = NG ? qm_cq : {3*C_W{1'b0}};  // !NG: the tree carries no gradient
 generate
     if (F_W > QF_W) begin : g_qext
-        assign q_f_ext = {{(F_W-QF_W){qm_q[QF_W-1]}}, qm_q};
+        assign q_f_ext = {{(F_W-QF_W){qo_q[QF_W-1]}}, qo_q};
     end else begin : g_qnoext
-        assign q_f_ext = qm_q[F_W-1:0];
+        assign q_f_ext = qo_q[F_W-1:0];
     end
 
     for (gi = 0; gi < K; gi = gi + 1) begin : g_term
@@ -407,18 +409,7 @@ generate
         // delayed to LAT_FRONT (normally DLY_N = 0)
         wire [ND_W-1:0] nd_in = {nt_valid, ag, an};
         wire [ND_W-1:0] nd_out;
-        if (DLY_N == 0) begin : g_nd0
-            assign nd_out = nd_in;
-        end else if (DLY_N == 1) begin : g_nd1
-            reg [ND_W-1:0] d_reg;
-            always @(posedge clk) if (ce) d_reg <= nd_in;
-            assign nd_out = d_reg;
-        end else begin : g_nd
-            // one shift register (one process per line keeps event-driven simulators fast)
-            reg [DLY_N*ND_W-1:0] d_reg;
-            always @(posedge clk) if (ce) d_reg <= {d_reg[(DLY_N-1)*ND_W-1:0], nd_in};
-            assign nd_out = d_reg[(DLY_N-1)*ND_W +: ND_W];
-        end
+        delay_line #(.W(ND_W), .N(DLY_N)) u_dly_n (.clk(clk), .rst(rst), .ce(ce), .d_in(nd_in), .d_out(nd_out));
         assign front_valid[gi+1] = nd_out[AN_W+3*AG_W];
         // sign extension to the exact-sum widths
         wire [F_W-1:0]   f_ext;
@@ -535,36 +526,26 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------------------
-// Jm, je, tlast: from the input to filter_width (DLY_J stages)
+// Jm, je: from the input to filter_width (DLY_J stages); tlast: to the colour_map output
 
-localparam JD_W = JM_W + JE_W + 1;
-wire [JD_W-1:0] jd_in = {s_axis_tlast, px_je, px_jm};
+localparam JD_W = JM_W + JE_W;
 wire [JD_W-1:0] jd_out;
-generate
-    if (DLY_J == 0) begin : g_jd0
-        assign jd_out = jd_in;
-    end else if (DLY_J == 1) begin : g_jd1
-        reg [JD_W-1:0] d_reg;
-        always @(posedge clk) if (ce) d_reg <= jd_in;
-        assign jd_out = d_reg;
-    end else begin : g_jd
-        // one shift register (one process per line keeps event-driven simulators fast)
-        reg [DLY_J*JD_W-1:0] d_reg;
-        always @(posedge clk) if (ce) d_reg <= {d_reg[(DLY_J-1)*JD_W-1:0], jd_in};
-        assign jd_out = d_reg[(DLY_J-1)*JD_W +: JD_W];
-    end
-endgenerate
+delay_line #(.W(JD_W), .N(DLY_J)) u_dly_j (.clk(clk), .rst(rst), .ce(ce), .d_in({px_je, px_jm}), .d_out(jd_out));
+
+wire cm_last;
+delay_line #(.W(1), .N(T_CM + LAT_CM)) u_dly_last (.clk(clk), .rst(rst), .ce(ce), .d_in(s_axis_tlast),
+                                                  .d_out(cm_last));
 
 // ---------------------------------------------------------------------------
-// filter_width on c; f and tlast wait LAT_FILTER_WIDTH stages beside it
+// filter_width on grad f (NG: the tree's c; otherwise the quadric's gradient)
 
 wire [W_W-1:0] fw_w;
 wire           fw_valid;
 
 filter_width u_filter_width (
     .clk(clk), .rst(rst), .ce(ce),
-    .in_valid(sum_valid),
-    .c_in(c_sum),
+    .in_valid(NG ? sum_valid : qm_valid),
+    .c_in(NG ? c_sum : qm_cq),
     .jm_in(jd_out[0 +: JM_W]),
     .je_in(jd_out[JM_W +: JE_W]),
     .n_log2(n_log2_reg),
@@ -572,12 +553,17 @@ filter_width u_filter_width (
     .w_out(fw_w)
 );
 
+// !NG: the c sums of the tree are constant 0 (no register survives synthesis)
+/* verilator lint_off UNUSEDSIGNAL */
+wire unused_c_sum = &{1'b0, c_sum};
+/* verilator lint_on UNUSEDSIGNAL */
+
 // While it waits, f is carried in FC_W <= F_W bits: colour_map reads only f mod 1 in mod mode
 // (the low F_FRAC bits), and in clamp mode compares f with thresholds inside
 // [-2^GUARD, 2^F_FRAC + 2^GUARD], GUARD = W_CAP_LOG2 + F_FRAC - 1, so saturating f to
 // +-2^(GUARD+1) there changes no result. mode_reg is static during a pass.
 localparam GUARD = `CFG_W_CAP_LOG2 + `CFG_F_FRAC - 1;
-localparam FC_W  = (GUARD + 3 < F_W) ? GUARD + 3 : F_W;
+localparam FC_W  = (DLY_F > 0 && GUARD + 3 < F_W) ? GUARD + 3 : F_W;
 wire [FC_W-1:0] f_carry;
 generate
     if (FC_W < F_W) begin : g_fsat
@@ -594,42 +580,32 @@ generate
     end
 endgenerate
 
-localparam FD_W = FC_W + 1;
-wire [FD_W-1:0] fd_in = {jd_out[JD_W-1], f_carry};
-wire [FD_W-1:0] fd_out;
-generate
-    if (LAT_FW == 0) begin : g_fd0
-        assign fd_out = fd_in;
-    end else if (LAT_FW == 1) begin : g_fd1
-        reg [FD_W-1:0] d_reg;
-        always @(posedge clk) if (ce) d_reg <= fd_in;
-        assign fd_out = d_reg;
-    end else begin : g_fd
-        // one shift register (one process per line keeps event-driven simulators fast)
-        reg [LAT_FW*FD_W-1:0] d_reg;
-        always @(posedge clk) if (ce) d_reg <= {d_reg[(LAT_FW-1)*FD_W-1:0], fd_in};
-        assign fd_out = d_reg[(LAT_FW-1)*FD_W +: FD_W];
-    end
-endgenerate
+// f waits DLY_F stages for w, or w waits DLY_W stages for f (one of them is 0)
+wire [FC_W-1:0] f_dly;
+wire [W_W-1:0]  cm_w;
+delay_line #(.W(FC_W), .N(DLY_F)) u_dly_f (.clk(clk), .rst(rst), .ce(ce), .d_in(f_carry), .d_out(f_dly));
+delay_line #(.W(W_W), .N(DLY_W))  u_dly_w (.clk(clk), .rst(rst), .ce(ce), .d_in(fw_w), .d_out(cm_w));
+// the later of the two paths brings the valid bit (the earlier one is delayed to match it)
+wire cm_in_valid = (DLY_W > 0) ? sum_valid : fw_valid;
 
 // ---------------------------------------------------------------------------
-// colour_map; tlast waits LAT_COLOUR_MAP stages beside it
+// colour_map
 
 wire [31:0] cm_rgba;
 wire [F_W-1:0] f_cm;  // f back to F_W bits (sign-extended)
 generate
     if (FC_W < F_W) begin : g_fext
-        assign f_cm = {{(F_W-FC_W){fd_out[FC_W-1]}}, fd_out[0 +: FC_W]};
+        assign f_cm = {{(F_W-FC_W){f_dly[FC_W-1]}}, f_dly};
     end else begin : g_fnoext
-        assign f_cm = fd_out[0 +: F_W];
+        assign f_cm = f_dly;
     end
 endgenerate
 
 colour_map u_colour_map (
     .clk(clk), .rst(rst), .ce(ce),
-    .in_valid(fw_valid),
+    .in_valid(cm_in_valid),
     .f_in(f_cm),
-    .w_in(fw_w),
+    .w_in(cm_w),
     .mode(mode_reg),
     .n_log2(n_log2_reg),
     .filter_en(filter_en_reg),
@@ -640,20 +616,6 @@ colour_map u_colour_map (
     .wr_addr(tbl_wr_addr_reg),
     .wr_data(tbl_wr_data_reg)
 );
-
-wire cm_last;
-generate
-    if (LAT_CM == 0) begin : g_ld0
-        assign cm_last = fd_out[FC_W];
-    end else begin : g_ld
-        reg [LAT_CM:0] l_reg;  // one spare bit: LAT_CM = 1 still has a legal shift expression
-        always @(posedge clk) begin
-            if (ce)
-                l_reg <= {l_reg[LAT_CM-1:0], fd_out[FC_W]};
-        end
-        assign cm_last = l_reg[LAT_CM-1];
-    end
-endgenerate
 
 // ---------------------------------------------------------------------------
 // Output skid buffer (alexforencich/verilog-axis axis_register, REG_TYPE = 2)

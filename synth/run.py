@@ -36,6 +36,7 @@ PAPER = {"reduced": 100_000, "full": 1_250_000}
 BLOCKS = {"quadric": "quadric_mac", "noise_term": "noise_term", "filter_width": "filter_width",
           "colour_map": "colour_map"}
 TOP = "texture_pipeline"
+GLUE = ("delay_line",)  # small modules counted with the top's glue (control), not as blocks
 
 
 def rtl_files():
@@ -50,7 +51,7 @@ def gen(config: str) -> Path:
 
 def synth_one(config: str, top: str, lib_files=()) -> dict:
     gdir = gen(config)
-    files = [f for f in rtl_files() if Path(f).stem == top] if lib_files else rtl_files()
+    files = [f for f in rtl_files() if Path(f).stem in (top, *GLUE)] if lib_files else rtl_files()
     out = ROOT / "build" / "synth" / config / f"{top}.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     cmd = [sys.executable, str(ROOT / "synth" / "synth.py"), "--top", top, "--files", *files,
@@ -67,7 +68,7 @@ def synth_one(config: str, top: str, lib_files=()) -> dict:
 def synth_config(config: str, jobs: int = 2) -> dict:
     t0 = time.perf_counter()
     cfg = load_config(config)
-    lib = [f for f in rtl_files() if Path(f).stem != TOP]
+    lib = [f for f in rtl_files() if Path(f).stem not in (TOP, *GLUE)]
     with ThreadPoolExecutor(max_workers=jobs) as ex:
         futs = {label: ex.submit(synth_one, config, mod) for label, mod in BLOCKS.items()}
         futs["control"] = ex.submit(synth_one, config, TOP, lib)
