@@ -10,6 +10,7 @@ tex_cfg.vh in build/gen/<config>/.
 from __future__ import annotations
 
 import os
+import threading
 import sys
 from pathlib import Path
 
@@ -63,7 +64,8 @@ def write(cfg: Config, outdir) -> list[Path]:
         text = gen(cfg)
         p = out / name
         if not p.exists() or p.read_text() != text:
-            tmp = p.with_suffix(p.suffix + f".{os.getpid()}")  # parallel writers
+            # parallel writers (processes and threads): each its own temporary, atomic rename
+            tmp = p.with_suffix(p.suffix + f".{os.getpid()}.{threading.get_ident()}")
             tmp.write_text(text)
             tmp.replace(p)
         written.append(p)
