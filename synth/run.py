@@ -142,6 +142,14 @@ def keeps(name: str) -> str:
             f"docs/numerics.md); {c.pixels_per_clock} pixel/clock")
 
 
+def config_diff(a: str, b: str) -> list[tuple[str, object, object]]:
+    """(key, value in a, value in b) for every configuration key whose values differ."""
+    from model.config import _SCHEMA
+
+    ca, cb = load_config(a), load_config(b)
+    return [(k, getattr(ca, k), getattr(cb, k)) for k in _SCHEMA if getattr(ca, k) != getattr(cb, k)]
+
+
 def write_doc() -> None:
     """docs/synthesis.md from synth/reports/*.json."""
     reps = {c: json.loads((REPORTS / f"{c}.json").read_text()) for c in CONFIG_NAMES if (REPORTS / f"{c}.json").exists()}
@@ -169,6 +177,12 @@ def write_doc() -> None:
         L.append(f"| {b} | " + " | ".join(f"{reps[c]['blocks'][b]:,.0f} ({100 * reps[c]['blocks'][b] / reps[c]['ge_total']:.0f}%)"
                                           for c in reps) + " |")
     L += ["", "## What each configuration keeps", ""] + [f"- `{c}`: {keeps(c)}." for c in reps]
+    if len(reps) > 1:
+        L += ["", "What `reduced` drops against `full` (every key of the two configuration files that differs):", "",
+              "| key | full | reduced |", "|---|---|---|"]
+        L += [f"| {k} | {a} | {b} |" for k, a, b in config_diff("full", "reduced")]
+        L += ["", "What that costs in image quality (PSNR against the float reference and the supersampled "
+              "truth, per scene): docs/scenes.md (`make renders`)."]
     L += ["", "## Reproduce", "", "    make setup", "    make synth          # both configurations, synth/reports/",
           "    make synth-check    # fails when a configuration is over budget",
           "    make synth-blocks   # GE of each block for both configurations", ""]
