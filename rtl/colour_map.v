@@ -357,6 +357,13 @@ generate
             end
         end
 
+        // divider operands of stage 6: exact (num (D_W-1)-bit, den = w) or normalised (num'
+        // NQ_W-bit, den' B-bit); each branch below drives them
+        localparam NUM_DW = NORM ? NQ_W : D_W - 1;
+        localparam DEN_DW = NORM ? B : W_W;
+        wire [4*NUM_DW-1:0] num;
+        wire [DEN_DW-1:0]   den;
+
         if (!NORM) begin : g_exact
             // ---- exact division (CFG_DIV_BITS = 0): the divisor is w itself
             reg [W_W-1:0] s5_w_reg;
@@ -368,16 +375,16 @@ generate
             // ---- stage 6: divider operands; num = (D + w) >> 1, den = w, or clut[k] / 1, with
             // D = (whole << XF) + p_b - p_a, whole = e_b - e_a (clamp) or e_b + (e_a << 8) (mod)
             wire                 w_zero = (s5_w_reg == {W_W{1'b0}});
-            wire [4*(D_W-1)-1:0] num;
             reg  [D_W-1:0]       d_w;    // w zero-extended
-            reg  [W_W-1:0]       den;
+            reg  [W_W-1:0]       den_x;
             always @* begin
                 d_w = {D_W{1'b0}};
                 d_w[W_W-1:0] = s5_w_reg;
-                den = s5_w_reg;
+                den_x = s5_w_reg;
                 if (w_zero)
-                    den[0] = 1'b1;
+                    den_x[0] = 1'b1;
             end
+            assign den = den_x;
             for (ch = 0; ch < 4; ch = ch + 1) begin : g_num
                 reg [TW-1:0]  ea_x;     // e_a (clamp: negated) or e_a << 8 (mod)
                 reg [TW-1:0]  whole;    // whole entries of D, mod 2^TW
@@ -398,32 +405,6 @@ generate
                 wire unused_lsb = sum[0];
             end
 
-            reg                  s6_valid_reg;
-            reg [4*(D_W-1)-1:0]  s6_num_reg;
-            reg [W_W-1:0]        s6_den_reg;
-
-            always @(posedge clk) begin
-                if (rst)
-                    s6_valid_reg <= 1'b0;
-                else if (ce)
-                    s6_valid_reg <= s5_valid_reg;
-            end
-
-            always @(posedge clk) begin
-                if (ce) begin
-                    s6_num_reg <= num;
-                    s6_den_reg <= den;
-                end
-            end
-
-            // ---- stages 7..14: one quotient bit per stage (LAT_COLOUR_MAP = 6 + 8)
-            box_divide #(
-                .NUM_W(D_W - 1), .DEN_W(W_W), .Q_W(8), .LANES(4)
-            ) u_divide (
-                .clk(clk), .rst(rst), .ce(ce), .in_valid(s6_valid_reg),
-                .num_in(s6_num_reg), .den_in(s6_den_reg),
-                .out_valid(out_valid), .q_out(rgba_out)
-            );
         end else begin : g_norm
             // ---- normalised division (B = CFG_DIV_BITS > 0), docs/numerics.md "Colour map":
             //   sh0 = bitlen(w >> B); t = w >> (sh0 - 1) (B + 1 bits; {w, 0} when sh0 = 0)
@@ -480,16 +461,16 @@ generate
             // ---- stage 6: num' = (D + w + 2 h(sh)) >> (sh + 1) (< 2^NQ_W), den' (w = 0:
             // clut[k] / 1), with D = (whole << XF) + p_b - p_a as in the exact division
             wire           w_zero = (s5_wn_reg == {(W_W+1){1'b0}});
-            wire [4*NQ_W-1:0] num;
             reg  [D_W-1:0] d_wn;   // w + 2 h(sh) zero-extended
-            reg  [B-1:0]   den;
+            reg  [B-1:0]   den_x;
             always @* begin
                 d_wn = {D_W{1'b0}};
                 d_wn[W_W:0] = s5_wn_reg;
-                den = s5_den_reg;   // 0 when w = 0
+                den_x = s5_den_reg;   // 0 when w = 0
                 if (w_zero)
-                    den[0] = 1'b1;
+                    den_x[0] = 1'b1;
             end
+            assign den = den_x;
             for (ch = 0; ch < 4; ch = ch + 1) begin : g_num
                 reg [TW-1:0]  ea_x;     // e_a (clamp: negated) or e_a << 8 (mod)
                 reg [TW-1:0]  whole;    // whole entries of D, mod 2^TW
@@ -516,34 +497,36 @@ generate
                 end
             end
 
-            reg                  s6_valid_reg;
-            reg [4*NQ_W-1:0]     s6_num_reg;
-            reg [B-1:0]          s6_den_reg;
-
-            always @(posedge clk) begin
-                if (rst)
-                    s6_valid_reg <= 1'b0;
-                else if (ce)
-                    s6_valid_reg <= s5_valid_reg;
-            end
-
-            always @(posedge clk) begin
-                if (ce) begin
-                    s6_num_reg <= num;
-                    s6_den_reg <= den;
-                end
-            end
-
-            // ---- stages 7..14: one quotient bit per stage on B-bit divisors (LAT = 6 + 8);
-            // B <= 9: the quotient can reach 256 (up to 383), saturated to 255 (SAT)
-            box_divide #(
-                .NUM_W(NQ_W), .DEN_W(B), .Q_W(8), .LANES(4), .SAT(SAT)
-            ) u_divide (
-                .clk(clk), .rst(rst), .ce(ce), .in_valid(s6_valid_reg),
-                .num_in(s6_num_reg), .den_in(s6_den_reg),
-                .out_valid(out_valid), .q_out(rgba_out)
-            );
         end
+
+        // ---- stage 6 registers, then stages 7..14: one quotient bit per stage (LAT = 6 + 8);
+        // exact: divisor w itself; normalised: B-bit divisors, and for B <= 9 the quotient can
+        // reach 256 (up to 383), saturated to 255 (SAT)
+        reg                 s6_valid_reg;
+        reg [4*NUM_DW-1:0]  s6_num_reg;
+        reg [DEN_DW-1:0]    s6_den_reg;
+
+        always @(posedge clk) begin
+            if (rst)
+                s6_valid_reg <= 1'b0;
+            else if (ce)
+                s6_valid_reg <= s5_valid_reg;
+        end
+
+        always @(posedge clk) begin
+            if (ce) begin
+                s6_num_reg <= num;
+                s6_den_reg <= den;
+            end
+        end
+
+        box_divide #(
+            .NUM_W(NUM_DW), .DEN_W(DEN_DW), .Q_W(8), .LANES(4), .SAT(NORM ? SAT : 0)
+        ) u_divide (
+            .clk(clk), .rst(rst), .ce(ce), .in_valid(s6_valid_reg),
+            .num_in(s6_num_reg), .den_in(s6_den_reg),
+            .out_valid(out_valid), .q_out(rgba_out)
+        );
     end else begin : g_lookup
         // stage 1: filter_en selects the MIP map (sat: only w = 0 carries it)
         reg s1_filter_en_reg;
