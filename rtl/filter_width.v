@@ -178,37 +178,14 @@ end
 // ---------------------------------------------------------------------------
 // stage 3: sh = bitlen((ax | ay) >> NORM_BITS); ax, ay >> sh
 //
-// bitlen by binary search: level b tests whether the value has a one at or
-// above bit 2^b and if so shifts it down by 2^b (and sets bit b of the top-one
-// position); the remaining value is 1 (x != 0) or 0, added as the final +1.
+// bitlen: the leading-one detector (rtl/bitlen.v).
 
-localparam HB = SH_W;  // bits of bitlen(mh), 0..MH_W (checked at the top)
-
-wire [MH_W-1:0]        mh = ax_reg[GABS_W-1:NORM_BITS] | ay_reg[GABS_W-1:NORM_BITS];
-// split_var: each level is its own signal (older Verilators see the packed chain as a loop)
-wire [(HB+1)*MH_W-1:0] mh_lvl /* verilator split_var */;  // level b value at [b*MH_W +: MH_W]; level HB is mh
-wire [HB-1:0]          mh_pos;  // index of the top one (0 if mh == 0)
-
-assign mh_lvl[HB*MH_W +: MH_W] = mh;
-
-genvar b;
-generate
-    for (b = 0; b < HB; b = b + 1) begin : g_lod_g
-        localparam STEP = 1 << b;
-        wire [MH_W-1:0] xv = mh_lvl[(b+1)*MH_W +: MH_W];
-        if (STEP < MH_W) begin : g_test
-            wire hi = |xv[MH_W-1:STEP];
-            assign mh_pos[b] = hi;
-            assign mh_lvl[b*MH_W +: MH_W] = hi ? (xv >> STEP) : xv;
-        end else begin : g_none
-            assign mh_pos[b] = 1'b0;
-            assign mh_lvl[b*MH_W +: MH_W] = xv;
-        end
-    end
-endgenerate
-
-// the final level is 0 or 1 (only bit 0 can be set): reducing it is bit 0
-wire [SH_W-1:0] sh = mh_pos + {{(SH_W-1){1'b0}}, |mh_lvl[0 +: MH_W]};
+wire [MH_W-1:0] mh = ax_reg[GABS_W-1:NORM_BITS] | ay_reg[GABS_W-1:NORM_BITS];
+wire [SH_W-1:0] sh;
+/* verilator lint_off UNUSEDSIGNAL */
+wire            mh_nz;  // sh > 0 says it too
+/* verilator lint_on UNUSEDSIGNAL */
+bitlen #(.W(MH_W), .BW(SH_W)) u_bitlen_mh (.x(mh), .bl(sh), .nz(mh_nz));
 
 /* verilator lint_off UNUSEDSIGNAL */
 // bits NORM_BITS and up of the shifted values are zero: |g| < 2^(sh + NORM_BITS)
@@ -299,34 +276,14 @@ wire signed [E_W-1:0] e = e_dly_reg[(SQ_LAT-1)*E_W +: E_W];
 // ---------------------------------------------------------------------------
 // stage LATENCY: w = r scaled by 2^e, saturated
 
-// bitlen(r), by binary search as in stage 3
-localparam RB = BLR_W;
-wire [(RB+1)*R_W-1:0] r_lvl /* verilator split_var */;  // levels as for mh_lvl
-wire [RB-1:0]         r_pos;
-
-assign r_lvl[RB*R_W +: R_W] = r;
-
-generate
-    for (b = 0; b < RB; b = b + 1) begin : g_lod_r
-        localparam STEP = 1 << b;
-        wire [R_W-1:0] xv = r_lvl[(b+1)*R_W +: R_W];
-        if (STEP < R_W) begin : g_test
-            wire hi = |xv[R_W-1:STEP];
-            assign r_pos[b] = hi;
-            assign r_lvl[b*R_W +: R_W] = hi ? (xv >> STEP) : xv;
-        end else begin : g_none
-            assign r_pos[b] = 1'b0;
-            assign r_lvl[b*R_W +: R_W] = xv;
-        end
-    end
-endgenerate
-
-wire r_nz = |r_lvl[0 +: R_W];  // r != 0, and bit 0 of bitlen(r) - top-one position
-wire [RB-1:0] r_bl = r_pos + {{(RB-1){1'b0}}, r_nz};
+// bitlen(r), r != 0
+wire          r_nz;
+wire [BLR_W-1:0] r_bl;
+bitlen #(.W(R_W), .BW(BLR_W)) u_bitlen_r (.x(r), .bl(r_bl), .nz(r_nz));
 
 // over = r > 0 and bitlen(r) + e > CAP_BITS
 localparam signed [CMP_W-1:0] CAP_S = CAP_BITS;
-wire signed [CMP_W-1:0] bl_x = {{(CMP_W-RB){1'b0}}, r_bl};
+wire signed [CMP_W-1:0] bl_x = {{(CMP_W-BLR_W){1'b0}}, r_bl};
 wire signed [CMP_W-1:0] e_x  = {{(CMP_W-E_W){e[E_W-1]}}, e};
 wire signed [CMP_W-1:0] top  = bl_x + e_x;
 wire                    over = r_nz && (top > CAP_S);

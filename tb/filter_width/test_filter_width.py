@@ -37,7 +37,7 @@ import tb.runner
 from model import golden as G
 from tb import pipe
 
-SOURCES = ["filter_width.v", "isqrt.v"]
+SOURCES = ["filter_width.v", "isqrt.v", "bitlen.v"]
 
 
 def latency() -> int:
