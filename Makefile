@@ -15,7 +15,7 @@ SIM    ?= verilator
 SCENE  ?= zone_plate
 SIZE   ?= 256
 
-.PHONY: help setup gen lint test test-long bench-model render renders frame frames bench-sim \
+.PHONY: help setup gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
         synth synth-check synth-blocks clean
 
 help:
@@ -29,6 +29,7 @@ help:
 	@echo "make frame SCENE=zone_plate CONFIG=full SIM=verilator SIZE=256   RTL frame vs golden"
 	@echo "make frames          all scenes, both configurations, 512x512, docs/conformance.md"
 	@echo "make bench-sim       RTL simulation throughput"
+	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
 
 setup:
@@ -79,6 +80,11 @@ frames: gen
 
 bench-sim: gen
 	$(VENV_ENV) $(PY) -m sim.bench
+
+icarus-perf: gen
+	$(PY) -m sim.icarus_perf --config $(CONFIG)
+	$(PY) -m sim.icarus_perf census --config $(CONFIG)
+	$(PY) -m sim.icarus_perf opcost
 
 synth: gen
 	$(PY) -m synth.run $(if $(filter command line,$(origin CONFIG)),--config $(CONFIG),--all)

@@ -1,5 +1,5 @@
 // bitlen: bl = bitlen(x) = the number of bits up to and including the top one of x
-// (0 for x = 0), and nz = (x != 0). Combinational.
+// (0 for x = 0), and nz = (x != 0). Combinational. Twin of model/golden.py bitlen().
 //
 // Binary search: level b (from BW-1 down to 0) tests whether the value has a one at or
 // above bit 2^b and if so shifts it down by 2^b and sets bit b of the top-one position;
@@ -7,6 +7,8 @@
 //
 // Formats: x u{W}.0; bl u{BW}.0, BW >= clog2(W + 1) bits (the caller sizes it); nz 1 bit.
 // Latency 0 (combinational); throughput one word per clock.
+// Written for event-driven simulation speed: all levels in one always @* with blocking
+// assigns (straight-line code), no bus driven piecewise.
 
 `default_nettype none
 
@@ -15,35 +17,30 @@ module bitlen #(
     parameter BW = 4   // output width: holds W
 ) (
     input  wire [W-1:0]  x,
-    output wire [BW-1:0] bl,
-    output wire          nz
+    output reg  [BW-1:0] bl,
+    output reg           nz
 );
 
-// split_var: each level is its own signal (older Verilators see the packed chain as a loop)
-wire [(BW+1)*W-1:0] lvl /* verilator split_var */;  // level b value at [b*W +: W]; level BW is x
-wire [BW-1:0]       pos;                            // index of the top one (0 if x == 0)
+localparam NL = $clog2(W);  // levels b with 2^b < W (the others cannot see a one that high)
 
-assign lvl[BW*W +: W] = x;
+reg [W-1:0]  v;    // the value at the current level (level BW is x)
+reg [BW-1:0] pos;  // index of the top one (0 if x == 0); bits NL and up stay 0
+integer      b;
 
-genvar b;
-generate
-    for (b = 0; b < BW; b = b + 1) begin : g_level
-        localparam STEP = 1 << b;
-        wire [W-1:0] xv = lvl[(b+1)*W +: W];
-        if (STEP < W) begin : g_test
-            wire hi = |xv[W-1:STEP];
-            assign pos[b] = hi;
-            assign lvl[b*W +: W] = hi ? (xv >> STEP) : xv;
-        end else begin : g_none
-            assign pos[b] = 1'b0;
-            assign lvl[b*W +: W] = xv;
+always @* begin
+    v   = x;
+    pos = {BW{1'b0}};
+    for (b = NL - 1; b >= 0; b = b - 1) begin
+        // a one at or above bit 2^b: shift it down, set bit b of the position
+        if (|(v >> (1 << b))) begin
+            v      = v >> (1 << b);
+            pos[b] = 1'b1;
         end
     end
-endgenerate
-
-// the final level is 0 or 1 (only bit 0 can be set): reducing it is bit 0
-assign nz = |lvl[0 +: W];
-assign bl = pos + {{(BW-1){1'b0}}, nz};
+    // the final level is 0 or 1 (only bit 0 can be set): reducing it is bit 0
+    nz = |v;
+    bl = pos + {{(BW-1){1'b0}}, nz};
+end
 
 endmodule
 

@@ -60,6 +60,8 @@
 // Latency `LAT_COLOUR_MAP = 14 (register stages); throughput one pixel per enabled clock.
 // Reset (synchronous, active high) clears the valid chain and rgba_out (no X after reset);
 // rgba_out loads only with a valid result.
+// Written for event-driven simulation speed: combinational logic in one always @* per
+// stage, one clocked process per stage group, no bus driven piecewise.
 
 `default_nettype none
 
@@ -174,9 +176,6 @@ always @(posedge clk) begin
         s1_valid_reg <= 1'b0;
     else if (ce)
         s1_valid_reg <= in_valid;
-end
-
-always @(posedge clk) begin
     if (ce) begin
         s1_u_reg         <= mode ? u_clamp : u_mod;
         s1_w_reg         <= filter_en ? w_in : {W_W{1'b0}};  // filter off: w = 0
@@ -187,8 +186,6 @@ end
 
 // ---------------------------------------------------------------------------
 // Filter
-
-genvar ch;
 
 generate
     if (FILTER == 1) begin : g_sat
@@ -203,29 +200,13 @@ generate
             w_x[W_W-1:0] = s1_w_reg;
         end
 
-        reg             s2_valid_reg;
+        // the registers of stages 2..6 (loaded by one clocked process below)
+        reg [4:0]       sv_reg;         // valid of stage s (2..6) at bit s - 2
         reg [X_W-1:0]   s2_a_reg;
         reg [X_W-1:0]   s2_b_reg;
         reg [W_W-1:0]   s2_w_reg;
         reg             s2_mode_reg;
         reg [NL_W-1:0]  s2_n_log2_reg;
-
-        always @(posedge clk) begin
-            if (rst)
-                s2_valid_reg <= 1'b0;
-            else if (ce)
-                s2_valid_reg <= s1_valid_reg;
-        end
-
-        always @(posedge clk) begin
-            if (ce) begin
-                s2_a_reg      <= u2 - w_x;
-                s2_b_reg      <= u2 + w_x;
-                s2_w_reg      <= s1_w_reg;
-                s2_mode_reg   <= s1_mode_reg;
-                s2_n_log2_reg <= s1_n_log2_reg;
-            end
-        end
 
         // ---- stage 3: table addresses and weights of both ends
         wire [NMAX-1:0] kk_a, kk_b, km1_a, km1_b;
@@ -242,32 +223,18 @@ generate
             .kk_out(kk_b), .km1_out(km1_b), .first_out(first_b), .fr_out(fr_b), .kx_out(kx_b)
         );
 
-        reg             s3_valid_reg;
         reg [W_W-1:0]   s3_w_reg;
         reg             s3_mode_reg;
         reg [NL_W-1:0]  s3_n_log2_reg;
-
-        always @(posedge clk) begin
-            if (rst)
-                s3_valid_reg <= 1'b0;
-            else if (ce)
-                s3_valid_reg <= s2_valid_reg;
-        end
-
-        always @(posedge clk) begin
-            if (ce) begin
-                s3_w_reg      <= s2_w_reg;
-                s3_mode_reg   <= s2_mode_reg;
-                s3_n_log2_reg <= s2_n_log2_reg;
-            end
-        end
 
         // ---- stage 4: table reads; multiplier operands of the whole-entry terms:
         // clamp: kx_a (times clut[ka]), kx_b (times clut[kb]);
         // mod:   dw = kx_b - kx_a >= 0 whole tables (times the two bytes of total)
         wire [31:0]       clut_a, clut_b;
         wire [4*CS_W-1:0] csat_a, csat_b, total;
+        /* verilator lint_off UNUSEDSIGNAL */
         wire [31:0]       unused_mip_data;
+        /* verilator lint_on UNUSEDSIGNAL */
 
         colour_table u_table (
             .clk(clk), .ce(ce),
@@ -278,53 +245,33 @@ generate
             .mip_data(unused_mip_data)
         );
 
-        wire [KW-1:0] dw = kx_b - kx_a;
-
-        reg             s4_valid_reg;
         reg [W_W-1:0]   s4_w_reg;
         reg             s4_mode_reg;
         reg [KW-1:0]    s4_k_a_reg, s4_k_b_reg;
         reg [XF-1:0]    s4_fr_a_reg, s4_fr_b_reg;
         reg             s4_first_a_reg, s4_first_b_reg;
 
-        always @(posedge clk) begin
-            if (rst)
-                s4_valid_reg <= 1'b0;
-            else if (ce)
-                s4_valid_reg <= s3_valid_reg;
-        end
-
-        always @(posedge clk) begin
-            if (ce) begin
-                s4_w_reg       <= s3_w_reg;
-                s4_mode_reg    <= s3_mode_reg;
-                s4_k_a_reg     <= s3_mode_reg ? kx_a : dw;
-                s4_k_b_reg     <= s3_mode_reg ? kx_b : dw;
-                s4_fr_a_reg    <= fr_a;
-                s4_fr_b_reg    <= fr_b;
-                s4_first_a_reg <= first_a;
-                s4_first_b_reg <= first_b;
-            end
-        end
-
         // ---- stage 5: partial integrals and whole-entry products of both ends
         // q operands: clamp clut[ka], clut[kb]; mod total >> 8 (a), total mod 2^8 (b)
-        wire [4*QW-1:0] q_a, q_b;
-        for (ch = 0; ch < 4; ch = ch + 1) begin : g_q
-            reg [QW-1:0] qa, qb;
-            always @* begin
+        reg [4*QW-1:0] q_a, q_b;
+        reg [QW-1:0]   qa, qb;
+        integer        qc;
+        always @* begin
+            q_a = {(4*QW){1'b0}};
+            q_b = {(4*QW){1'b0}};
+            for (qc = 0; qc < 4; qc = qc + 1) begin
                 qa = {QW{1'b0}};
                 qb = {QW{1'b0}};
                 if (s4_mode_reg) begin
-                    qa[7:0] = clut_a[8*ch +: 8];
-                    qb[7:0] = clut_b[8*ch +: 8];
+                    qa[7:0] = clut_a[8*qc +: 8];
+                    qb[7:0] = clut_b[8*qc +: 8];
                 end else begin
-                    qa[CS_W-9:0] = total[ch*CS_W+8 +: CS_W-8];
-                    qb[7:0]      = total[ch*CS_W +: 8];
+                    qa[CS_W-9:0] = total[qc*CS_W+8 +: CS_W-8];
+                    qb[7:0]      = total[qc*CS_W +: 8];
                 end
+                q_a[qc*QW +: QW] = qa;
+                q_b[qc*QW +: QW] = qb;
             end
-            assign q_a[ch*QW +: QW] = qa;
-            assign q_b[ch*QW +: QW] = qb;
         end
 
         wire [4*D_W-1:0] p_a, p_b;
@@ -339,30 +286,53 @@ generate
             .fr_in(s4_fr_b_reg), .k_in(s4_k_b_reg), .q_in(q_b), .p_out(p_b), .e_out(e_b)
         );
 
-        reg             s5_valid_reg;
         reg             s5_mode_reg;
         reg [31:0]      s5_point_reg;   // clut[ka]: the point lookup when w = 0
 
-        always @(posedge clk) begin
-            if (rst)
-                s5_valid_reg <= 1'b0;
-            else if (ce)
-                s5_valid_reg <= s4_valid_reg;
-        end
-
-        always @(posedge clk) begin
-            if (ce) begin
-                s5_mode_reg  <= s4_mode_reg;
-                s5_point_reg <= clut_a;
-            end
-        end
-
         // divider operands of stage 6: exact (num (D_W-1)-bit, den = w) or normalised (num'
-        // NQ_W-bit, den' B-bit); each branch below drives them
+        // NQ_W-bit, den' B-bit); each branch below drives them (whole, from one always @*)
         localparam NUM_DW = NORM ? NQ_W : D_W - 1;
         localparam DEN_DW = NORM ? B : W_W;
         wire [4*NUM_DW-1:0] num;
         wire [DEN_DW-1:0]   den;
+
+        reg [4*NUM_DW-1:0]  s6_num_reg;
+        reg [DEN_DW-1:0]    s6_den_reg;
+
+        // ---- stages 2..6 registers
+        always @(posedge clk) begin
+            if (rst)
+                sv_reg <= 5'b00000;
+            else if (ce)
+                sv_reg <= {sv_reg[3:0], s1_valid_reg};
+            if (ce) begin
+                // stage 2
+                s2_a_reg       <= u2 - w_x;
+                s2_b_reg       <= u2 + w_x;
+                s2_w_reg       <= s1_w_reg;
+                s2_mode_reg    <= s1_mode_reg;
+                s2_n_log2_reg  <= s1_n_log2_reg;
+                // stage 3
+                s3_w_reg       <= s2_w_reg;
+                s3_mode_reg    <= s2_mode_reg;
+                s3_n_log2_reg  <= s2_n_log2_reg;
+                // stage 4 (mod: dw = kx_b - kx_a on both ends)
+                s4_w_reg       <= s3_w_reg;
+                s4_mode_reg    <= s3_mode_reg;
+                s4_k_a_reg     <= s3_mode_reg ? kx_a : kx_b - kx_a;
+                s4_k_b_reg     <= s3_mode_reg ? kx_b : kx_b - kx_a;
+                s4_fr_a_reg    <= fr_a;
+                s4_fr_b_reg    <= fr_b;
+                s4_first_a_reg <= first_a;
+                s4_first_b_reg <= first_b;
+                // stage 5
+                s5_mode_reg    <= s4_mode_reg;
+                s5_point_reg   <= clut_a;
+                // stage 6
+                s6_num_reg     <= num;
+                s6_den_reg     <= den;
+            end
+        end
 
         if (!NORM) begin : g_exact
             // ---- exact division (CFG_DIV_BITS = 0): the divisor is w itself
@@ -374,36 +344,40 @@ generate
 
             // ---- stage 6: divider operands; num = (D + w) >> 1, den = w, or clut[k] / 1, with
             // D = (whole << XF) + p_b - p_a, whole = e_b - e_a (clamp) or e_b + (e_a << 8) (mod)
-            wire                 w_zero = (s5_w_reg == {W_W{1'b0}});
-            reg  [D_W-1:0]       d_w;    // w zero-extended
-            reg  [W_W-1:0]       den_x;
+            reg                 w_zero;
+            reg  [D_W-1:0]      d_w;    // w zero-extended
+            reg  [W_W-1:0]      den_x;
+            reg  [4*(D_W-1)-1:0] num_x;
+            integer             c;
+            reg  [TW-1:0]       ea_x;   // e_a (clamp: negated) or e_a << 8 (mod)
+            reg  [TW-1:0]       whole;  // whole entries of D, mod 2^TW
+            // D + w (< 2^D_W); floor((D + w) / 2w) = floor(((D + w) >> 1) / w): the LSB of
+            // D + w is not needed
+            /* verilator lint_off UNUSEDSIGNAL */
+            reg  [D_W-1:0]      sum;
+            /* verilator lint_on UNUSEDSIGNAL */
+            reg  [D_W-2:0]      pt;     // clut[k] zero-extended
             always @* begin
+                w_zero = (s5_w_reg == {W_W{1'b0}});
                 d_w = {D_W{1'b0}};
                 d_w[W_W-1:0] = s5_w_reg;
                 den_x = s5_w_reg;
                 if (w_zero)
                     den_x[0] = 1'b1;
-            end
-            assign den = den_x;
-            for (ch = 0; ch < 4; ch = ch + 1) begin : g_num
-                reg [TW-1:0]  ea_x;     // e_a (clamp: negated) or e_a << 8 (mod)
-                reg [TW-1:0]  whole;    // whole entries of D, mod 2^TW
-                reg [D_W-1:0] sum;      // D + w (< 2^D_W)
-                reg [D_W-2:0] pt;       // clut[k] zero-extended
-                always @* begin
+                for (c = 0; c < 4; c = c + 1) begin
                     if (s5_mode_reg)
-                        ea_x = -e_a[ch*TW +: TW];
+                        ea_x = -e_a[c*TW +: TW];
                     else
-                        ea_x = e_a[ch*TW +: TW] << 8;
-                    whole = e_b[ch*TW +: TW] + ea_x;
-                    sum = {whole, {XF{1'b0}}} + p_b[ch*D_W +: D_W] - p_a[ch*D_W +: D_W] + d_w;
+                        ea_x = e_a[c*TW +: TW] << 8;
+                    whole = e_b[c*TW +: TW] + ea_x;
+                    sum = {whole, {XF{1'b0}}} + p_b[c*D_W +: D_W] - p_a[c*D_W +: D_W] + d_w;
                     pt = {(D_W-1){1'b0}};
-                    pt[7:0] = s5_point_reg[8*ch +: 8];
+                    pt[7:0] = s5_point_reg[8*c +: 8];
+                    num_x[c*(D_W-1) +: D_W-1] = w_zero ? pt : sum[D_W-1:1];
                 end
-                // floor((D + w) / 2w) = floor(((D + w) >> 1) / w): the LSB of D + w is not needed
-                assign num[ch*(D_W-1) +: D_W-1] = w_zero ? pt : sum[D_W-1:1];
-                wire unused_lsb = sum[0];
             end
+            assign num = num_x;
+            assign den = den_x;
 
         end else begin : g_norm
             // ---- normalised division (B = CFG_DIV_BITS > 0), docs/numerics.md "Colour map":
@@ -413,23 +387,22 @@ generate
             //   num' = (D + w + 2 h(sh)) >> (sh + 1), h(s) = 2^s >> 1 (half of the dropped LSB)
             // stage 5: sh, den' and w + 2 h(sh) from w, once for the four channels
 
-            // sh0 = bitlen(w >> B): leading-one detector on the HW high bits of w
-            reg [SH_W-1:0] sh0;
+            reg [SH_W-1:0] sh0;    // bitlen(w >> B): leading-one detector on the HW high bits
             integer        i;
-            always @* begin
-                sh0 = {SH_W{1'b0}};
-                for (i = 0; i < HW; i = i + 1)
-                    if (s4_w_reg[B + i])
-                        sh0 = i[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
-            end
-
-            reg [W_W:0]    w2s;    // 2w >> sh0: < 2^(B+1), bits B..0 are t
+            // 2w >> sh0: < 2^(B+1), bits B..0 are t (bitlen(w) <= B + sh0)
+            /* verilator lint_off UNUSEDSIGNAL */
+            reg [W_W:0]    w2s;
+            /* verilator lint_on UNUSEDSIGNAL */
             reg [B:0]      t;
             reg            ovf;    // t all ones: w rounds up to 2^B at shift sh0
             reg [B-1:0]    den_n;  // den' = round(w / 2^sh)
             reg [SH_W-1:0] sh;
             reg [W_W:0]    h2;     // 2 h(sh): 2^sh, 0 when sh = 0
             always @* begin
+                sh0 = {SH_W{1'b0}};
+                for (i = 0; i < HW; i = i + 1)
+                    if (s4_w_reg[B + i])
+                        sh0 = i[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
                 w2s = {s4_w_reg, 1'b0} >> sh0;
                 t = w2s[B:0];
                 ovf = &t;
@@ -443,8 +416,6 @@ generate
                 if (sh == {SH_W{1'b0}})
                     h2 = {(W_W+1){1'b0}};
             end
-            // bitlen(w) <= B + sh0, so 2w >> sh0 has at most B + 1 bits
-            wire unused_w2s = |w2s[W_W:B+1];
 
             reg [B-1:0]    s5_den_reg;
             reg [SH_W-1:0] s5_sh_reg;
@@ -460,80 +431,59 @@ generate
 
             // ---- stage 6: num' = (D + w + 2 h(sh)) >> (sh + 1) (< 2^NQ_W), den' (w = 0:
             // clut[k] / 1), with D = (whole << XF) + p_b - p_a as in the exact division
-            wire           w_zero = (s5_wn_reg == {(W_W+1){1'b0}});
-            reg  [D_W-1:0] d_wn;   // w + 2 h(sh) zero-extended
-            reg  [B-1:0]   den_x;
+            reg                 w_zero;
+            reg  [D_W-1:0]      d_wn;   // w + 2 h(sh) zero-extended
+            reg  [B-1:0]        den_x;
+            reg  [4*NQ_W-1:0]   num_x;
+            integer             c;
+            reg  [TW-1:0]       ea_x;   // e_a (clamp: negated) or e_a << 8 (mod)
+            reg  [TW-1:0]       whole;  // whole entries of D, mod 2^TW
+            // sum = D + w + 2 h(sh) (< 2^D_W): its LSB is below the rounding; nsh = sum >>
+            // (sh + 1) < 2^NQ_W (num' < 256 den', or 384 den' with SAT: docs/numerics.md),
+            // its high bits are zero
+            /* verilator lint_off UNUSEDSIGNAL */
+            reg  [D_W-1:0]      sum;
+            reg  [D_W-2:0]      nsh;
+            /* verilator lint_on UNUSEDSIGNAL */
+            reg  [NQ_W-1:0]     pt;     // clut[k] zero-extended
             always @* begin
+                w_zero = (s5_wn_reg == {(W_W+1){1'b0}});
                 d_wn = {D_W{1'b0}};
                 d_wn[W_W:0] = s5_wn_reg;
                 den_x = s5_den_reg;   // 0 when w = 0
                 if (w_zero)
                     den_x[0] = 1'b1;
-            end
-            assign den = den_x;
-            for (ch = 0; ch < 4; ch = ch + 1) begin : g_num
-                reg [TW-1:0]  ea_x;     // e_a (clamp: negated) or e_a << 8 (mod)
-                reg [TW-1:0]  whole;    // whole entries of D, mod 2^TW
-                reg [D_W-1:0] sum;      // D + w + 2 h(sh) (< 2^D_W)
-                reg [D_W-2:0] nsh;      // sum >> (sh + 1)
-                reg [NQ_W-1:0] pt;      // clut[k] zero-extended
-                always @* begin
+                for (c = 0; c < 4; c = c + 1) begin
                     if (s5_mode_reg)
-                        ea_x = -e_a[ch*TW +: TW];
+                        ea_x = -e_a[c*TW +: TW];
                     else
-                        ea_x = e_a[ch*TW +: TW] << 8;
-                    whole = e_b[ch*TW +: TW] + ea_x;
-                    sum = {whole, {XF{1'b0}}} + p_b[ch*D_W +: D_W] - p_a[ch*D_W +: D_W] + d_wn;
+                        ea_x = e_a[c*TW +: TW] << 8;
+                    whole = e_b[c*TW +: TW] + ea_x;
+                    sum = {whole, {XF{1'b0}}} + p_b[c*D_W +: D_W] - p_a[c*D_W +: D_W] + d_wn;
                     nsh = sum[D_W-1:1] >> s5_sh_reg;
                     pt = {NQ_W{1'b0}};
-                    pt[7:0] = s5_point_reg[8*ch +: 8];
-                end
-                assign num[ch*NQ_W +: NQ_W] = w_zero ? pt : nsh[NQ_W-1:0];
-                // sum's LSB is below the rounding; nsh < 2^NQ_W (num' < 256 den', or 384 den'
-                // with SAT: docs/numerics.md), its high bits are zero
-                wire unused_lsb = sum[0];
-                if (NQ_W < D_W - 1) begin : g_hi
-                    wire unused_hi = |nsh[D_W-2:NQ_W];
+                    pt[7:0] = s5_point_reg[8*c +: 8];
+                    num_x[c*NQ_W +: NQ_W] = w_zero ? pt : nsh[NQ_W-1:0];
                 end
             end
+            assign num = num_x;
+            assign den = den_x;
 
         end
 
-        // ---- stage 6 registers, then stages 7..14: one quotient bit per stage (LAT = 6 + 8);
+        // ---- stages 7..14: one quotient bit per stage (LAT = 6 + 8);
         // exact: divisor w itself; normalised: B-bit divisors, and for B <= 9 the quotient can
         // reach 256 (up to 383), saturated to 255 (SAT)
-        reg                 s6_valid_reg;
-        reg [4*NUM_DW-1:0]  s6_num_reg;
-        reg [DEN_DW-1:0]    s6_den_reg;
-
-        always @(posedge clk) begin
-            if (rst)
-                s6_valid_reg <= 1'b0;
-            else if (ce)
-                s6_valid_reg <= s5_valid_reg;
-        end
-
-        always @(posedge clk) begin
-            if (ce) begin
-                s6_num_reg <= num;
-                s6_den_reg <= den;
-            end
-        end
-
         box_divide #(
             .NUM_W(NUM_DW), .DEN_W(DEN_DW), .Q_W(8), .LANES(4), .SAT(NORM ? SAT : 0)
         ) u_divide (
-            .clk(clk), .rst(rst), .ce(ce), .in_valid(s6_valid_reg),
+            .clk(clk), .rst(rst), .ce(ce), .in_valid(sv_reg[4]),
             .num_in(s6_num_reg), .den_in(s6_den_reg),
             .out_valid(out_valid), .q_out(rgba_out)
         );
     end else begin : g_lookup
         // stage 1: filter_en selects the MIP map (sat: only w = 0 carries it)
         reg s1_filter_en_reg;
-        always @(posedge clk) begin
-            if (ce)
-                s1_filter_en_reg <= filter_en;
-        end
 
         // ---- stages 2-3: point / MIP address
         wire [NMAX:0] addr;
@@ -545,25 +495,12 @@ generate
             .addr_out(addr), .use_mip_out(use_mip)
         );
 
-        // valid for stages 2..4
-        reg [2:0] sv_reg;
-        always @(posedge clk) begin
-            if (rst)
-                sv_reg <= 3'b000;
-            else if (ce)
-                sv_reg <= {sv_reg[1:0], s1_valid_reg};
-        end
-
-        reg use_mip_reg;
-        always @(posedge clk) begin
-            if (ce)
-                use_mip_reg <= use_mip;
-        end
-
         // ---- stage 4: table reads
         wire [31:0]       clut_a, mip_data;
+        /* verilator lint_off UNUSEDSIGNAL */
         wire [31:0]       unused_clut_b;
         wire [4*CS_W-1:0] unused_csat_a, unused_csat_b, unused_total;
+        /* verilator lint_on UNUSEDSIGNAL */
 
         colour_table u_table (
             .clk(clk), .ce(ce),
@@ -578,23 +515,25 @@ generate
         // ---- stages 5..LAT: select, then a delay line to the block's latency; the last
         // register is the output register (reset, loads only a valid result)
         localparam DL = LAT - 4;  // register stages after the table read (>= 3)
+        reg [2:0]           sv_reg;   // valid for stages 2..4
+        reg                 use_mip_reg;
         reg [DL-1:0]        dv_reg;
         reg [(DL-1)*32-1:0] dd_reg;
         reg [31:0]          out_reg;
 
         always @(posedge clk) begin
-            if (rst)
+            if (rst) begin
+                sv_reg <= 3'b000;
                 dv_reg <= {DL{1'b0}};
-            else if (ce)
+            end else if (ce) begin
+                sv_reg <= {sv_reg[1:0], s1_valid_reg};
                 dv_reg <= {dv_reg[DL-2:0], sv_reg[2]};
-        end
-
-        always @(posedge clk) begin
-            if (ce)
-                dd_reg <= {dd_reg[(DL-2)*32-1:0], use_mip_reg ? mip_data : clut_a};
-        end
-
-        always @(posedge clk) begin
+            end
+            if (ce) begin
+                s1_filter_en_reg <= filter_en;
+                use_mip_reg      <= use_mip;
+                dd_reg           <= {dd_reg[(DL-2)*32-1:0], use_mip_reg ? mip_data : clut_a};
+            end
             if (rst)
                 out_reg <= 32'd0;
             else if (ce && dv_reg[DL-2])

@@ -23,6 +23,8 @@
 // wr_data (4 lanes of CS_W bits, channel c at [c*CS_W +: CS_W]; clut and mip take the low 8
 // bits of each lane). The tables are not reset: load them before use.
 // Latency 1 (reads), one read per port per enabled clock.
+// Written for event-driven simulation speed: no reductions on per-clock signals (unused
+// inputs are marked for lint only).
 
 `default_nettype none
 
@@ -112,7 +114,10 @@ generate
         assign total    = total_reg;  // static during a pass: no read register needed
         assign mip_data = 32'd0;
         // the mip table is not built in this configuration; total needs no n_log2
-        wire unused_mip = &{1'b0, mip_addr, n_log2};
+        /* verilator lint_off UNUSEDSIGNAL */
+        wire [NMAX:0]   unused_mip_addr = mip_addr;
+        wire [NL_W-1:0] unused_n_log2   = n_log2;
+        /* verilator lint_on UNUSEDSIGNAL */
     end else if (FILTER == 2) begin : g_mip
         reg [31:0] mip_mem [0:MIP_DEPTH-1];
         reg [31:0] mip_reg;
@@ -133,9 +138,13 @@ generate
         assign total    = {4*CS_W{1'b0}};
         assign mip_data = mip_reg;
         // csat and the second clut port are not built; clut and mip use 8 bits per lane
-        wire unused_sat = &{1'b0, clut_addr_b, csat_addr_a, csat_addr_b, n_log2,
-                            wr_data[3*CS_W+8 +: CS_W-8], wr_data[2*CS_W+8 +: CS_W-8],
-                            wr_data[1*CS_W+8 +: CS_W-8], wr_data[0*CS_W+8 +: CS_W-8]};
+        /* verilator lint_off UNUSEDSIGNAL */
+        wire [NMAX-1:0]   unused_clut_addr_b = clut_addr_b;
+        wire [NMAX-1:0]   unused_csat_addr_a = csat_addr_a;
+        wire [NMAX-1:0]   unused_csat_addr_b = csat_addr_b;
+        wire [NL_W-1:0]   unused_n_log2      = n_log2;
+        wire [4*CS_W-1:0] unused_wr_data     = wr_data;  // the low 8 bits of each lane are used
+        /* verilator lint_on UNUSEDSIGNAL */
     end else begin : g_point
         assign clut_b   = 32'd0;
         assign csat_a   = {4*CS_W{1'b0}};
@@ -143,9 +152,14 @@ generate
         assign total    = {4*CS_W{1'b0}};
         assign mip_data = 32'd0;
         // point lookup only: one clut read port, 8 bits per write lane
-        wire unused_filter = &{1'b0, clut_addr_b, csat_addr_a, csat_addr_b, n_log2, mip_addr,
-                               wr_data[3*CS_W+8 +: CS_W-8], wr_data[2*CS_W+8 +: CS_W-8],
-                               wr_data[1*CS_W+8 +: CS_W-8], wr_data[0*CS_W+8 +: CS_W-8]};
+        /* verilator lint_off UNUSEDSIGNAL */
+        wire [NMAX-1:0]   unused_clut_addr_b = clut_addr_b;
+        wire [NMAX-1:0]   unused_csat_addr_a = csat_addr_a;
+        wire [NMAX-1:0]   unused_csat_addr_b = csat_addr_b;
+        wire [NL_W-1:0]   unused_n_log2      = n_log2;
+        wire [NMAX:0]     unused_mip_addr    = mip_addr;
+        wire [4*CS_W-1:0] unused_wr_data     = wr_data;  // the low 8 bits of each lane are used
+        /* verilator lint_on UNUSEDSIGNAL */
     end
 endgenerate
 

@@ -1,6 +1,9 @@
 /*
  * filter_width: the box-filter width w = |c^T J| N in colour-table entries.
  * Twin of model/golden.py filter_width().
+ * Written for event-driven simulation speed: combinational logic in a few always @*
+ * blocks (blocking assigns, straight-line code), all registers in one clocked process,
+ * no bus driven piecewise.
  *
  *   gx = sum_k c_k Jm[k][0],  gy = sum_k c_k Jm[k][1]       (exact, G_W bits)
  *   sh = max(bitlen(max(|gx|, |gy|)) - NORM_BITS, 0)        (leading-one detector)
@@ -91,88 +94,67 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------------------
-// valid chain for the stages around the isqrt
+// Registers are loaded by one clocked process at the end; a value that only feeds
+// a register is computed there, the others in one combinational process per stage
+// group (evaluated once per clock: their inputs all change on the clock edge).
+
+// e without sh: je + n_log2 + F_FRAC - C_FRAC (modulo 2^E_W; the final e fits)
+localparam signed [E_W-1:0] E_CONST = F_FRAC - C_FRAC;
 
 reg [3:0] valid_reg;  // stages 1..4
 reg       out_valid_reg;
 wire      sq_valid;   // valid out of the isqrt (stage LATENCY - 1)
 
-always @(posedge clk) begin
-    if (rst) begin
-        valid_reg     <= 4'b0;
-        out_valid_reg <= 1'b0;
-    end else if (ce) begin
-        valid_reg     <= {valid_reg[2:0], in_valid};
-        out_valid_reg <= sq_valid;
-    end
-end
-
-assign out_valid = out_valid_reg;
-
-// ---------------------------------------------------------------------------
-// stage 1: products; the constant part of the exponent
-
-wire signed [C_W-1:0]  c0  = c_in[0*C_W +: C_W];
-wire signed [C_W-1:0]  c1  = c_in[1*C_W +: C_W];
-wire signed [C_W-1:0]  c2  = c_in[2*C_W +: C_W];
-wire signed [J_W-1:0]  j00 = jm_in[0*J_W +: J_W];
-wire signed [J_W-1:0]  j01 = jm_in[1*J_W +: J_W];
-wire signed [J_W-1:0]  j10 = jm_in[2*J_W +: J_W];
-wire signed [J_W-1:0]  j11 = jm_in[3*J_W +: J_W];
-wire signed [J_W-1:0]  j20 = jm_in[4*J_W +: J_W];
-wire signed [J_W-1:0]  j21 = jm_in[5*J_W +: J_W];
-
-// e without sh: je + n_log2 + F_FRAC - C_FRAC (modulo 2^E_W; the final e fits)
-localparam signed [E_W-1:0] E_CONST = F_FRAC - C_FRAC;
-wire signed [E_W-1:0] je_x = {{(E_W-JE_W){je_in[JE_W-1]}}, je_in};
-wire signed [E_W-1:0] nl_x = {{(E_W-N_LOG2_W){1'b0}}, n_log2};
-
+// stage registers
 reg signed [PJ_W-1:0] px0_reg, px1_reg, px2_reg;  // c_k Jm[k][0]
 reg signed [PJ_W-1:0] py0_reg, py1_reg, py2_reg;  // c_k Jm[k][1]
-reg signed [E_W-1:0] ek_1_reg;
-
-always @(posedge clk) begin
-    if (ce) begin
-        px0_reg <= c0 * j00;  px1_reg <= c1 * j10;  px2_reg <= c2 * j20;
-        py0_reg <= c0 * j01;  py1_reg <= c1 * j11;  py2_reg <= c2 * j21;
-        ek_1_reg <= je_x + nl_x + E_CONST;
-    end
-end
+reg signed [E_W-1:0]  ek_1_reg, ek_2_reg, ek_3_reg, e_4_reg;
+reg [GABS_W-1:0]      ax_reg, ay_reg;
+reg [NORM_BITS-1:0]   axn_reg, ayn_reg;
+reg [SH_W-1:0]        sh_reg;
+reg [L_W-1:0]         l_reg;
+reg [SQ_LAT*E_W-1:0]  e_dly_reg;  // e_dly_reg[k*E_W +: E_W]: e after k + 1 isqrt stages
+reg [W_W-1:0]         w_reg;
 
 // ---------------------------------------------------------------------------
-// stage 2: gx, gy, absolute values
+// stage 1: products; the constant part of the exponent (in the clocked process)
+//
+// stage 2: gx, gy, absolute values; stage 3: the leading-one detector's input;
+// stage 4: L = ax^2 + ay^2; the e delay line
 
-// products sign-extended to G_W (>= C_W + J_W, since cmax >= 2^(C_W-2)); the
-// sum fits G_W by the precondition on c, so it is exact
-wire signed [G_W-1:0] gx;
-wire signed [G_W-1:0] gy;
-
-generate
-    if (G_W > PJ_W) begin : g_gext
-        assign gx = {{(G_W-PJ_W){px0_reg[PJ_W-1]}}, px0_reg} + {{(G_W-PJ_W){px1_reg[PJ_W-1]}}, px1_reg}
-                  + {{(G_W-PJ_W){px2_reg[PJ_W-1]}}, px2_reg};
-        assign gy = {{(G_W-PJ_W){py0_reg[PJ_W-1]}}, py0_reg} + {{(G_W-PJ_W){py1_reg[PJ_W-1]}}, py1_reg}
-                  + {{(G_W-PJ_W){py2_reg[PJ_W-1]}}, py2_reg};
-    end else begin : g_gnext
-        assign gx = px0_reg + px1_reg + px2_reg;
-        assign gy = py0_reg + py1_reg + py2_reg;
-    end
-endgenerate
+// products sign-extended to G_W (>= C_W + J_W, since cmax >= 2^(C_W-2)): the sign
+// bit replicated G_W - PJ_W + 1 times; the sum fits G_W by the precondition on c,
+// so it is exact
+reg signed [G_W-1:0]  gx, gy;
 /* verilator lint_off UNUSEDSIGNAL */
 // the MSB of |g| in G_W bits is zero: |g| < 2^GABS_W (model/config.py: gabs_w)
-wire [G_W-1:0] gx_abs = gx[G_W-1] ? -gx : gx;
-wire [G_W-1:0] gy_abs = gy[G_W-1] ? -gy : gy;
+reg [G_W-1:0]         gx_abs, gy_abs;
+// L: the squares (2 NORM_BITS bits) zero-extended and summed in L_W + 2 NORM_BITS
+// bits (L_W >= 2 NORM_BITS; equal only for NORM_BITS = 1); L fits L_W
+reg [L_W+2*NORM_BITS-1:0] l_x;
+// the e delay: the oldest e drops out of the top
+reg [(SQ_LAT+1)*E_W-1:0]  e_dly_cat;
 /* verilator lint_on UNUSEDSIGNAL */
+reg [2*NORM_BITS-1:0] ax2, ay2;
+reg [MH_W-1:0]        mh;  // bitlen input: (ax | ay) >> NORM_BITS
 
-reg [GABS_W-1:0]     ax_reg, ay_reg;
-reg signed [E_W-1:0] ek_2_reg;
+always @* begin
+    gx = {{(G_W-PJ_W+1){px0_reg[PJ_W-1]}}, px0_reg[PJ_W-2:0]}
+       + {{(G_W-PJ_W+1){px1_reg[PJ_W-1]}}, px1_reg[PJ_W-2:0]}
+       + {{(G_W-PJ_W+1){px2_reg[PJ_W-1]}}, px2_reg[PJ_W-2:0]};
+    gy = {{(G_W-PJ_W+1){py0_reg[PJ_W-1]}}, py0_reg[PJ_W-2:0]}
+       + {{(G_W-PJ_W+1){py1_reg[PJ_W-1]}}, py1_reg[PJ_W-2:0]}
+       + {{(G_W-PJ_W+1){py2_reg[PJ_W-1]}}, py2_reg[PJ_W-2:0]};
+    gx_abs = gx[G_W-1] ? -gx : gx;
+    gy_abs = gy[G_W-1] ? -gy : gy;
 
-always @(posedge clk) begin
-    if (ce) begin
-        ax_reg   <= gx_abs[GABS_W-1:0];
-        ay_reg   <= gy_abs[GABS_W-1:0];
-        ek_2_reg <= ek_1_reg;
-    end
+    mh = ax_reg[GABS_W-1:NORM_BITS] | ay_reg[GABS_W-1:NORM_BITS];
+
+    ax2 = axn_reg * axn_reg;
+    ay2 = ayn_reg * ayn_reg;
+    l_x = {{L_W{1'b0}}, ax2} + {{L_W{1'b0}}, ay2};
+
+    e_dly_cat = {e_dly_reg, e_4_reg};
 end
 
 // ---------------------------------------------------------------------------
@@ -180,7 +162,6 @@ end
 //
 // bitlen: the leading-one detector (rtl/bitlen.v).
 
-wire [MH_W-1:0] mh = ax_reg[GABS_W-1:NORM_BITS] | ay_reg[GABS_W-1:NORM_BITS];
 wire [SH_W-1:0] sh;
 /* verilator lint_off UNUSEDSIGNAL */
 wire            mh_nz;  // sh > 0 says it too
@@ -189,53 +170,16 @@ bitlen #(.W(MH_W), .BW(SH_W)) u_bitlen_mh (.x(mh), .bl(sh), .nz(mh_nz));
 
 /* verilator lint_off UNUSEDSIGNAL */
 // bits NORM_BITS and up of the shifted values are zero: |g| < 2^(sh + NORM_BITS)
-wire [GABS_W-1:0] ax_sh = ax_reg >> sh;
-wire [GABS_W-1:0] ay_sh = ay_reg >> sh;
+reg [GABS_W-1:0] ax_sh, ay_sh;
 /* verilator lint_on UNUSEDSIGNAL */
 
-reg [NORM_BITS-1:0]  axn_reg, ayn_reg;
-reg [SH_W-1:0]       sh_reg;
-reg signed [E_W-1:0] ek_3_reg;
-
-always @(posedge clk) begin
-    if (ce) begin
-        axn_reg  <= ax_sh[NORM_BITS-1:0];
-        ayn_reg  <= ay_sh[NORM_BITS-1:0];
-        sh_reg   <= sh;
-        ek_3_reg <= ek_2_reg;
-    end
+always @* begin
+    ax_sh = ax_reg >> sh;
+    ay_sh = ay_reg >> sh;
 end
 
 // ---------------------------------------------------------------------------
-// stage 4: L = ax^2 + ay^2, e = sh + ek
-
-wire [2*NORM_BITS-1:0] ax2 = axn_reg * axn_reg;
-wire [2*NORM_BITS-1:0] ay2 = ayn_reg * ayn_reg;
-wire [L_W-1:0]         l_sum;
-
-generate
-    if (L_W > 2 * NORM_BITS) begin : g_lw
-        assign l_sum = {{(L_W-2*NORM_BITS){1'b0}}, ax2} + {{(L_W-2*NORM_BITS){1'b0}}, ay2};
-    end else begin : g_lnw
-        // L_W = 2 NORM_BITS only when NORM_BITS = 1 (2 (2^NB - 1)^2 < 2^(2NB) otherwise)
-        assign l_sum = ax2 + ay2;
-    end
-endgenerate
-
-wire signed [E_W-1:0] sh_x = {{(E_W-SH_W){1'b0}}, sh_reg};
-
-reg [L_W-1:0]        l_reg;
-reg signed [E_W-1:0] e_4_reg;
-
-always @(posedge clk) begin
-    if (ce) begin
-        l_reg   <= l_sum;
-        e_4_reg <= sh_x + ek_3_reg;
-    end
-end
-
-// ---------------------------------------------------------------------------
-// stages 5..LATENCY-1: square root, with e delayed alongside
+// stages 5..LATENCY-1: square root
 
 wire [R_W-1:0] r;
 
@@ -253,73 +197,81 @@ isqrt #(
     .r_out(r)
 );
 
-reg [SQ_LAT*E_W-1:0] e_dly_reg;  // e_dly_reg[k*E_W +: E_W]: e after k + 1 isqrt stages
-
-generate
-    if (SQ_LAT > 1) begin : g_edly
-        always @(posedge clk) begin
-            if (ce) begin
-                e_dly_reg <= {e_dly_reg[0 +: (SQ_LAT-1)*E_W], e_4_reg};
-            end
-        end
-    end else begin : g_edly1
-        always @(posedge clk) begin
-            if (ce) begin
-                e_dly_reg <= e_4_reg;
-            end
-        end
-    end
-endgenerate
-
-wire signed [E_W-1:0] e = e_dly_reg[(SQ_LAT-1)*E_W +: E_W];
-
 // ---------------------------------------------------------------------------
 // stage LATENCY: w = r scaled by 2^e, saturated
 
 // bitlen(r), r != 0
-wire          r_nz;
+wire             r_nz;
 wire [BLR_W-1:0] r_bl;
 bitlen #(.W(R_W), .BW(BLR_W)) u_bitlen_r (.x(r), .bl(r_bl), .nz(r_nz));
 
-// over = r > 0 and bitlen(r) + e > CAP_BITS
 localparam signed [CMP_W-1:0] CAP_S = CAP_BITS;
-wire signed [CMP_W-1:0] bl_x = {{(CMP_W-BLR_W){1'b0}}, r_bl};
-wire signed [CMP_W-1:0] e_x  = {{(CMP_W-E_W){e[E_W-1]}}, e};
-wire signed [CMP_W-1:0] top  = bl_x + e_x;
-wire                    over = r_nz && (top > CAP_S);
+localparam [W_W-1:0]          W_CAP = {1'b1, {CAP_BITS{1'b0}}} ;
 
-// shifts: left by e (e >= 0) or right by -e (e < 0)
-wire           e_neg = e[E_W-1];
-wire [E_W-2:0] e_l   = e[E_W-2:0];  // e when e >= 0
-wire [E_W-1:0] e_r   = -e;          // -e when e < 0 (2^(E_W-1) reads correctly unsigned)
-wire [SW-1:0]  r_x;
-
-generate
-    if (SW > R_W) begin : g_rx
-        assign r_x = {{(SW-R_W){1'b0}}, r};
-    end else begin : g_rnx
-        assign r_x = r;
-    end
-endgenerate
-
+reg signed [E_W-1:0]   e;
+reg signed [CMP_W-1:0] top;   // bitlen(r) + e
+reg                    over;  // r > 0 and bitlen(r) + e > CAP_BITS
+reg [SW-1:0]           r_x;   // r zero-extended to the shifter width
 /* verilator lint_off UNUSEDSIGNAL */
 // when R_W > W_W, the bits of the shifted r above W_W are zero unless over
-wire [SW-1:0] w_sh = e_neg ? (r_x >> e_r) : (r_x << e_l);
+reg [SW-1:0]           w_sh;
 /* verilator lint_on UNUSEDSIGNAL */
 
-localparam [W_W-1:0] W_CAP = {1'b1, {CAP_BITS{1'b0}}} ;
+always @* begin
+    e     = e_dly_reg[(SQ_LAT-1)*E_W +: E_W];
+    top   = {{(CMP_W-BLR_W){1'b0}}, r_bl} + {{(CMP_W-E_W){e[E_W-1]}}, e};
+    over  = r_nz && (top > CAP_S);
+    r_x   = {SW{1'b0}};
+    r_x[R_W-1:0] = r;
+    // left by e (e >= 0) or right by -e (e < 0; -e in E_W bits: 2^(E_W-1) reads
+    // correctly unsigned)
+    w_sh  = e[E_W-1] ? (r_x >> -e) : (r_x << e[E_W-2:0]);
+end
 
-reg [W_W-1:0] w_reg;
+// ---------------------------------------------------------------------------
+// all registers: one clocked process
 
 always @(posedge clk) begin
+    if (ce) begin
+        // stage 1
+        px0_reg  <= $signed(c_in[0*C_W +: C_W]) * $signed(jm_in[0*J_W +: J_W]);  // c0 Jm[0][0]
+        px1_reg  <= $signed(c_in[1*C_W +: C_W]) * $signed(jm_in[2*J_W +: J_W]);  // c1 Jm[1][0]
+        px2_reg  <= $signed(c_in[2*C_W +: C_W]) * $signed(jm_in[4*J_W +: J_W]);  // c2 Jm[2][0]
+        py0_reg  <= $signed(c_in[0*C_W +: C_W]) * $signed(jm_in[1*J_W +: J_W]);  // c0 Jm[0][1]
+        py1_reg  <= $signed(c_in[1*C_W +: C_W]) * $signed(jm_in[3*J_W +: J_W]);  // c1 Jm[1][1]
+        py2_reg  <= $signed(c_in[2*C_W +: C_W]) * $signed(jm_in[5*J_W +: J_W]);  // c2 Jm[2][1]
+        ek_1_reg <= $signed({{(E_W-JE_W){je_in[JE_W-1]}}, je_in}) + $signed({{(E_W-N_LOG2_W){1'b0}}, n_log2})
+                  + E_CONST;
+        // stage 2
+        ax_reg   <= gx_abs[GABS_W-1:0];
+        ay_reg   <= gy_abs[GABS_W-1:0];
+        ek_2_reg <= ek_1_reg;
+        // stage 3
+        axn_reg  <= ax_sh[NORM_BITS-1:0];
+        ayn_reg  <= ay_sh[NORM_BITS-1:0];
+        sh_reg   <= sh;
+        ek_3_reg <= ek_2_reg;
+        // stage 4: e = sh + ek
+        l_reg    <= l_x[L_W-1:0];
+        e_4_reg  <= $signed({{(E_W-SH_W){1'b0}}, sh_reg}) + ek_3_reg;
+        // stages 5..LATENCY-1: e delayed alongside the square root
+        e_dly_reg <= e_dly_cat[SQ_LAT*E_W-1:0];
+    end
     if (rst) begin
-        w_reg <= {W_W{1'b0}};
-    end else if (ce && sq_valid) begin
-        w_reg <= over ? W_CAP : w_sh[W_W-1:0];
+        valid_reg     <= 4'b0;
+        out_valid_reg <= 1'b0;
+        w_reg         <= {W_W{1'b0}};
+    end else if (ce) begin
+        valid_reg     <= {valid_reg[2:0], in_valid};
+        out_valid_reg <= sq_valid;
+        if (sq_valid) begin
+            w_reg <= over ? W_CAP : w_sh[W_W-1:0];
+        end
     end
 end
 
-assign w_out = w_reg;
+assign out_valid = out_valid_reg;
+assign w_out     = w_reg;
 
 endmodule
 

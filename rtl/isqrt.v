@@ -23,6 +23,9 @@
  * Latency LATENCY register stages; throughput one result per enabled clock.
  * ce = 0 holds every register. rst (synchronous) clears the valid chain and the
  * output register; the output register loads only valid vectors (no X after reset).
+ *
+ * Written for event-driven simulation speed: all iterations in one always @*
+ * (blocking assigns, constant stage masks), one clocked process, no bus driven piecewise.
  */
 
 `include "tex_cfg.vh"
@@ -57,14 +60,6 @@ endgenerate
 reg  [LATENCY-1:0] valid_reg;
 wire [LATENCY:0]   vin = {valid_reg, in_valid};
 
-always @(posedge clk) begin
-    if (rst) begin
-        valid_reg <= {LATENCY{1'b0}};
-    end else if (ce) begin
-        valid_reg <= vin[LATENCY-1:0];
-    end
-end
-
 assign out_valid = valid_reg[LATENCY-1];
 
 wire [X_W-1:0] l_pad;
@@ -81,7 +76,25 @@ endgenerate
 // iteration of stage k < LATENCY - 1 is registered in segment k of the *_reg
 // vectors; the first iteration of stage k > 0 starts from segment k - 1.
 // (One combinational process for all iterations: event-driven simulators
-// evaluate it once per change instead of waking R_W^2 part-select readers.)
+// evaluate it once per change instead of waking R_W^2 part-select readers.
+// The stage boundaries are constant masks, so the loop body is only the
+// iteration and its few reads.)
+
+// FIRST[t]: iteration t > 0 is the first of its stage; LAST[t]: iteration
+// t < R_W - 1 is the last of its stage (LAST[t] = FIRST[t + 1])
+function [R_W-1:0] first_mask;
+    input integer lat;
+    integer i;
+    begin
+        first_mask = {R_W{1'b0}};
+        for (i = 1; i < R_W; i = i + 1) begin
+            first_mask[i] = ((i * lat) / R_W) != (((i - 1) * lat) / R_W);
+        end
+    end
+endfunction
+
+localparam [R_W-1:0] FIRST = first_mask(LATENCY);
+localparam [R_W-1:0] LAST  = FIRST >> 1;
 
 /* verilator lint_off UNUSEDSIGNAL */
 // with LATENCY = 1 there is no internal stage and these registers are never read;
@@ -94,12 +107,11 @@ reg [R_W-1:0]      root_o;            // the root after the last iteration
 
 reg [R_W-1:0]  root, rem;
 reg [X_W-1:0]  x;
-reg [R_W+1:0]  rs, trial;
+reg [R_W+1:0]  rs;
 /* verilator lint_off UNUSEDSIGNAL */
 // the two MSBs of diff are zero when used: the new remainder is <= 2 root < 2^R_W
 reg [R_W+1:0]  diff;
 /* verilator lint_on UNUSEDSIGNAL */
-reg            bit_;
 integer        t, k;
 
 always @* begin
@@ -109,22 +121,23 @@ always @* begin
     root_d = {S_NN*R_W{1'b0}};
     rem_d  = {S_NN*R_W{1'b0}};
     x_d    = {S_NN*X_W{1'b0}};
+    k      = 0;  // the stage of iteration t
     for (t = 0; t < R_W; t = t + 1) begin
-        k = (t * LATENCY) / R_W;
-        if (t > 0 && k != ((t - 1) * LATENCY) / R_W) begin
-            // first iteration of stage k: start from the stage register
-            root = root_reg[(k-1)*R_W +: R_W];
-            rem  = rem_reg[(k-1)*R_W +: R_W];
-            x    = x_reg[(k-1)*X_W +: X_W];
+        if (FIRST[t]) begin
+            // first iteration of stage k + 1: start from the stage register
+            root = root_reg[k*R_W +: R_W];
+            rem  = rem_reg[k*R_W +: R_W];
+            x    = x_reg[k*X_W +: X_W];
+            k    = k + 1;
         end
+        // rs = 4 rem + (next two bits of x), trial = 4 root + 1; the new bit
+        // goes straight into root (root[0] below)
         rs    = {rem, x[X_W-1 -: 2]};
-        trial = {root, 2'b01};
-        bit_  = (rs >= trial);
-        diff  = rs - trial;
-        rem   = bit_ ? diff[R_W-1:0] : rs[R_W-1:0];
-        root  = {root[R_W-2:0], bit_};
-        x     = {x[X_W-3:0], 2'b00};
-        if (t < R_W - 1 && k != ((t + 1) * LATENCY) / R_W) begin
+        diff  = rs - {root, 2'b01};
+        root  = {root[R_W-2:0], rs >= {root, 2'b01}};
+        rem   = root[0] ? diff[R_W-1:0] : rs[R_W-1:0];
+        x     = x << 2;
+        if (LAST[t]) begin
             // last iteration of stage k: into the stage register
             root_d[k*R_W +: R_W] = root;
             rem_d[k*R_W +: R_W]  = rem;
@@ -134,22 +147,23 @@ always @* begin
     root_o = root;
 end
 
+// output register (stage LATENCY - 1) and stage registers: one clocked process
+reg [R_W-1:0] r_reg;
+
 always @(posedge clk) begin
     if (ce) begin
         root_reg <= root_d;
         rem_reg  <= rem_d;
         x_reg    <= x_d;
     end
-end
-
-// output register (stage LATENCY - 1)
-reg [R_W-1:0] r_reg;
-
-always @(posedge clk) begin
     if (rst) begin
-        r_reg <= {R_W{1'b0}};
-    end else if (ce && vin[LATENCY-1]) begin
-        r_reg <= root_o;
+        valid_reg <= {LATENCY{1'b0}};
+        r_reg     <= {R_W{1'b0}};
+    end else if (ce) begin
+        valid_reg <= vin[LATENCY-1:0];
+        if (vin[LATENCY-1]) begin
+            r_reg <= root_o;
+        end
     end
 end
 

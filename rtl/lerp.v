@@ -7,6 +7,8 @@
 // Rounding: floor (arithmetic shift right) of the scaled step.
 // Latency: 0 (combinational; the instantiating pipeline registers around it).
 // Cost: one (W+1) x TW signed multiplier, two W-bit adders.
+// Written for event-driven simulation speed: the whole body is one always @* with
+// blocking assigns (one evaluation per input change, no net-level arithmetic).
 
 `default_nettype none
 
@@ -18,20 +20,21 @@ module lerp #(
     input  wire signed [W-1:0]  a,
     input  wire signed [W-1:0]  b,
     input  wire signed [TW-1:0] t,
-    output wire signed [W-1:0]  y
+    output reg  signed [W-1:0]  y
 );
 
-wire signed [W:0]    a_ext = {a[W-1], a};  // sign-extended: b - a needs W+1 bits
-wire signed [W:0]    b_ext = {b[W-1], b};
-wire signed [W:0]    diff  = b_ext - a_ext;
-wire signed [W+TW:0] prod  = diff * t;   // exact: |diff * t| < 2^(W+TW)
-wire signed [W+TW:0] step  = prod >>> P_FRAC;
-
-// a + step lies between a and b, so the W-bit (mod 2^W) sum is exact
-assign y = a + step[W-1:0];
-
+reg signed [W:0]    diff;   // b - a needs W+1 bits
 // the dropped bits: step[W+TW:W] are sign copies (|step| <= |b - a|)
-wire unused_step = &{1'b0, step[W+TW:W]};
+/* verilator lint_off UNUSEDSIGNAL */
+reg signed [W+TW:0] step;
+/* verilator lint_on UNUSEDSIGNAL */
+
+always @* begin
+    diff = b - a;                       // operands sign-extended to W+1 bits: exact
+    step = (diff * t) >>> P_FRAC;       // exact product: |diff * t| < 2^(W+TW)
+    // a + step lies between a and b, so the W-bit (mod 2^W) sum is exact
+    y    = a + step[W-1:0];
+end
 
 endmodule
 

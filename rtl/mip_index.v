@@ -11,6 +11,7 @@
 // Output use_mip: read mip (filter on, FILTER 2), else clut.
 // Latency 2 (outputs registered, not reset: an internal stage of colour_map, which
 // carries the valid bit); one vector per enabled clock.
+// Written for event-driven simulation speed: no reductions on per-clock signals.
 
 `default_nettype none
 
@@ -54,10 +55,15 @@ generate
                     lvl_c = i[NL_W-1:0];
         end
         assign lvl = lvl_c;
-        wire unused_w = &{1'b0, w_in[FF-1:0]};
+        /* verilator lint_off UNUSEDSIGNAL */
+        wire [FF-1:0] unused_w = w_in[FF-1:0];
+        /* verilator lint_on UNUSEDSIGNAL */
     end else begin : g_nolevel
         assign lvl = {NL_W{1'b0}};
-        wire unused_w = &{1'b0, w_in, filter_en};
+        /* verilator lint_off UNUSEDSIGNAL */
+        wire [W_W-1:0] unused_w = w_in;
+        wire           unused_filter_en = filter_en;
+        /* verilator lint_on UNUSEDSIGNAL */
     end
 endgenerate
 
@@ -78,7 +84,9 @@ always @(posedge clk) begin
 end
 
 // the fraction of u does not reach the table index
-wire unused_frac = &{1'b0, u_in[FF-1:0]};
+/* verilator lint_off UNUSEDSIGNAL */
+wire [FF-1:0] unused_frac = u_in[FF-1:0];
+/* verilator lint_on UNUSEDSIGNAL */
 
 // ---- stage 2: entry in level l, address
 wire signed [KU_W-1:0] kms = $signed(ku_reg) >>> lvl_reg;      // floor(u) >> l

@@ -9,6 +9,8 @@
 // All sums are taken mod 2^BW, exact because the results fit (BW >= P_FRAC + 2).
 // Latency: 0 (combinational; noise_term registers around it).
 // Cost: cubic two P_FRAC x P_FRAC unsigned multipliers in series; linear none.
+// Written for event-driven simulation speed: the body is one always @* with blocking
+// assigns (one evaluation per input change, no net-level arithmetic).
 
 `default_nettype none
 
@@ -18,28 +20,33 @@ module noise_blend #(
     parameter BW     = 14   // width of w and dw (`CFG_BLEND_W, >= P_FRAC + 2)
 ) (
     input  wire        [P_FRAC-1:0] fp,
-    output wire signed [BW-1:0]     w,
-    output wire signed [BW-1:0]     dw
+    output reg  signed [BW-1:0]     w,
+    output reg  signed [BW-1:0]     dw
 );
 
-wire [BW-1:0] fp_ext = {{(BW-P_FRAC){1'b0}}, fp};
+localparam [BW-1:0] ONE = {{(BW-P_FRAC-1){1'b0}}, 1'b1, {P_FRAC{1'b0}}};  // 1.0
 
 generate
     if (BLEND == 0) begin : g_linear
-        assign w  = fp_ext;
-        assign dw = {{(BW-P_FRAC-1){1'b0}}, 1'b1, {P_FRAC{1'b0}}};  // 1.0
+        always @* begin
+            w  = {{(BW-P_FRAC){1'b0}}, fp};
+            dw = ONE;
+        end
     end else begin : g_cubic
-        wire [2*P_FRAC-1:0] sq   = fp * fp;
-        wire [P_FRAC-1:0]   f2   = sq[2*P_FRAC-1:P_FRAC];
-        wire [2*P_FRAC-1:0] cube = f2 * fp;
-        wire [P_FRAC-1:0]   f3   = cube[2*P_FRAC-1:P_FRAC];
-        wire [BW-1:0]       f2_ext = {{(BW-P_FRAC){1'b0}}, f2};
-        wire [BW-1:0]       f3_ext = {{(BW-P_FRAC){1'b0}}, f3};
-        wire [BW-1:0]       slope  = fp_ext - f2_ext;  // fp >= f2
-        assign w  = (f2_ext << 1) + f2_ext - (f3_ext << 1);
-        assign dw = (slope << 2) + (slope << 1);
-        // the fraction bits dropped by the floor shifts
-        wire unused_frac = &{1'b0, sq[P_FRAC-1:0], cube[P_FRAC-1:0]};
+        // the fraction bits dropped by the floor shifts: sq, cube [P_FRAC-1:0]
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg [2*P_FRAC-1:0] sq, cube;
+        /* verilator lint_on UNUSEDSIGNAL */
+        reg [BW-1:0]       f2_ext, f3_ext, slope;
+        always @* begin
+            sq     = fp * fp;
+            f2_ext = {{(BW-P_FRAC){1'b0}}, sq[2*P_FRAC-1:P_FRAC]};
+            cube   = f2_ext[P_FRAC-1:0] * fp;
+            f3_ext = {{(BW-P_FRAC){1'b0}}, cube[2*P_FRAC-1:P_FRAC]};
+            slope  = {{(BW-P_FRAC){1'b0}}, fp} - f2_ext;      // fp >= f2
+            w      = (f2_ext << 1) + f2_ext - (f3_ext << 1);
+            dw     = (slope << 2) + (slope << 1);
+        end
     end
 endgenerate
 

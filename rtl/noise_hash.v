@@ -5,11 +5,14 @@
 //   h    = perm[perm[perm[x] ^ y] ^ z]          (perm: the configuration's permutation)
 //   v    = (h - 2^(H-1)) * 2^(N_FRAC - H + 1)   in [-1, 1)
 // The permutation comes from build/gen/<config>/perm_rom.vh (model/gen_rtl.py), a
-// constant function perm_lookup (a 2^H-entry ROM); no table is typed in here.
+// constant array perm_rom (a 2^H-entry ROM, read directly); no table is typed in here.
 // The first two hash levels are shared between corners: 2 + 4 + 8 = 14 lookups.
 // Formats: ix, iy, iz u{H}.0 (cell's low corner); v sN_W.N_FRAC, corner (i, j, k)
 // at element 4*i + 2*j + k of v_out (element 0 at the LSBs).
 // Latency: 0 (combinational: three ROM levels in series; noise_term registers it).
+// Written for event-driven simulation speed: the body is one always @* with blocking
+// assigns and direct ROM reads; the eight values are joined by one concatenation.
+// (always @* also lists the ROM words; they change only at time 0.)
 
 `default_nettype none
 
@@ -23,37 +26,49 @@ module noise_hash #(
     input  wire [H-1:0]       ix,
     input  wire [H-1:0]       iy,
     input  wire [H-1:0]       iz,
-    output wire [8*N_W-1:0]   v_out
+    output reg  [8*N_W-1:0]   v_out
 );
 
 `include "perm_rom.vh"
 
 localparam V_SHIFT = N_FRAC - H + 1;  // >= 0 (checked by model/config.py)
 
-// the two coordinates of each axis, {c + 1, c} (c + 1 wraps mod 2^H)
-wire [H-1:0] ix1 = ix + 1'b1;
-wire [H-1:0] iy1 = iy + 1'b1;
-wire [H-1:0] iz1 = iz + 1'b1;
-wire [2*H-1:0] xs = {ix1, ix};
-wire [2*H-1:0] ys = {iy1, iy};
-wire [2*H-1:0] zs = {iz1, iz};
+reg [H-1:0]   ix1, iy1, iz1;               // c + 1 (wraps mod 2^H)
+reg [H-1:0]   hx0, hx1;                    // first level, per x
+reg [H-1:0]   hxy00, hxy01, hxy10, hxy11;  // second level, per (x, y)
+reg [H-1:0]   h;                           // third level, per corner
+reg [N_W-1:0] v000, v001, v010, v011, v100, v101, v110, v111;
 
-genvar gi, gj, gk;
-generate
-    for (gi = 0; gi < 2; gi = gi + 1) begin : g_x
-        wire [H-1:0] hx = perm_lookup(xs[gi*H +: H]);
-        for (gj = 0; gj < 2; gj = gj + 1) begin : g_y
-            wire [H-1:0] hxy = perm_lookup(hx ^ ys[gj*H +: H]);
-            for (gk = 0; gk < 2; gk = gk + 1) begin : g_z
-                wire [H-1:0]          h  = perm_lookup(hxy ^ zs[gk*H +: H]);
-                // h - 2^(H-1) as an H-bit two's-complement word: invert the MSB
-                wire signed [H-1:0]   hc = {~h[H-1], h[H-2:0]};
-                wire signed [N_W-1:0] hv = {{(N_W-H){hc[H-1]}}, hc};  // sign-extended
-                assign v_out[(4*gi + 2*gj + gk)*N_W +: N_W] = hv <<< V_SHIFT;
-            end
-        end
-    end
-endgenerate
+// corner value of h: h - 2^(H-1) as an H-bit two's-complement word (the MSB inverted),
+// sign-extended to N_W bits and scaled by 2^V_SHIFT
+always @* begin
+    ix1   = ix + 1'b1;
+    iy1   = iy + 1'b1;
+    iz1   = iz + 1'b1;
+    hx0   = perm_rom[ix];
+    hx1   = perm_rom[ix1];
+    hxy00 = perm_rom[hx0 ^ iy];
+    hxy01 = perm_rom[hx0 ^ iy1];
+    hxy10 = perm_rom[hx1 ^ iy];
+    hxy11 = perm_rom[hx1 ^ iy1];
+    h     = perm_rom[hxy00 ^ iz];
+    v000  = {{(N_W-H+1){~h[H-1]}}, h[H-2:0]} << V_SHIFT;
+    h     = perm_rom[hxy00 ^ iz1];
+    v001  = {{(N_W-H+1){~h[H-1]}}, h[H-2:0]} << V_SHIFT;
+    h     = perm_rom[hxy01 ^ iz];
+    v010  = {{(N_W-H+1){~h[H-1]}}, h[H-2:0]} << V_SHIFT;
+    h     = perm_rom[hxy01 ^ iz1];
+    v011  = {{(N_W-H+1){~h[H-1]}}, h[H-2:0]} << V_SHIFT;
+    h     = perm_rom[hxy10 ^ iz];
+    v100  = {{(N_W-H+1){~h[H-1]}}, h[H-2:0]} << V_SHIFT;
+    h     = perm_rom[hxy10 ^ iz1];
+    v101  = {{(N_W-H+1){~h[H-1]}}, h[H-2:0]} << V_SHIFT;
+    h     = perm_rom[hxy11 ^ iz];
+    v110  = {{(N_W-H+1){~h[H-1]}}, h[H-2:0]} << V_SHIFT;
+    h     = perm_rom[hxy11 ^ iz1];
+    v111  = {{(N_W-H+1){~h[H-1]}}, h[H-2:0]} << V_SHIFT;
+    v_out = {v111, v110, v101, v100, v011, v010, v001, v000};
+end
 
 endmodule
 

@@ -64,8 +64,16 @@
 //
 // Multipliers per term (affine, cubic, any amplitude, gradient): 9 T s + 6 blend +
 // 7 value lerps + 4 gradient lerps + 3 slopes + 9 g T + 1 a n + 3 a h = 42; pow2 T,
-// linear, any amplitude: 7 + 4 + 1 + 3 = 15; pow2 T, linear, pow2 amplitude (reduced):
-// 7 + 4 = 11 (the lerps only).
+// linear, any amplitude: 7 + 4 + 1 + 3 = 15; pow2 T, linear, pow2 amplitude: 7 + 4 = 11
+// (the lerps only); without the gradient (reduced: pow2 T, linear, pow2 amplitude) the 7
+// value lerps alone.
+//
+// Written for event-driven simulation speed: each stage's combinational logic is one
+// always @* with blocking assigns to local regs (or a lerp / noise_hash / noise_blend
+// instance, each one always @* inside), every instance output and every register an
+// instance reads is its own variable (no bus driven piecewise, no port on a part-select),
+// and the registers load in two clocked processes (value path with the valid chain;
+// gradient).
 
 `default_nettype none
 
@@ -119,12 +127,16 @@ localparam ACC_W    = TS_SHIFT + P_W;       // T s mod 2^ACC_W decides p
 localparam MUL_W    = (ACC_W > T_W) ? ((ACC_W > S_W) ? ACC_W : S_W) : ((T_W > S_W) ? T_W : S_W);
 localparam NPROD    = AFFINE ? 9 : 3;       // transform products per vector
 localparam E_W      = $clog2(T_W - 1);      // pow2 shift amount 0..T_W-2
-localparam TC_W     = AFFINE ? 9*T_W : 3*(E_W + 1);  // T as the gradient stage reads it
+localparam TC_W     = AFFINE ? 9*T_W : 3*(E_W + 1);  // T as stages 1 and 7 read it
 // h: sum of three g T products, then the shift; ag and an likewise
 localparam HS_W     = GN_W + T_W + 2;
 localparam HX_W     = HS_W + ((H_SHIFT < 0) ? -H_SHIFT : 0);
 localparam ANP_W    = A_W + N_W;
 localparam ANX_W    = ANP_W + ((AN_SHIFT < 0) ? -AN_SHIFT : 0);
+localparam H_R      = (H_SHIFT > 0) ? H_SHIFT : 0;     // h: floor shift right by H_SHIFT,
+localparam H_L      = (H_SHIFT < 0) ? -H_SHIFT : 0;    //    or left by -H_SHIFT
+localparam AN_R     = (AN_SHIFT > 0) ? AN_SHIFT : 0;   // an likewise
+localparam AN_L     = (AN_SHIFT < 0) ? -AN_SHIFT : 0;
 localparam AGP_W    = A_W + H_W;
 localparam EA_W     = $clog2(A_W);          // pow2 amplitude shift 0..A_W-1
 localparam AC_W     = AMP_POW2 ? EA_W + 2 : A_W;   // a as stage 8 reads it
@@ -136,468 +148,463 @@ generate
     end
 endgenerate
 
-genvar gj, gk;
-
-// ---------------------------------------------------------------------------
-// Valid chain
-
-reg [STAGES-1:0] valid_reg;
-always @(posedge clk) begin
-    if (rst) begin
-        valid_reg <= {STAGES{1'b0}};
-    end else if (ce) begin
-        valid_reg <= {valid_reg[STAGES-2:0], in_valid};
-    end
-end
-assign out_valid = valid_reg[STAGES-1];
-
 // ---------------------------------------------------------------------------
 // Parameters, stable for the whole pass (see the contract in the header): read
-// directly where needed, not pipelined
+// directly where needed, not pipelined. The decoders below change only when the
+// parameters do (between passes).
 
 wire [AC_W-1:0] ac_in;              // a as stage 8 needs it (any: a; pow2: {zero, neg, e})
-wire [TC_W-1:0] tc_in;              // T as the gradient stage (7) needs it
+// T as stages 1 and 7 need it (affine: T; pow2: {zero, e} per diagonal entry, entry j
+// at element j); without the gradient, affine stage 1 reads t_in and this is unused
+/* verilator lint_off UNUSEDSIGNAL */
+wire [TC_W-1:0] tc_in;
+/* verilator lint_on UNUSEDSIGNAL */
 
 generate
     if (AMP_POW2) begin : g_a_pow2
         // a = 2^e has bit e alone set, a = -2^e bits e..A_W-1 (-2^(A_W-1): bit A_W-1
         // alone): either way e is the lowest set bit, and neg the sign bit
-        wire                zero = (a_in == {A_W{1'b0}});
-        reg     [EA_W-1:0]  e;
-        integer             i;
-        // priority encoder: the lowest set bit of a (0 when a = 0)
+        reg [AC_W-1:0] ac;
+        reg [EA_W-1:0] e;
+        integer        i;
         always @* begin
+            // priority encoder: the lowest set bit of a (0 when a = 0)
             e = {EA_W{1'b0}};
             for (i = A_W - 1; i >= 0; i = i - 1) begin
                 if (a_in[i]) e = i[EA_W-1:0];
             end
+            ac = {a_in == {A_W{1'b0}}, a_in[A_W-1], e};
         end
-        assign ac_in = {zero, a_in[A_W-1], e};
+        assign ac_in = ac;
     end else begin : g_a_any
         assign ac_in = a_in;
     end
-endgenerate
 
-// ---------------------------------------------------------------------------
-// Stage 1: transform products (mod 2^ACC_W)
-
-reg  [NPROD*ACC_W-1:0] prod_reg;
-wire [NPROD*ACC_W-1:0] prod_next;
-
-generate
-    if (AFFINE) begin : g_s1_affine
-        for (gj = 0; gj < 3; gj = gj + 1) begin : g_row
-            for (gk = 0; gk < 3; gk = gk + 1) begin : g_col
-                wire signed [T_W-1:0]   t_jk = t_in[(3*gj + gk)*T_W +: T_W];
-                wire signed [S_W-1:0]   s_k  = s_in[gk*S_W +: S_W];
-                // operands sign-extended to MUL_W: the low MUL_W bits of the product
-                wire signed [MUL_W-1:0] prod = t_jk * s_k;
-                assign prod_next[(3*gj + gk)*ACC_W +: ACC_W] = prod[ACC_W-1:0];
-                if (MUL_W > ACC_W) begin : g_unused
-                    // above bit ACC_W the product does not reach p (p wraps mod 2^P_W)
-                    wire unused_prod = &{1'b0, prod[MUL_W-1:ACC_W]};
-                end
-            end
-        end
+    if (AFFINE) begin : g_t_affine
         assign tc_in = t_in;
-    end else begin : g_s1_pow2
-        for (gj = 0; gj < 3; gj = gj + 1) begin : g_diag
-            wire signed [T_W-1:0]   t_jj = t_in[(4*gj)*T_W +: T_W];
-            wire                    zero = (t_jj == {T_W{1'b0}});
-            reg         [E_W-1:0]   e;
-            integer                 i;
-            // priority encoder: the highest set bit of T_jj (T_jj = 2^e by construction)
-            always @* begin
-                e = {E_W{1'b0}};
+    end else begin : g_t_pow2
+        // T_jj = 2^e: e is the highest set bit of T_jj below the sign (0 when T_jj = 0)
+        reg [TC_W-1:0]        tc;
+        reg signed [T_W-1:0]  t_jj;
+        reg [E_W-1:0]         e;
+        integer               i, j;
+        always @* begin
+            tc = {TC_W{1'b0}};
+            for (j = 0; j < 3; j = j + 1) begin
+                t_jj = t_in[(4*j)*T_W +: T_W];
+                e    = {E_W{1'b0}};
                 for (i = 0; i < T_W - 1; i = i + 1) begin
                     if (t_jj[i]) e = i[E_W-1:0];
                 end
+                tc[j*(E_W+1) +: E_W+1] = {t_jj == {T_W{1'b0}}, e};
             end
-            wire signed [S_W-1:0]   s_j  = s_in[gj*S_W +: S_W];
-            // sign-extended to MUL_W + 1 bits (>= ACC_W + 1)
-            wire signed [MUL_W:0]   s_ext = {{(MUL_W+1-S_W){s_j[S_W-1]}}, s_j};
-            wire signed [MUL_W:0]   shl  = s_ext <<< e;   // T_jj s_j mod 2^(MUL_W+1)
-            assign prod_next[gj*ACC_W +: ACC_W] = zero ? {ACC_W{1'b0}} : shl[ACC_W-1:0];
-            assign tc_in[gj*(E_W+1) +: E_W+1] = {zero, e};
-            // above bit ACC_W the product does not reach p (p wraps mod 2^P_W)
-            wire unused_shl = &{1'b0, shl[MUL_W:ACC_W]};
         end
+        assign tc_in = tc;
         // the quantizer guarantees a diagonal T: the off-diagonal entries are not read
-        wire unused_offdiag = &{1'b0, t_in[1*T_W +: 3*T_W], t_in[5*T_W +: 3*T_W]};
+        /* verilator lint_off UNUSEDSIGNAL */
+        wire [6*T_W-1:0] t_offdiag = {t_in[5*T_W +: 3*T_W], t_in[1*T_W +: 3*T_W]};
+        /* verilator lint_on UNUSEDSIGNAL */
     end
 endgenerate
 
-always @(posedge clk) begin
-    if (ce) begin
-        prod_reg <= prod_next;
-    end
-end
+// ---------------------------------------------------------------------------
+// Registers (stage numbers as in the header), loaded by the clocked process at the
+// end; the stage logic is one always @* (or instance) per stage.
+
+reg [STAGES-1:0]        valid_reg;
+reg [NPROD*ACC_W-1:0]   prod_reg;               // 1: T_jk s_k at element 3*j + k (pow2: T_jj s_j at j)
+reg [HB-1:0]            ix_reg, iy_reg, iz_reg;     // 2: cell
+reg [P_FRAC-1:0]        fpx_reg, fpy_reg, fpz_reg;  //    fraction
+reg signed [N_W-1:0]    v000_reg, v001_reg, v010_reg, v011_reg;   // 3: corner (i, j, k) values
+reg signed [N_W-1:0]    v100_reg, v101_reg, v110_reg, v111_reg;
+reg signed [BW-1:0]     wx_reg, wy_reg, wz_reg;     //    weights
+reg signed [N_W-1:0]    e00_reg, e01_reg, e10_reg, e11_reg;       // 4: e[j][k]
+reg signed [BW-1:0]     wy4_reg, wz4_reg;
+reg signed [N_W-1:0]    fz0_reg, fz1_reg;           // 5: fz[k]
+reg signed [BW-1:0]     wz5_reg;
+reg signed [N_W-1:0]    n_reg;                      // 6
+reg signed [N_W-1:0]    n7_reg;                     // 7
+reg [AN_W-1:0]          an_reg;                     // 8 (output)
+
+assign out_valid = valid_reg[STAGES-1];
+assign an_out    = an_reg;
 
 // ---------------------------------------------------------------------------
+// Stage 1: transform products (mod 2^ACC_W)
 // Stage 2: p = (T s >> TS_SHIFT) + o mod 2^P_W -> cell and fraction
 
-reg [3*HB-1:0]     ip_reg;
-reg [3*P_FRAC-1:0] fp_reg;
+reg [NPROD*ACC_W-1:0]   prod_next;
+reg [HB-1:0]            ix_next, iy_next, iz_next;
+reg [P_FRAC-1:0]        fpx_next, fpy_next, fpz_next;
 
 generate
-    for (gj = 0; gj < 3; gj = gj + 1) begin : g_s2
-        wire [ACC_W-1:0] acc;
-        if (AFFINE) begin : g_sum
-            assign acc = prod_reg[(3*gj)*ACC_W +: ACC_W] + prod_reg[(3*gj + 1)*ACC_W +: ACC_W]
-                       + prod_reg[(3*gj + 2)*ACC_W +: ACC_W];
-        end else begin : g_diag
-            assign acc = prod_reg[gj*ACC_W +: ACC_W];
+    if (AFFINE) begin : g_s12_affine
+        // T_jk s_k mod 2^ACC_W: the low ACC_W bits of the product of the sign-extended
+        // operands; above bit ACC_W the product does not reach p (p wraps mod 2^P_W)
+        always @* begin
+            prod_next[0*ACC_W +: ACC_W] = $signed(t_in[0*T_W +: T_W]) * $signed(s_in[0*S_W +: S_W]);
+            prod_next[1*ACC_W +: ACC_W] = $signed(t_in[1*T_W +: T_W]) * $signed(s_in[1*S_W +: S_W]);
+            prod_next[2*ACC_W +: ACC_W] = $signed(t_in[2*T_W +: T_W]) * $signed(s_in[2*S_W +: S_W]);
+            prod_next[3*ACC_W +: ACC_W] = $signed(t_in[3*T_W +: T_W]) * $signed(s_in[0*S_W +: S_W]);
+            prod_next[4*ACC_W +: ACC_W] = $signed(t_in[4*T_W +: T_W]) * $signed(s_in[1*S_W +: S_W]);
+            prod_next[5*ACC_W +: ACC_W] = $signed(t_in[5*T_W +: T_W]) * $signed(s_in[2*S_W +: S_W]);
+            prod_next[6*ACC_W +: ACC_W] = $signed(t_in[6*T_W +: T_W]) * $signed(s_in[0*S_W +: S_W]);
+            prod_next[7*ACC_W +: ACC_W] = $signed(t_in[7*T_W +: T_W]) * $signed(s_in[1*S_W +: S_W]);
+            prod_next[8*ACC_W +: ACC_W] = $signed(t_in[8*T_W +: T_W]) * $signed(s_in[2*S_W +: S_W]);
         end
-        wire [P_W-1:0] p = acc[ACC_W-1:TS_SHIFT] + o_in[gj*O_W +: P_W];
-        if (TS_SHIFT > 0) begin : g_unused
-            // the fraction dropped by the floor shift
-            wire unused_acc = &{1'b0, acc[TS_SHIFT-1:0]};
+        // the fraction dropped by the floor shift: acc[TS_SHIFT-1:0]
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg [ACC_W-1:0] ax, ay, az;
+        /* verilator lint_on UNUSEDSIGNAL */
+        always @* begin
+            ax = prod_reg[0*ACC_W +: ACC_W] + prod_reg[1*ACC_W +: ACC_W] + prod_reg[2*ACC_W +: ACC_W];
+            ay = prod_reg[3*ACC_W +: ACC_W] + prod_reg[4*ACC_W +: ACC_W] + prod_reg[5*ACC_W +: ACC_W];
+            az = prod_reg[6*ACC_W +: ACC_W] + prod_reg[7*ACC_W +: ACC_W] + prod_reg[8*ACC_W +: ACC_W];
+            {ix_next, fpx_next} = ax[ACC_W-1:TS_SHIFT] + o_in[0*O_W +: P_W];   // p mod 2^P_W
+            {iy_next, fpy_next} = ay[ACC_W-1:TS_SHIFT] + o_in[1*O_W +: P_W];
+            {iz_next, fpz_next} = az[ACC_W-1:TS_SHIFT] + o_in[2*O_W +: P_W];
         end
-        always @(posedge clk) begin
-            if (ce) begin
-                ip_reg[gj*HB +: HB]         <= p[P_W-1:P_FRAC];
-                fp_reg[gj*P_FRAC +: P_FRAC] <= p[P_FRAC-1:0];
-            end
+    end else begin : g_s12_pow2
+        // T_jj s_j = s_j << e_j, or 0: s_j sign-extended to MUL_W + 1 bits (>= ACC_W + 1);
+        // above bit ACC_W the product does not reach p (p wraps mod 2^P_W)
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg signed [MUL_W:0]   shl;
+        /* verilator lint_on UNUSEDSIGNAL */
+        reg signed [S_W-1:0]   s_j;
+        always @* begin
+            s_j = s_in[0*S_W +: S_W];
+            shl = {{(MUL_W+1-S_W){s_j[S_W-1]}}, s_j} <<< tc_in[0*(E_W+1) +: E_W];
+            prod_next[0*ACC_W +: ACC_W] = tc_in[0*(E_W+1) + E_W] ? {ACC_W{1'b0}} : shl[ACC_W-1:0];
+            s_j = s_in[1*S_W +: S_W];
+            shl = {{(MUL_W+1-S_W){s_j[S_W-1]}}, s_j} <<< tc_in[1*(E_W+1) +: E_W];
+            prod_next[1*ACC_W +: ACC_W] = tc_in[1*(E_W+1) + E_W] ? {ACC_W{1'b0}} : shl[ACC_W-1:0];
+            s_j = s_in[2*S_W +: S_W];
+            shl = {{(MUL_W+1-S_W){s_j[S_W-1]}}, s_j} <<< tc_in[2*(E_W+1) +: E_W];
+            prod_next[2*ACC_W +: ACC_W] = tc_in[2*(E_W+1) + E_W] ? {ACC_W{1'b0}} : shl[ACC_W-1:0];
+        end
+        // the fraction dropped by the floor shift: acc[TS_SHIFT-1:0]
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg [ACC_W-1:0] ax, ay, az;
+        /* verilator lint_on UNUSEDSIGNAL */
+        always @* begin
+            ax = prod_reg[0*ACC_W +: ACC_W];
+            ay = prod_reg[1*ACC_W +: ACC_W];
+            az = prod_reg[2*ACC_W +: ACC_W];
+            {ix_next, fpx_next} = ax[ACC_W-1:TS_SHIFT] + o_in[0*O_W +: P_W];   // p mod 2^P_W
+            {iy_next, fpy_next} = ay[ACC_W-1:TS_SHIFT] + o_in[1*O_W +: P_W];
+            {iz_next, fpz_next} = az[ACC_W-1:TS_SHIFT] + o_in[2*O_W +: P_W];
         end
     end
 endgenerate
 
 // ---------------------------------------------------------------------------
-// Stage 3: lattice values at the 8 corners; blend weights and slopes
+// Stage 3: lattice values at the 8 corners (corner (i, j, k) at element 4*i + 2*j + k);
+// blend weights w and slopes dw (the slopes only feed the gradient)
 
-reg [8*N_W-1:0] v_reg;     // corner (i, j, k) at element 4*i + 2*j + k
-reg [3*BW-1:0]  w_reg;     // weights x, y, z
-wire [8*N_W-1:0] v_next;
-wire [3*BW-1:0]  w_next;
-wire [3*BW-1:0]  dw_next;
+wire [8*N_W-1:0]     v_next;
+wire signed [BW-1:0] wx_next, wy_next, wz_next;
+/* verilator lint_off UNUSEDSIGNAL */
+wire signed [BW-1:0] dwx_next, dwy_next, dwz_next;
+/* verilator lint_on UNUSEDSIGNAL */
 
 noise_hash u_hash (
-    .ix(ip_reg[0 +: HB]),
-    .iy(ip_reg[HB +: HB]),
-    .iz(ip_reg[2*HB +: HB]),
+    .ix(ix_reg),
+    .iy(iy_reg),
+    .iz(iz_reg),
     .v_out(v_next)
 );
 
-generate
-    for (gj = 0; gj < 3; gj = gj + 1) begin : g_blend
-        noise_blend #(
-            .BLEND(`CFG_BLEND),
-            .P_FRAC(P_FRAC),
-            .BW(BW)
-        ) u_blend (
-            .fp(fp_reg[gj*P_FRAC +: P_FRAC]),
-            .w(w_next[gj*BW +: BW]),
-            .dw(dw_next[gj*BW +: BW])
-        );
-    end
-endgenerate
-
-always @(posedge clk) begin
-    if (ce) begin
-        v_reg <= v_next;
-        w_reg <= w_next;
-    end
-end
-
-wire signed [BW-1:0] wx = w_reg[0 +: BW];
-wire signed [BW-1:0] wy = w_reg[BW +: BW];
-wire signed [BW-1:0] wz = w_reg[2*BW +: BW];
+noise_blend #(.BLEND(`CFG_BLEND), .P_FRAC(P_FRAC), .BW(BW)) u_blend_x (
+    .fp(fpx_reg), .w(wx_next), .dw(dwx_next)
+);
+noise_blend #(.BLEND(`CFG_BLEND), .P_FRAC(P_FRAC), .BW(BW)) u_blend_y (
+    .fp(fpy_reg), .w(wy_next), .dw(dwy_next)
+);
+noise_blend #(.BLEND(`CFG_BLEND), .P_FRAC(P_FRAC), .BW(BW)) u_blend_z (
+    .fp(fpz_reg), .w(wz_next), .dw(dwz_next)
+);
 
 // ---------------------------------------------------------------------------
 // Stage 4: x lerps e[j][k] = lerp(v0jk, v1jk, wx)
 
-reg  [4*N_W-1:0] e_reg;    // e[j][k] at element 2*j + k
-reg  [2*BW-1:0]  w4_reg;   // {wz, wy}
-wire [4*N_W-1:0] e_next;
+wire signed [N_W-1:0] e00_next, e01_next, e10_next, e11_next;
 
-generate
-    for (gj = 0; gj < 4; gj = gj + 1) begin : g_lerp_x
-        lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp (
-            .a(v_reg[gj*N_W +: N_W]),
-            .b(v_reg[(4 + gj)*N_W +: N_W]),
-            .t(wx),
-            .y(e_next[gj*N_W +: N_W])
-        );
-    end
-endgenerate
-
-always @(posedge clk) begin
-    if (ce) begin
-        e_reg  <= e_next;
-        w4_reg <= {wz, wy};
-    end
-end
-
-wire signed [BW-1:0] wy4 = w4_reg[0 +: BW];
-wire signed [BW-1:0] wz4 = w4_reg[BW +: BW];
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_x00 (
+    .a(v000_reg), .b(v100_reg), .t(wx_reg), .y(e00_next)
+);
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_x01 (
+    .a(v001_reg), .b(v101_reg), .t(wx_reg), .y(e01_next)
+);
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_x10 (
+    .a(v010_reg), .b(v110_reg), .t(wx_reg), .y(e10_next)
+);
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_x11 (
+    .a(v011_reg), .b(v111_reg), .t(wx_reg), .y(e11_next)
+);
 
 // ---------------------------------------------------------------------------
 // Stage 5: y lerps fz[k] = lerp(e0k, e1k, wy)
 
-reg  [2*N_W-1:0] fz_reg;
-reg  [BW-1:0]    wz5_reg;
-wire [2*N_W-1:0] fz_next;
+wire signed [N_W-1:0] fz0_next, fz1_next;
 
-generate
-    for (gk = 0; gk < 2; gk = gk + 1) begin : g_lerp_y
-        lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp (
-            .a(e_reg[gk*N_W +: N_W]),
-            .b(e_reg[(2 + gk)*N_W +: N_W]),
-            .t(wy4),
-            .y(fz_next[gk*N_W +: N_W])
-        );
-    end
-endgenerate
-
-always @(posedge clk) begin
-    if (ce) begin
-        fz_reg  <= fz_next;
-        wz5_reg <= wz4;
-    end
-end
-
-wire signed [BW-1:0]  wz5 = wz5_reg;
-wire signed [N_W-1:0] fz0 = fz_reg[0 +: N_W];
-wire signed [N_W-1:0] fz1 = fz_reg[N_W +: N_W];
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_y0 (
+    .a(e00_reg), .b(e10_reg), .t(wy4_reg), .y(fz0_next)
+);
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_y1 (
+    .a(e01_reg), .b(e11_reg), .t(wy4_reg), .y(fz1_next)
+);
 
 // ---------------------------------------------------------------------------
 // Stage 6: z lerp n = lerp(fz0, fz1, wz)
-
-reg  [N_W-1:0] n_reg;
-wire [N_W-1:0] n_next;
-
-lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_z (
-    .a(fz0),
-    .b(fz1),
-    .t(wz5),
-    .y(n_next)
-);
-
-always @(posedge clk) begin
-    if (ce) n_reg <= n_next;
-end
-
-// ---------------------------------------------------------------------------
 // Stage 7: n delayed (the gradient's h is computed here)
 
-reg [N_W-1:0] n7_reg;
-always @(posedge clk) begin
-    if (ce) n7_reg <= n_reg;
-end
+wire signed [N_W-1:0] n_next;
+
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_z (
+    .a(fz0_reg), .b(fz1_reg), .t(wz5_reg), .y(n_next)
+);
 
 // ---------------------------------------------------------------------------
 // Stage 8: an = (a n) >> AN_SHIFT (output register)
 
-wire signed [N_W-1:0]   n8 = n7_reg;
-wire signed [ANX_W-1:0] an_prod;              // a n, exact: A_W + N_W bits
-wire signed [ANX_W-1:0] an_sh;
+reg [AN_W-1:0] an_next;
+
 generate
     if (AMP_POW2) begin : g_an_pow2
-        // a n = sign(a) n << e (0 when a = 0)
-        wire                    zero  = ac_in[EA_W + 1];
-        wire                    neg   = ac_in[EA_W];
-        wire        [EA_W-1:0]  e     = ac_in[EA_W-1:0];
-        wire signed [N_W:0]     n_ext = {n8[N_W-1], n8};
-        wire signed [N_W:0]     n_sgn = zero ? {(N_W+1){1'b0}} : (neg ? -n_ext : n_ext);
-        wire signed [ANX_W-1:0] n_sx  = {{(ANX_W-N_W-1){n_sgn[N_W]}}, n_sgn};
-        assign an_prod = n_sx <<< e;
+        // a n = sign(a) n << e (0 when a = 0); an fits AN_W bits (model/config.py
+        // bound), the rest of the word are sign copies
+        reg signed [N_W:0]      n_ext;
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg signed [ANX_W-1:0]  an_w;
+        /* verilator lint_on UNUSEDSIGNAL */
+        always @* begin
+            n_ext = {n7_reg[N_W-1], n7_reg};  // sign-extended: even the most negative word negates
+            n_ext = ac_in[EA_W + 1] ? {(N_W+1){1'b0}} : (ac_in[EA_W] ? -n_ext : n_ext);
+            an_w  = (({{(ANX_W-N_W-1){n_ext[N_W]}}, n_ext} <<< ac_in[EA_W-1:0]) <<< AN_L) >>> AN_R;
+            an_next = an_w[AN_W-1:0];
+        end
     end else begin : g_an_any
-        wire signed [A_W-1:0] a_s = ac_in;
-        assign an_prod = a_s * n8;
-    end
-    if (AN_SHIFT >= 0) begin : g_an_r
-        assign an_sh = an_prod >>> AN_SHIFT;
-    end else begin : g_an_l
-        assign an_sh = an_prod <<< (-AN_SHIFT);
-    end
-    if (ANX_W > AN_W) begin : g_an_unused
-        // an fits AN_W bits (model/config.py bound); the rest are sign copies
-        wire unused_an = &{1'b0, an_sh[ANX_W-1:AN_W]};
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg signed [ANX_W-1:0]  an_w;
+        /* verilator lint_on UNUSEDSIGNAL */
+        always @* begin
+            an_w  = (($signed(ac_in) * n7_reg) <<< AN_L) >>> AN_R;
+            an_next = an_w[AN_W-1:0];
+        end
     end
 endgenerate
 
-reg [AN_W-1:0] an_reg;
+// ---------------------------------------------------------------------------
+// Value path registers and the valid chain: one clocked process. ce = 0 holds
+// every register; rst clears the valid chain and the output register.
+
 always @(posedge clk) begin
+    if (ce) begin
+        prod_reg <= prod_next;
+        ix_reg   <= ix_next;
+        iy_reg   <= iy_next;
+        iz_reg   <= iz_next;
+        fpx_reg  <= fpx_next;
+        fpy_reg  <= fpy_next;
+        fpz_reg  <= fpz_next;
+        v000_reg <= v_next[0*N_W +: N_W];
+        v001_reg <= v_next[1*N_W +: N_W];
+        v010_reg <= v_next[2*N_W +: N_W];
+        v011_reg <= v_next[3*N_W +: N_W];
+        v100_reg <= v_next[4*N_W +: N_W];
+        v101_reg <= v_next[5*N_W +: N_W];
+        v110_reg <= v_next[6*N_W +: N_W];
+        v111_reg <= v_next[7*N_W +: N_W];
+        wx_reg   <= wx_next;
+        wy_reg   <= wy_next;
+        wz_reg   <= wz_next;
+        e00_reg  <= e00_next;
+        e01_reg  <= e01_next;
+        e10_reg  <= e10_next;
+        e11_reg  <= e11_next;
+        wy4_reg  <= wy_reg;
+        wz4_reg  <= wz_reg;
+        fz0_reg  <= fz0_next;
+        fz1_reg  <= fz1_next;
+        wz5_reg  <= wz4_reg;
+        n_reg    <= n_next;
+        n7_reg   <= n_reg;
+    end
     if (rst) begin
-        an_reg <= {AN_W{1'b0}};
-    end else if (ce && valid_reg[STAGES-2]) begin
-        an_reg <= an_sh[AN_W-1:0];
+        valid_reg <= {STAGES{1'b0}};
+        an_reg    <= {AN_W{1'b0}};
+    end else if (ce) begin
+        valid_reg <= {valid_reg[STAGES-2:0], in_valid};
+        if (valid_reg[STAGES-2]) an_reg <= an_next;
     end
 end
-assign an_out = an_reg;
 
 // ---------------------------------------------------------------------------
-// Gradient: stages 4..8 beside the value path
+// Gradient: stages 3..8 beside the value path (its own registers and clocked process)
 
 generate
     if (GRAD) begin : g_grad
-        // slopes dw delayed to stage 6 (cubic only; linear: dw = 1, unused)
-        reg  [3*BW-1:0] dw3_reg, dw4_reg, dw5_reg;
-        always @(posedge clk) begin
-            if (ce) begin
-                dw3_reg <= dw_next;
-                dw4_reg <= dw3_reg;
-                dw5_reg <= dw4_reg;
-            end
-        end
+        reg [3*BW-1:0]        dw3_reg, dw4_reg, dw5_reg;  // slopes {z, y, x} delayed to stage 6
+        reg signed [D_W-1:0]  dxy0_reg, dxy1_reg;         // 4
+        reg signed [D_W-1:0]  gxl_reg, gyl_reg;           // 5
+        reg signed [GN_W-1:0] gx_reg, gy_reg, gz_reg;     // 6
+        reg [3*H_W-1:0]       h_reg;                      // 7: h_k at element k
+        reg [3*AG_W-1:0]      ag_reg;                     // 8 (outputs)
 
         // stage 4: dx[j][k] = v1jk - v0jk; dxy[k] = lerp(dx0k, dx1k, wy)
-        wire [4*D_W-1:0] dx;
-        for (gj = 0; gj < 4; gj = gj + 1) begin : g_dx
-            wire        [N_W-1:0] v0_w = v_reg[gj*N_W +: N_W];
-            wire        [N_W-1:0] v1_w = v_reg[(4 + gj)*N_W +: N_W];
-            wire signed [D_W-1:0] v0 = {v0_w[N_W-1], v0_w};   // sign-extended
-            wire signed [D_W-1:0] v1 = {v1_w[N_W-1], v1_w};
-            assign dx[gj*D_W +: D_W] = v1 - v0;
+        reg signed [D_W-1:0]  dx00, dx01, dx10, dx11;
+        always @* begin
+            dx00 = v100_reg - v000_reg;     // operands sign-extended to D_W bits: exact
+            dx01 = v101_reg - v001_reg;
+            dx10 = v110_reg - v010_reg;
+            dx11 = v111_reg - v011_reg;
         end
-        wire [2*D_W-1:0] dxy_next;
-        reg  [2*D_W-1:0] dxy_reg;
-        for (gk = 0; gk < 2; gk = gk + 1) begin : g_dxy
-            lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp (
-                .a(dx[gk*D_W +: D_W]),
-                .b(dx[(2 + gk)*D_W +: D_W]),
-                .t(wy),
-                .y(dxy_next[gk*D_W +: D_W])
-            );
-        end
-        always @(posedge clk) begin
-            if (ce) dxy_reg <= dxy_next;
-        end
+        wire signed [D_W-1:0] dxy0_next, dxy1_next;
+        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_dxy0 (
+            .a(dx00), .b(dx10), .t(wy_reg), .y(dxy0_next)
+        );
+        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_dxy1 (
+            .a(dx01), .b(dx11), .t(wy_reg), .y(dxy1_next)
+        );
 
         // stage 5: gxl = lerp(dxy0, dxy1, wz); gyl = lerp(e10 - e00, e11 - e01, wz)
-        wire [D_W-1:0] gxl_next, gyl_next;
-        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_gx (
-            .a(dxy_reg[0 +: D_W]),
-            .b(dxy_reg[D_W +: D_W]),
-            .t(wz4),
-            .y(gxl_next)
-        );
-        wire [2*D_W-1:0] ey;
-        for (gk = 0; gk < 2; gk = gk + 1) begin : g_ey
-            wire        [N_W-1:0] e0_w = e_reg[gk*N_W +: N_W];
-            wire        [N_W-1:0] e1_w = e_reg[(2 + gk)*N_W +: N_W];
-            wire signed [D_W-1:0] e0 = {e0_w[N_W-1], e0_w};   // sign-extended
-            wire signed [D_W-1:0] e1 = {e1_w[N_W-1], e1_w};
-            assign ey[gk*D_W +: D_W] = e1 - e0;
+        reg signed [D_W-1:0]  ey0, ey1;
+        always @* begin
+            ey0 = e10_reg - e00_reg;        // operands sign-extended to D_W bits: exact
+            ey1 = e11_reg - e01_reg;
         end
-        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_gy (
-            .a(ey[0 +: D_W]),
-            .b(ey[D_W +: D_W]),
-            .t(wz4),
-            .y(gyl_next)
+        wire signed [D_W-1:0] gxl_next, gyl_next;
+        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_gx (
+            .a(dxy0_reg), .b(dxy1_reg), .t(wz4_reg), .y(gxl_next)
         );
-        reg [D_W-1:0] gxl_reg, gyl_reg;
+        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC)) u_lerp_gy (
+            .a(ey0), .b(ey1), .t(wz4_reg), .y(gyl_next)
+        );
+
+        // stage 6: g_j = (gl_j dw_j) >> P_FRAC, gl_z = fz1 - fz0 (linear: dw = 1, g = gl)
+        reg signed [D_W-1:0]  glz;
+        reg signed [GN_W-1:0] gx_next, gy_next, gz_next;
+        if (CUBIC) begin : g_cubic
+            // |g| <= 3 * 2^N_FRAC fits GN_W bits; the rest of sh are sign copies
+            /* verilator lint_off UNUSEDSIGNAL */
+            reg signed [D_W+BW-1:0] sh;
+            /* verilator lint_on UNUSEDSIGNAL */
+            always @* begin
+                glz = fz1_reg - fz0_reg;        // sign-extended to D_W bits: exact
+                sh  = (gxl_reg * $signed(dw5_reg[0*BW +: BW])) >>> P_FRAC;  // exact product
+                gx_next = sh[GN_W-1:0];
+                sh  = (gyl_reg * $signed(dw5_reg[1*BW +: BW])) >>> P_FRAC;
+                gy_next = sh[GN_W-1:0];
+                sh  = (glz * $signed(dw5_reg[2*BW +: BW])) >>> P_FRAC;
+                gz_next = sh[GN_W-1:0];
+            end
+        end else begin : g_linear
+            // dw = 2^P_FRAC: (gl dw) >> P_FRAC = gl
+            always @* begin
+                glz = fz1_reg - fz0_reg;        // sign-extended to D_W bits: exact
+                gx_next = gxl_reg;
+                gy_next = gyl_reg;
+                gz_next = glz;
+            end
+        end
+
+        // stage 7: h_k = (sum_j g_j T_jk) >> H_SHIFT; h fits H_W bits (model/config.py
+        // bound), the rest of the word are sign copies
+        reg [3*H_W-1:0]         h_next;
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg signed [HX_W-1:0]   hsum;
+        /* verilator lint_on UNUSEDSIGNAL */
+        if (AFFINE) begin : g_h_affine
+            always @* begin
+                hsum = ((gx_reg * $signed(tc_in[0*T_W +: T_W]) + gy_reg * $signed(tc_in[3*T_W +: T_W])
+                       + gz_reg * $signed(tc_in[6*T_W +: T_W])) <<< H_L) >>> H_R;
+                h_next[0*H_W +: H_W] = hsum[H_W-1:0];
+                hsum = ((gx_reg * $signed(tc_in[1*T_W +: T_W]) + gy_reg * $signed(tc_in[4*T_W +: T_W])
+                       + gz_reg * $signed(tc_in[7*T_W +: T_W])) <<< H_L) >>> H_R;
+                h_next[1*H_W +: H_W] = hsum[H_W-1:0];
+                hsum = ((gx_reg * $signed(tc_in[2*T_W +: T_W]) + gy_reg * $signed(tc_in[5*T_W +: T_W])
+                       + gz_reg * $signed(tc_in[8*T_W +: T_W])) <<< H_L) >>> H_R;
+                h_next[2*H_W +: H_W] = hsum[H_W-1:0];
+            end
+        end else begin : g_h_pow2
+            // g_k T_kk = g_k << e_k, or 0
+            always @* begin
+                hsum = {{(HX_W-GN_W){gx_reg[GN_W-1]}}, gx_reg};
+                hsum = tc_in[0*(E_W+1) + E_W] ? {HX_W{1'b0}} : (hsum <<< tc_in[0*(E_W+1) +: E_W]);
+                hsum = (hsum <<< H_L) >>> H_R;
+                h_next[0*H_W +: H_W] = hsum[H_W-1:0];
+                hsum = {{(HX_W-GN_W){gy_reg[GN_W-1]}}, gy_reg};
+                hsum = tc_in[1*(E_W+1) + E_W] ? {HX_W{1'b0}} : (hsum <<< tc_in[1*(E_W+1) +: E_W]);
+                hsum = (hsum <<< H_L) >>> H_R;
+                h_next[1*H_W +: H_W] = hsum[H_W-1:0];
+                hsum = {{(HX_W-GN_W){gz_reg[GN_W-1]}}, gz_reg};
+                hsum = tc_in[2*(E_W+1) + E_W] ? {HX_W{1'b0}} : (hsum <<< tc_in[2*(E_W+1) +: E_W]);
+                hsum = (hsum <<< H_L) >>> H_R;
+                h_next[2*H_W +: H_W] = hsum[H_W-1:0];
+            end
+        end
+
+        // stage 8: ag_k = (a h_k) >> A_FRAC; ag fits AG_W bits (model/config.py bound),
+        // the rest of the product are sign copies
+        reg [3*AG_W-1:0]        ag_next;
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg signed [AGP_W-1:0]  agp;
+        /* verilator lint_on UNUSEDSIGNAL */
+        if (AMP_POW2) begin : g_ag_pow2
+            // a h_k = sign(a) h_k << e (0 when a = 0)
+            reg signed [H_W-1:0] h_k;
+            reg signed [H_W:0]   h_ext;
+            always @* begin
+                h_k   = h_reg[0*H_W +: H_W];
+                h_ext = {h_k[H_W-1], h_k};    // sign-extended: even the most negative word negates
+                h_ext = ac_in[EA_W + 1] ? {(H_W+1){1'b0}} : (ac_in[EA_W] ? -h_ext : h_ext);
+                agp   = ({{(AGP_W-H_W-1){h_ext[H_W]}}, h_ext} <<< ac_in[EA_W-1:0]) >>> A_FRAC;
+                ag_next[0*AG_W +: AG_W] = agp[AG_W-1:0];
+                h_k   = h_reg[1*H_W +: H_W];
+                h_ext = {h_k[H_W-1], h_k};
+                h_ext = ac_in[EA_W + 1] ? {(H_W+1){1'b0}} : (ac_in[EA_W] ? -h_ext : h_ext);
+                agp   = ({{(AGP_W-H_W-1){h_ext[H_W]}}, h_ext} <<< ac_in[EA_W-1:0]) >>> A_FRAC;
+                ag_next[1*AG_W +: AG_W] = agp[AG_W-1:0];
+                h_k   = h_reg[2*H_W +: H_W];
+                h_ext = {h_k[H_W-1], h_k};
+                h_ext = ac_in[EA_W + 1] ? {(H_W+1){1'b0}} : (ac_in[EA_W] ? -h_ext : h_ext);
+                agp   = ({{(AGP_W-H_W-1){h_ext[H_W]}}, h_ext} <<< ac_in[EA_W-1:0]) >>> A_FRAC;
+                ag_next[2*AG_W +: AG_W] = agp[AG_W-1:0];
+            end
+        end else begin : g_ag_any
+            always @* begin
+                agp   = ($signed(ac_in) * $signed(h_reg[0*H_W +: H_W])) >>> A_FRAC;
+                ag_next[0*AG_W +: AG_W] = agp[AG_W-1:0];
+                agp   = ($signed(ac_in) * $signed(h_reg[1*H_W +: H_W])) >>> A_FRAC;
+                ag_next[1*AG_W +: AG_W] = agp[AG_W-1:0];
+                agp   = ($signed(ac_in) * $signed(h_reg[2*H_W +: H_W])) >>> A_FRAC;
+                ag_next[2*AG_W +: AG_W] = agp[AG_W-1:0];
+            end
+        end
+
         always @(posedge clk) begin
             if (ce) begin
-                gxl_reg <= gxl_next;
-                gyl_reg <= gyl_next;
+                dw3_reg  <= {dwz_next, dwy_next, dwx_next};
+                dw4_reg  <= dw3_reg;
+                dw5_reg  <= dw4_reg;
+                dxy0_reg <= dxy0_next;
+                dxy1_reg <= dxy1_next;
+                gxl_reg  <= gxl_next;
+                gyl_reg  <= gyl_next;
+                gx_reg   <= gx_next;
+                gy_reg   <= gy_next;
+                gz_reg   <= gz_next;
+                h_reg    <= h_next;
             end
-        end
-
-        // stage 6: g_j = (gl_j dw_j) >> P_FRAC, gl_z = fz1 - fz0
-        wire signed [D_W-1:0] fz0_ext = {fz0[N_W-1], fz0};   // sign-extended
-        wire signed [D_W-1:0] fz1_ext = {fz1[N_W-1], fz1};
-        wire        [3*D_W-1:0] gl = {fz1_ext - fz0_ext, gyl_reg, gxl_reg};
-        wire        [3*GN_W-1:0] g_next;
-        reg         [3*GN_W-1:0] g_reg;
-        for (gj = 0; gj < 3; gj = gj + 1) begin : g_slope
-            wire signed [D_W-1:0] gl_j = gl[gj*D_W +: D_W];
-            if (CUBIC) begin : g_cubic
-                wire signed [BW-1:0]       dw_j = dw5_reg[gj*BW +: BW];
-                wire signed [D_W+BW-1:0]   prod = gl_j * dw_j;   // exact
-                wire signed [D_W+BW-1:0]   sh   = prod >>> P_FRAC;
-                assign g_next[gj*GN_W +: GN_W] = sh[GN_W-1:0];
-                // |g| <= 3 * 2^N_FRAC fits GN_W bits; the rest are sign copies
-                wire unused_sh = &{1'b0, sh[D_W+BW-1:GN_W]};
-            end else begin : g_linear
-                // dw = 2^P_FRAC: (gl dw) >> P_FRAC = gl
-                wire signed [GN_W-1:0] gl_ext = gl_j;
-                assign g_next[gj*GN_W +: GN_W] = gl_ext;
-            end
-        end
-        if (!CUBIC) begin : g_dw_unused
-            wire unused_dw = &{1'b0, dw5_reg};
-        end
-        always @(posedge clk) begin
-            if (ce) g_reg <= g_next;
-        end
-
-        // stage 7: h_k = (sum_j g_j T_jk) >> H_SHIFT
-        wire [3*H_W-1:0] h_next;
-        reg  [3*H_W-1:0] h_reg;
-        for (gk = 0; gk < 3; gk = gk + 1) begin : g_h
-            wire signed [HX_W-1:0] hsum;
-            if (AFFINE) begin : g_affine
-                wire signed [T_W-1:0]  t0 = tc_in[(0 + gk)*T_W +: T_W];
-                wire signed [T_W-1:0]  t1 = tc_in[(3 + gk)*T_W +: T_W];
-                wire signed [T_W-1:0]  t2 = tc_in[(6 + gk)*T_W +: T_W];
-                wire signed [GN_W-1:0] g0 = g_reg[0 +: GN_W];
-                wire signed [GN_W-1:0] g1 = g_reg[GN_W +: GN_W];
-                wire signed [GN_W-1:0] g2 = g_reg[2*GN_W +: GN_W];
-                wire signed [HX_W-1:0] p0 = g0 * t0;
-                wire signed [HX_W-1:0] p1 = g1 * t1;
-                wire signed [HX_W-1:0] p2 = g2 * t2;
-                assign hsum = p0 + p1 + p2;
-            end else begin : g_pow2
-                // g_k T_kk = g_k << e_k, or 0
-                wire                   zero = tc_in[gk*(E_W+1) + E_W];
-                wire        [E_W-1:0]  e    = tc_in[gk*(E_W+1) +: E_W];
-                wire signed [GN_W-1:0] g_k  = g_reg[gk*GN_W +: GN_W];
-                wire signed [HX_W-1:0] g_ext = {{(HX_W-GN_W){g_k[GN_W-1]}}, g_k};
-                assign hsum = zero ? {HX_W{1'b0}} : (g_ext <<< e);
-            end
-            wire signed [HX_W-1:0] hsh;
-            if (H_SHIFT >= 0) begin : g_r
-                assign hsh = hsum >>> H_SHIFT;
-            end else begin : g_l
-                assign hsh = hsum <<< (-H_SHIFT);
-            end
-            assign h_next[gk*H_W +: H_W] = hsh[H_W-1:0];
-            if (HX_W > H_W) begin : g_unused
-                // h fits H_W bits (model/config.py bound); the rest are sign copies
-                wire unused_h = &{1'b0, hsh[HX_W-1:H_W]};
-            end
-        end
-        always @(posedge clk) begin
-            if (ce) h_reg <= h_next;
-        end
-
-        // stage 8: ag_k = (a h_k) >> A_FRAC (output registers)
-        reg [3*AG_W-1:0] ag_reg;
-        for (gk = 0; gk < 3; gk = gk + 1) begin : g_ag
-            wire signed [H_W-1:0]   h_k  = h_reg[gk*H_W +: H_W];
-            wire signed [AGP_W-1:0] prod;               // a h_k, exact
-            if (AMP_POW2) begin : g_pow2
-                // a h_k = sign(a) h_k << e (0 when a = 0)
-                wire                    zero  = ac_in[EA_W + 1];
-                wire                    neg   = ac_in[EA_W];
-                wire        [EA_W-1:0]  e     = ac_in[EA_W-1:0];
-                wire signed [H_W:0]     h_ext = {h_k[H_W-1], h_k};
-                wire signed [H_W:0]     h_sgn = zero ? {(H_W+1){1'b0}} : (neg ? -h_ext : h_ext);
-                wire signed [AGP_W-1:0] h_sx  = {{(AGP_W-H_W-1){h_sgn[H_W]}}, h_sgn};
-                assign prod = h_sx <<< e;
-            end else begin : g_any
-                wire signed [A_W-1:0] a_s = ac_in;
-                assign prod = a_s * h_k;
-            end
-            wire signed [AGP_W-1:0] sh   = prod >>> A_FRAC;
-            always @(posedge clk) begin
-                if (rst) begin
-                    ag_reg[gk*AG_W +: AG_W] <= {AG_W{1'b0}};
-                end else if (ce && valid_reg[STAGES-2]) begin
-                    ag_reg[gk*AG_W +: AG_W] <= sh[AG_W-1:0];
-                end
-            end
-            if (AGP_W > AG_W) begin : g_unused
-                // ag fits AG_W bits (model/config.py bound); the rest are sign copies
-                wire unused_ag = &{1'b0, sh[AGP_W-1:AG_W]};
+            if (rst) begin
+                ag_reg <= {3*AG_W{1'b0}};
+            end else if (ce && valid_reg[STAGES-2]) begin
+                ag_reg <= ag_next;
             end
         end
         assign ag_out = ag_reg;
     end else begin : g_no_grad
         assign ag_out = {3*AG_W{1'b0}};
-        // without the gradient, dw, the T codes and the difference terms are not needed
-        wire unused_grad = &{1'b0, dw_next, tc_in};
     end
 endgenerate
 

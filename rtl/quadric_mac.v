@@ -42,6 +42,9 @@
  *   stage 2: v0..v3 (+ Q_k3, read from q_coef) (diagonal: v0..v2 and v_k + Q_k3)
  *   stage 3: the 3 products s_j * v_j (diagonal: s_k * (v_k + Q_k3))
  *   stage 4: q, and the output shifts
+ *
+ * Written for event-driven simulation speed: combinational logic in one always @*
+ * per stage, few clocked processes, no bus driven piecewise.
  */
 
 `include "tex_cfg.vh"
@@ -106,32 +109,28 @@ wire signed [S_W-1:0] s1 = s_in[1*S_W +: S_W];
 wire signed [S_W-1:0] s2 = s_in[2*S_W +: S_W];
 
 wire signed [Q_W-1:0] qa = q_coef[0*Q_W +: Q_W];
-wire signed [Q_W-1:0] qb = q_coef[1*Q_W +: Q_W];
-wire signed [Q_W-1:0] qc = q_coef[2*Q_W +: Q_W];
 wire signed [Q_W-1:0] qd = q_coef[3*Q_W +: Q_W];
 wire signed [Q_W-1:0] qe = q_coef[4*Q_W +: Q_W];
-wire signed [Q_W-1:0] qf = q_coef[5*Q_W +: Q_W];
 wire signed [Q_W-1:0] qg = q_coef[6*Q_W +: Q_W];
 wire signed [Q_W-1:0] qh = q_coef[7*Q_W +: Q_W];
 wire signed [Q_W-1:0] qi = q_coef[8*Q_W +: Q_W];
 wire signed [Q_W-1:0] qj = q_coef[9*Q_W +: Q_W];
+/* verilator lint_off UNUSEDSIGNAL */
+// B, C, F: with a diagonal quadric 0 by contract and not read
+wire signed [Q_W-1:0] qb = q_coef[1*Q_W +: Q_W];
+wire signed [Q_W-1:0] qc = q_coef[2*Q_W +: Q_W];
+wire signed [Q_W-1:0] qf = q_coef[5*Q_W +: Q_W];
+/* verilator lint_on UNUSEDSIGNAL */
 
 // valid chain
 reg [LATENCY-1:0] valid_reg;
-
-always @(posedge clk) begin
-    if (rst) begin
-        valid_reg <= {LATENCY{1'b0}};
-    end else if (ce) begin
-        valid_reg <= {valid_reg[LATENCY-2:0], in_valid};
-    end
-end
 
 assign out_valid = valid_reg[LATENCY-1];
 
 // ---------------------------------------------------------------------------
 // stages 1-3: v_k = (Q x)_k (the gradient), and the products r_k of stage 3 with
-// the q term v3 (full) or J (diagonal) beside them
+// the q term v3 (full) or J (diagonal) beside them. Per configuration: one
+// combinational process (stage 2) and one clocked process (stages 1-3).
 
 reg signed [P2_W-1:0] r0_reg, r1_reg, r2_reg;
 reg signed [V_W-1:0]  v0_3_reg, v1_3_reg, v2_3_reg, v3_3_reg;
@@ -149,50 +148,43 @@ generate
         reg signed [P1_W-1:0] p00_reg, p11_reg, p22_reg;  // A s, E t, H r
         reg signed [S_W-1:0]  s0_1_reg, s1_1_reg, s2_1_reg;
 
-        always @(posedge clk) begin
-            if (ce) begin
-                p00_reg <= qa * s0;  p11_reg <= qe * s1;  p22_reg <= qh * s2;
-                s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
-            end
-        end
-
         // stage 2: v_k = (p >>> S_FRAC) + Q_k3 and x_k = v_k + Q_k3; both fit V_W
         // (model/config.py: v_w bounds |Q_kk s_k| >> S_FRAC + 1 + 2 |Q_k3|)
         /* verilator lint_off UNUSEDSIGNAL */
         // the S_FRAC low bits are dropped by the floor shift; the bits above
         // S_FRAC + V_W are sign copies
-        wire signed [P1_W+1:0] m0 = {{2{p00_reg[P1_W-1]}}, p00_reg};
-        wire signed [P1_W+1:0] m1 = {{2{p11_reg[P1_W-1]}}, p11_reg};
-        wire signed [P1_W+1:0] m2 = {{2{p22_reg[P1_W-1]}}, p22_reg};
+        reg signed [P1_W+1:0] m0, m1, m2;
         /* verilator lint_on UNUSEDSIGNAL */
-        wire signed [V_W-1:0] v0 = m0[S_FRAC +: V_W] + q03_x;
-        wire signed [V_W-1:0] v1 = m1[S_FRAC +: V_W] + q13_x;
-        wire signed [V_W-1:0] v2 = m2[S_FRAC +: V_W] + q23_x;
+        reg signed [V_W-1:0] v0, v1, v2;
+
+        always @* begin
+            m0 = {{2{p00_reg[P1_W-1]}}, p00_reg};
+            m1 = {{2{p11_reg[P1_W-1]}}, p11_reg};
+            m2 = {{2{p22_reg[P1_W-1]}}, p22_reg};
+            v0 = m0[S_FRAC +: V_W] + q03_x;
+            v1 = m1[S_FRAC +: V_W] + q13_x;
+            v2 = m2[S_FRAC +: V_W] + q23_x;
+        end
 
         reg signed [V_W-1:0] v0_reg, v1_reg, v2_reg, x0_reg, x1_reg, x2_reg;
         reg signed [S_W-1:0] s0_2_reg, s1_2_reg, s2_2_reg;
 
         always @(posedge clk) begin
             if (ce) begin
+                // stage 1
+                p00_reg <= qa * s0;  p11_reg <= qe * s1;  p22_reg <= qh * s2;
+                s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
+                // stage 2
                 v0_reg <= v0;  v1_reg <= v1;  v2_reg <= v2;
                 x0_reg <= v0 + q03_x;  x1_reg <= v1 + q13_x;  x2_reg <= v2 + q23_x;
                 s0_2_reg <= s0_1_reg;  s1_2_reg <= s1_1_reg;  s2_2_reg <= s2_1_reg;
-            end
-        end
-
-        // stage 3: s_k * x_k; J stands in for v3
-        always @(posedge clk) begin
-            if (ce) begin
+                // stage 3: s_k * x_k; J stands in for v3
                 r0_reg <= s0_2_reg * x0_reg;
                 r1_reg <= s1_2_reg * x1_reg;
                 r2_reg <= s2_2_reg * x2_reg;
                 v0_3_reg <= v0_reg;  v1_3_reg <= v1_reg;  v2_3_reg <= v2_reg;  v3_3_reg <= q33_x;
             end
         end
-
-        /* verilator lint_off UNUSEDSIGNAL */
-        wire unused_cross = ^{qb, qc, qf};  // B, C, F: 0 by contract, not read
-        /* verilator lint_on UNUSEDSIGNAL */
     end else begin : g_full
         // stage 1: products Q_kj * s_j (row k of Q times (s, t, r))
         reg signed [P1_W-1:0] p00_reg, p01_reg, p02_reg;  // A s, B t, C r
@@ -200,16 +192,6 @@ generate
         reg signed [P1_W-1:0] p20_reg, p21_reg, p22_reg;  // C s, F t, H r
         reg signed [P1_W-1:0] p30_reg, p31_reg, p32_reg;  // D s, G t, I r
         reg signed [S_W-1:0]  s0_1_reg, s1_1_reg, s2_1_reg;
-
-        always @(posedge clk) begin
-            if (ce) begin
-                p00_reg <= qa * s0;  p01_reg <= qb * s1;  p02_reg <= qc * s2;
-                p10_reg <= qb * s0;  p11_reg <= qe * s1;  p12_reg <= qf * s2;
-                p20_reg <= qc * s0;  p21_reg <= qf * s1;  p22_reg <= qh * s2;
-                p30_reg <= qd * s0;  p31_reg <= qg * s1;  p32_reg <= qi * s2;
-                s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
-            end
-        end
 
         // stage 2: v_k = (sum >>> S_FRAC) + Q_k3
         //
@@ -220,32 +202,40 @@ generate
         /* verilator lint_off UNUSEDSIGNAL */
         // the S_FRAC low bits are dropped by the floor shift; the bits above
         // S_FRAC + V_W are sign copies of a value that fits V_W (model/config.py: v_w)
-        wire signed [M1_W-1:0] m0 = {{2{p00_reg[P1_W-1]}}, p00_reg} + {{2{p01_reg[P1_W-1]}}, p01_reg}
-                                  + {{2{p02_reg[P1_W-1]}}, p02_reg};
-        wire signed [M1_W-1:0] m1 = {{2{p10_reg[P1_W-1]}}, p10_reg} + {{2{p11_reg[P1_W-1]}}, p11_reg}
-                                  + {{2{p12_reg[P1_W-1]}}, p12_reg};
-        wire signed [M1_W-1:0] m2 = {{2{p20_reg[P1_W-1]}}, p20_reg} + {{2{p21_reg[P1_W-1]}}, p21_reg}
-                                  + {{2{p22_reg[P1_W-1]}}, p22_reg};
-        wire signed [M1_W-1:0] m3 = {{2{p30_reg[P1_W-1]}}, p30_reg} + {{2{p31_reg[P1_W-1]}}, p31_reg}
-                                  + {{2{p32_reg[P1_W-1]}}, p32_reg};
+        reg signed [M1_W-1:0] m0, m1, m2, m3;
         /* verilator lint_on UNUSEDSIGNAL */
+        reg signed [V_W-1:0] v0, v1, v2, v3;
+
+        always @* begin
+            m0 = {{2{p00_reg[P1_W-1]}}, p00_reg} + {{2{p01_reg[P1_W-1]}}, p01_reg}
+               + {{2{p02_reg[P1_W-1]}}, p02_reg};
+            m1 = {{2{p10_reg[P1_W-1]}}, p10_reg} + {{2{p11_reg[P1_W-1]}}, p11_reg}
+               + {{2{p12_reg[P1_W-1]}}, p12_reg};
+            m2 = {{2{p20_reg[P1_W-1]}}, p20_reg} + {{2{p21_reg[P1_W-1]}}, p21_reg}
+               + {{2{p22_reg[P1_W-1]}}, p22_reg};
+            m3 = {{2{p30_reg[P1_W-1]}}, p30_reg} + {{2{p31_reg[P1_W-1]}}, p31_reg}
+               + {{2{p32_reg[P1_W-1]}}, p32_reg};
+            v0 = m0[S_FRAC +: V_W] + q03_x;
+            v1 = m1[S_FRAC +: V_W] + q13_x;
+            v2 = m2[S_FRAC +: V_W] + q23_x;
+            v3 = m3[S_FRAC +: V_W] + q33_x;
+        end
 
         reg signed [V_W-1:0] v0_reg, v1_reg, v2_reg, v3_reg;
         reg signed [S_W-1:0] s0_2_reg, s1_2_reg, s2_2_reg;
 
         always @(posedge clk) begin
             if (ce) begin
-                v0_reg <= m0[S_FRAC +: V_W] + q03_x;
-                v1_reg <= m1[S_FRAC +: V_W] + q13_x;
-                v2_reg <= m2[S_FRAC +: V_W] + q23_x;
-                v3_reg <= m3[S_FRAC +: V_W] + q33_x;
+                // stage 1
+                p00_reg <= qa * s0;  p01_reg <= qb * s1;  p02_reg <= qc * s2;
+                p10_reg <= qb * s0;  p11_reg <= qe * s1;  p12_reg <= qf * s2;
+                p20_reg <= qc * s0;  p21_reg <= qf * s1;  p22_reg <= qh * s2;
+                p30_reg <= qd * s0;  p31_reg <= qg * s1;  p32_reg <= qi * s2;
+                s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
+                // stage 2
+                v0_reg <= v0;  v1_reg <= v1;  v2_reg <= v2;  v3_reg <= v3;
                 s0_2_reg <= s0_1_reg;  s1_2_reg <= s1_1_reg;  s2_2_reg <= s2_1_reg;
-            end
-        end
-
-        // stage 3: products s_j * v_j
-        always @(posedge clk) begin
-            if (ce) begin
+                // stage 3: products s_j * v_j
                 r0_reg <= s0_2_reg * v0_reg;
                 r1_reg <= s1_2_reg * v1_reg;
                 r2_reg <= s2_2_reg * v2_reg;
@@ -256,48 +246,52 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------------------
-// stage 4: q = (sum >>> S_FRAC) + v3, then the output shifts
+// stage 4: q = (sum >>> S_FRAC) + v3, then the output shifts (one combinational
+// process); the valid chain and the output registers (one clocked process)
 
 /* verilator lint_off UNUSEDSIGNAL */
 // as in stage 2: low S_FRAC bits dropped by the floor, high bits are sign copies
 // of a value that fits QV_W (model/config.py: qv_w)
-wire signed [M2_W-1:0] mq = {{2{r0_reg[P2_W-1]}}, r0_reg} + {{2{r1_reg[P2_W-1]}}, r1_reg}
-                          + {{2{r2_reg[P2_W-1]}}, r2_reg};
+reg signed [M2_W-1:0] mq;
+// q -> q_out: bits dropped by a right (floor) shift and bits above QF_W, which are
+// sign copies: q_out fits QF_W (model/config.py: qf_w)
+reg signed [QX_W-1:0] q_x, q_sh;
+// v_k -> cq_k: bits dropped by a right (floor) shift and bits above C_W, which are
+// sign copies: 2 v_k fits C_W (model/config.py: c_w >= bits of cq_max)
+reg signed [CX_W-1:0] v0_x, v1_x, v2_x, c0_sh, c1_sh, c2_sh;
 /* verilator lint_on UNUSEDSIGNAL */
+reg signed [QV_W-1:0] q;
 
-wire signed [QV_W-1:0] v3_x = {{(QV_W-V_W){v3_3_reg[V_W-1]}}, v3_3_reg};
-wire signed [QV_W-1:0] q = mq[S_FRAC +: QV_W] + v3_x;
-
-// q -> q_out: sign-extend to QX_W, shift by the constant QSH, keep QF_W bits
-wire signed [QX_W-1:0] q_x = {{(QX_W-QV_W){q[QV_W-1]}}, q};
-/* verilator lint_off UNUSEDSIGNAL */
-// bits dropped by a right (floor) shift and bits above QF_W, which are sign
-// copies: q_out fits QF_W (model/config.py: qf_w)
-wire signed [QX_W-1:0] q_sh = (q_x <<< QSH_L) >>> QSH_R;
-/* verilator lint_on UNUSEDSIGNAL */
-
-// v_k -> cq_k: sign-extend to CX_W, shift by the constant CSH, keep C_W bits
-wire signed [CX_W-1:0] v0_x = {{(CX_W-V_W){v0_3_reg[V_W-1]}}, v0_3_reg};
-wire signed [CX_W-1:0] v1_x = {{(CX_W-V_W){v1_3_reg[V_W-1]}}, v1_3_reg};
-wire signed [CX_W-1:0] v2_x = {{(CX_W-V_W){v2_3_reg[V_W-1]}}, v2_3_reg};
-/* verilator lint_off UNUSEDSIGNAL */
-// bits dropped by a right (floor) shift and bits above C_W, which are sign
-// copies: 2 v_k fits C_W (model/config.py: c_w >= bits of cq_max)
-wire signed [CX_W-1:0] c0_sh = (v0_x <<< CSH_L) >>> CSH_R;
-wire signed [CX_W-1:0] c1_sh = (v1_x <<< CSH_L) >>> CSH_R;
-wire signed [CX_W-1:0] c2_sh = (v2_x <<< CSH_L) >>> CSH_R;
-/* verilator lint_on UNUSEDSIGNAL */
+always @* begin
+    mq = {{2{r0_reg[P2_W-1]}}, r0_reg} + {{2{r1_reg[P2_W-1]}}, r1_reg}
+       + {{2{r2_reg[P2_W-1]}}, r2_reg};
+    q  = mq[S_FRAC +: QV_W] + {{(QV_W-V_W){v3_3_reg[V_W-1]}}, v3_3_reg};
+    // q: sign-extend to QX_W, shift by the constant QSH, keep QF_W bits
+    q_x  = {{(QX_W-QV_W){q[QV_W-1]}}, q};
+    q_sh = (q_x <<< QSH_L) >>> QSH_R;
+    // v_k: sign-extend to CX_W, shift by the constant CSH, keep C_W bits
+    v0_x  = {{(CX_W-V_W){v0_3_reg[V_W-1]}}, v0_3_reg};
+    v1_x  = {{(CX_W-V_W){v1_3_reg[V_W-1]}}, v1_3_reg};
+    v2_x  = {{(CX_W-V_W){v2_3_reg[V_W-1]}}, v2_3_reg};
+    c0_sh = (v0_x <<< CSH_L) >>> CSH_R;
+    c1_sh = (v1_x <<< CSH_L) >>> CSH_R;
+    c2_sh = (v2_x <<< CSH_L) >>> CSH_R;
+end
 
 reg [QF_W-1:0]  q_out_reg;
 reg [3*C_W-1:0] cq_out_reg;
 
 always @(posedge clk) begin
     if (rst) begin
+        valid_reg  <= {LATENCY{1'b0}};
         q_out_reg  <= {QF_W{1'b0}};
         cq_out_reg <= {3*C_W{1'b0}};
-    end else if (ce && valid_reg[LATENCY-2]) begin
-        q_out_reg  <= q_sh[QF_W-1:0];
-        cq_out_reg <= {c2_sh[C_W-1:0], c1_sh[C_W-1:0], c0_sh[C_W-1:0]};
+    end else if (ce) begin
+        valid_reg <= {valid_reg[LATENCY-2:0], in_valid};
+        if (valid_reg[LATENCY-2]) begin
+            q_out_reg  <= q_sh[QF_W-1:0];
+            cq_out_reg <= {c2_sh[C_W-1:0], c1_sh[C_W-1:0], c0_sh[C_W-1:0]};
+        end
     end
 end
 

@@ -14,6 +14,7 @@
 // (csat[kk-1] reads as 0), fr u{XF}.{XF}, kx s{KW}.0.
 // N = 2^n_log2, n_log2 <= NMAX. Latency 1 (outputs registered, not reset: an internal
 // stage of colour_map, which carries the valid bit); one x per enabled clock.
+// Written for event-driven simulation speed: combinational logic in one always @*.
 
 `default_nettype none
 
@@ -38,16 +39,18 @@ module sat_index #(
     output wire [KW-1:0]   kx_out      // signed
 );
 
-wire signed [KW-1:0] k  = x_in[X_W-1:XF];   // floor(x / 2^XF)
-wire        [XF-1:0] fr = x_in[XF-1:0];
-wire      [NMAX-1:0] nm1 = ~({NMAX{1'b1}} << n_log2);  // N - 1
-
+reg signed [KW-1:0]   k;      // floor(x / 2^XF)
+reg        [XF-1:0]   fr;
+reg        [NMAX-1:0] nm1;    // N - 1
 reg [NMAX-1:0] kk;
 reg [KW-1:0]   kk_x;   // kk zero-extended to KW bits
 reg [KW-1:0]   nm1_x;  // N - 1 zero-extended to KW bits
 reg [KW-1:0]   kx;
 
 always @* begin
+    k   = x_in[X_W-1:XF];
+    fr  = x_in[XF-1:0];
+    nm1 = ~({NMAX{1'b1}} << n_log2);
     nm1_x = {KW{1'b0}};
     nm1_x[NMAX-1:0] = nm1;
     if (!mode)

@@ -15,6 +15,8 @@
 // comes out exact.
 // Latency 1 (outputs registered, not reset: an internal stage of colour_map);
 // one vector per enabled clock.
+// Written for event-driven simulation speed: the four channels in one always @* and one
+// clocked process, no bus driven piecewise.
 
 `default_nettype none
 
@@ -40,42 +42,49 @@ module sat_integral #(
     output wire [4*TW-1:0]   e_out
 );
 
-genvar ch;
-generate
-    for (ch = 0; ch < 4; ch = ch + 1) begin : g_ch
-        reg        [D_W-1:0] b_x;   // csat[kk-1] << XF
-        reg        [D_W-1:0] fr_x;  // fr zero-extended
-        reg        [D_W-1:0] c_x;   // clut[kk] zero-extended
-        reg signed [TW-1:0]  k_x;   // k sign-extended
-        reg signed [TW-1:0]  q_x;   // q zero-extended
-        reg        [D_W-1:0] p_reg;
-        reg        [TW-1:0]  e_reg;
+// next values of the output registers, all four channels
+reg        [4*D_W-1:0] p_nx;
+reg        [4*TW-1:0]  e_nx;
+// loop temporaries
+integer              ch;
+reg        [D_W-1:0] b_x;   // csat[kk-1] << XF
+reg        [D_W-1:0] fr_x;  // fr zero-extended
+reg        [D_W-1:0] c_x;   // clut[kk] zero-extended
+reg signed [TW-1:0]  k_x;   // k sign-extended
+reg signed [TW-1:0]  q_x;   // q zero-extended
 
-        always @* begin
-            b_x = {D_W{1'b0}};
-            if (!first_in)
-                b_x[XF +: CS_W] = before_in[ch*CS_W +: CS_W];
-            fr_x = {D_W{1'b0}};
-            fr_x[XF-1:0] = fr_in;
-            c_x = {D_W{1'b0}};
-            c_x[7:0] = c_in[8*ch +: 8];
-            k_x = {TW{k_in[KW-1]}};
-            k_x[KW-1:0] = k_in;
-            q_x = {TW{1'b0}};
-            q_x[QW-1:0] = q_in[ch*QW +: QW];
-        end
-
-        always @(posedge clk) begin
-            if (ce) begin
-                p_reg <= b_x + fr_x * c_x;
-                e_reg <= k_x * q_x;
-            end
-        end
-
-        assign p_out[ch*D_W +: D_W] = p_reg;
-        assign e_out[ch*TW +: TW]   = e_reg;
+always @* begin
+    p_nx = {(4*D_W){1'b0}};
+    e_nx = {(4*TW){1'b0}};
+    fr_x = {D_W{1'b0}};
+    fr_x[XF-1:0] = fr_in;
+    k_x = {TW{k_in[KW-1]}};
+    k_x[KW-1:0] = k_in;
+    for (ch = 0; ch < 4; ch = ch + 1) begin
+        b_x = {D_W{1'b0}};
+        if (!first_in)
+            b_x[XF +: CS_W] = before_in[ch*CS_W +: CS_W];
+        c_x = {D_W{1'b0}};
+        c_x[7:0] = c_in[8*ch +: 8];
+        q_x = {TW{1'b0}};
+        q_x[QW-1:0] = q_in[ch*QW +: QW];
+        p_nx[ch*D_W +: D_W] = b_x + fr_x * c_x;
+        e_nx[ch*TW +: TW]   = k_x * q_x;
     end
-endgenerate
+end
+
+reg [4*D_W-1:0] p_reg;
+reg [4*TW-1:0]  e_reg;
+
+always @(posedge clk) begin
+    if (ce) begin
+        p_reg <= p_nx;
+        e_reg <= e_nx;
+    end
+end
+
+assign p_out = p_reg;
+assign e_out = e_reg;
 
 endmodule
 

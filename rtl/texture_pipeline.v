@@ -168,7 +168,6 @@ localparam LATENCY     = T_CM + LAT_CM;
 /* verilator lint_on UNUSEDPARAM */
 
 localparam JM_W = 6*J_W;
-localparam ND_W = AN_W + 3*AG_W + 1;  // a noise term's outputs and valid
 
 // register map
 localparam [3:0] REGION_REGS = 4'h0;
@@ -196,85 +195,64 @@ wire in_valid = s_axis_tvalid && !rst;
 wire [3:0] wr_region = cfg_wr_addr[15:12];
 wire       wr_regs   = cfg_wr_en && wr_region == REGION_REGS;
 
-reg            mode_reg;
-reg            filter_en_reg;
-reg [NL_W-1:0] n_log2_reg;
+reg                 mode_reg;
+reg                 filter_en_reg;
+reg [NL_W-1:0]      n_log2_reg;
+localparam KV = (K > 0) ? K : 1;  // K = 0 still declares (unused) vectors
+reg [10*Q_W-1:0]    q_coef_reg;   // coefficient i at [i*Q_W +: Q_W]
+/* verilator lint_off UNUSEDSIGNAL */  // read by no noise term when K = 0
+reg [KV*A_W-1:0]    a_all_reg;    // a_k at [k*A_W +: A_W]
+reg [KV*9*T_W-1:0]  t_all_reg;    // T_k[j][m] at [(9*k + 3*j + m)*T_W +: T_W]
+reg [KV*3*O_W-1:0]  o_all_reg;    // o_k[j] at [(3*k + j)*O_W +: O_W]
+/* verilator lint_on UNUSEDSIGNAL */
+
+// One process loads every parameter register (one wake-up a clock for an event-driven
+// simulator, whatever K is); the loops unroll into one write enable per register.
+wire [11:0] reg_addr   = cfg_wr_addr[11:0];
+wire        term_space = reg_addr[11:8] == 4'h1;  // 0x100 + 16*k + field
+wire [3:0]  term_sel   = reg_addr[7:4];
+wire [3:0]  term_field = reg_addr[3:0];
+integer     pi, pj;
 
 always @(posedge clk) begin
     if (rst) begin
         mode_reg      <= 1'b0;
         filter_en_reg <= 1'b0;
         n_log2_reg    <= {NL_W{1'b0}};
-    end else if (wr_regs && cfg_wr_addr[11:0] == 12'h000) begin
-        mode_reg      <= cfg_wr_data[0];
-        filter_en_reg <= cfg_wr_data[1];
-        n_log2_reg    <= cfg_wr_data[8 +: NL_W];
+        q_coef_reg    <= {10*Q_W{1'b0}};
+        a_all_reg     <= {KV*A_W{1'b0}};
+        t_all_reg     <= {KV*9*T_W{1'b0}};
+        o_all_reg     <= {KV*3*O_W{1'b0}};
+    end else if (wr_regs) begin
+        if (reg_addr == 12'h000) begin
+            mode_reg      <= cfg_wr_data[0];
+            filter_en_reg <= cfg_wr_data[1];
+            n_log2_reg    <= cfg_wr_data[8 +: NL_W];
+        end
+        for (pi = 0; pi < 10; pi = pi + 1) begin
+            if (reg_addr == 12'h010 + pi[11:0])
+                q_coef_reg[pi*Q_W +: Q_W] <= cfg_wr_data[Q_W-1:0];
+        end
+        for (pi = 0; pi < K; pi = pi + 1) begin
+            if (term_space && term_sel == pi[3:0]) begin
+                if (term_field == 4'd0)
+                    a_all_reg[pi*A_W +: A_W] <= cfg_wr_data[A_W-1:0];
+                for (pj = 0; pj < 9; pj = pj + 1) begin
+                    if (term_field == 4'd1 + pj[3:0])
+                        t_all_reg[(9*pi + pj)*T_W +: T_W] <= cfg_wr_data[T_W-1:0];
+                end
+                for (pj = 0; pj < 3; pj = pj + 1) begin
+                    if (term_field == 4'd10 + pj[3:0])
+                        o_all_reg[(3*pi + pj)*O_W +: O_W] <= cfg_wr_data[O_W-1:0];
+                end
+            end
+        end
     end
 end
 
-wire [10*Q_W-1:0] q_coef;
-localparam KV = (K > 0) ? K : 1;  // K = 0 still declares (unused) vectors
-/* verilator lint_off UNUSEDSIGNAL */  // read by no noise term when K = 0
-wire [KV*A_W-1:0]   a_all;
-wire [KV*9*T_W-1:0] t_all;
-wire [KV*3*O_W-1:0] o_all;
-/* verilator lint_on UNUSEDSIGNAL */
+wire [10*Q_W-1:0] q_coef = q_coef_reg;
 
-genvar gi, gj;
-generate
-    for (gi = 0; gi < 10; gi = gi + 1) begin : g_qreg
-        localparam [11:0] ADDR = 12'h010 + gi;
-        reg [Q_W-1:0] val_reg;
-        always @(posedge clk) begin
-            if (rst)
-                val_reg <= {Q_W{1'b0}};
-            else if (wr_regs && cfg_wr_addr[11:0] == ADDR)
-                val_reg <= cfg_wr_data[Q_W-1:0];
-        end
-        assign q_coef[gi*Q_W +: Q_W] = val_reg;
-    end
-
-    if (K == 0) begin : g_no_terms
-        assign a_all = {A_W{1'b0}};
-        assign t_all = {9*T_W{1'b0}};
-        assign o_all = {3*O_W{1'b0}};
-    end
-    for (gi = 0; gi < K; gi = gi + 1) begin : g_term_reg
-        localparam [3:0] TERM = gi;  // registers 0x100 + 16*TERM ..
-        wire term_wr = wr_regs && cfg_wr_addr[11:8] == 4'h1 && cfg_wr_addr[7:4] == TERM;
-        wire [3:0] field = cfg_wr_addr[3:0];
-        reg [A_W-1:0] a_reg;
-        always @(posedge clk) begin
-            if (rst)
-                a_reg <= {A_W{1'b0}};
-            else if (term_wr && field == 4'd0)
-                a_reg <= cfg_wr_data[A_W-1:0];
-        end
-        assign a_all[gi*A_W +: A_W] = a_reg;
-        for (gj = 0; gj < 9; gj = gj + 1) begin : g_t
-            localparam [3:0] FIELD = 1 + gj;
-            reg [T_W-1:0] t_reg;
-            always @(posedge clk) begin
-                if (rst)
-                    t_reg <= {T_W{1'b0}};
-                else if (term_wr && field == FIELD)
-                    t_reg <= cfg_wr_data[T_W-1:0];
-            end
-            assign t_all[(gi*9 + gj)*T_W +: T_W] = t_reg;
-        end
-        for (gj = 0; gj < 3; gj = gj + 1) begin : g_o
-            localparam [3:0] FIELD = 10 + gj;
-            reg [O_W-1:0] o_reg;
-            always @(posedge clk) begin
-                if (rst)
-                    o_reg <= {O_W{1'b0}};
-                else if (term_wr && field == FIELD)
-                    o_reg <= cfg_wr_data[O_W-1:0];
-            end
-            assign o_all[(gi*3 + gj)*O_W +: O_W] = o_reg;
-        end
-    end
-endgenerate
+genvar gi;
 
 // colour tables: forwarded to colour_map one clock later; csat entries are staged
 reg [3*CSAT_W-1:0] csat_stage_reg;
@@ -291,16 +269,13 @@ wire csat_in_range = (cfg_wr_addr[11:0] >> (NLMAX + 2)) == 12'd0;
 wire mip_in_range  = (cfg_wr_addr[11:0] >> (NLMAX + 1)) == 12'd0;
 
 // an RGBA8 word spread over the four CSAT_W channel fields of the table write data
-wire [4*CSAT_W-1:0] rgba_wide;
-generate
-    for (gi = 0; gi < 4; gi = gi + 1) begin : g_rgba_wide
-        if (CSAT_W > 8) begin : g_pad
-            assign rgba_wide[gi*CSAT_W +: CSAT_W] = {{(CSAT_W-8){1'b0}}, cfg_wr_data[gi*8 +: 8]};
-        end else begin : g_nopad
-            assign rgba_wide[gi*CSAT_W +: CSAT_W] = cfg_wr_data[gi*8 +: 8];
-        end
-    end
-endgenerate
+reg [4*CSAT_W-1:0] rgba_wide;
+integer            ri;
+always @* begin
+    rgba_wide = {4*CSAT_W{1'b0}};
+    for (ri = 0; ri < 4; ri = ri + 1)
+        rgba_wide[ri*CSAT_W +: 8] = cfg_wr_data[ri*8 +: 8];
+end
 
 always @(posedge clk) begin
     if (rst) begin
@@ -373,24 +348,24 @@ quadric_mac u_quadric_mac (
 );
 
 // Each term's outputs and the quadric's, sign-extended to the exact-sum widths, are the
-// leaves of the adder tree. (Wide flat buses are avoided on per-clock paths: every signal
-// below lives in its own generate block, which keeps event-driven simulators fast.)
-wire [K:0] front_valid;  // bit 0 quadric, bit 1+k noise term k
+// leaves of the adder tree, g_leaf[0] the quadric and g_leaf[1 + k] noise term k. (For
+// event-driven simulation speed, no wide bus gathers them: every node of the tree reads its
+// children by name, and sign extension happens inside processes, not in net concatenations.)
 
 // !NG: q (and its valid) wait DLY_QO stages for the terms; its gradient goes to filter_width
 wire [QF_W-1:0] qo_q;
+wire            qo_valid;
 delay_line #(.W(QF_W), .N(DLY_QO))        u_dly_qo (.clk(clk), .rst(rst), .ce(ce), .d_in(qm_q), .d_out(qo_q));
 delay_line #(.W(1), .N(DLY_QO), .CLEAR(1)) u_dly_qov (.clk(clk), .rst(rst), .ce(ce), .d_in(qm_valid),
-                                                       .d_out(front_valid[0]));
-wire [F_W-1:0]   q_f_ext;
-wire [3*C_W-1:0] q_c_ext = NG ? qm_cq : {3*C_W{1'b0}};  // !NG: the tree carries no gradient
-generate
-    if (F_W > QF_W) begin : g_qext
-        assign q_f_ext = {{(F_W-QF_W){qo_q[QF_W-1]}}, qo_q};
-    end else begin : g_qnoext
-        assign q_f_ext = qo_q[F_W-1:0];
-    end
+                                                       .d_out(qo_valid));
+wire sum_in_valid;  // every block of the front agrees on validity (shared in_valid and ce)
 
+// sign extension to the exact-sum widths (F_W >= QF_W, AN_W; C_W >= AG_W: exact-sum bounds)
+localparam FX_Q = F_W - QF_W;  // sign bits added to q
+localparam FX_N = F_W - AN_W;  // to a_i n_i
+localparam CX_N = C_W - AG_W;  // to each a_i grad n_i component
+
+generate
     for (gi = 0; gi < K; gi = gi + 1) begin : g_term
         wire [AN_W-1:0]   an;
         wire [3*AG_W-1:0] ag;
@@ -399,58 +374,74 @@ generate
             .clk(clk), .rst(rst), .ce(ce),
             .in_valid(in_valid),
             .s_in(px_s),
-            .a_in(a_all[gi*A_W +: A_W]),
-            .t_in(t_all[gi*9*T_W +: 9*T_W]),
-            .o_in(o_all[gi*3*O_W +: 3*O_W]),
+            .a_in(a_all_reg[gi*A_W +: A_W]),
+            .t_in(t_all_reg[gi*9*T_W +: 9*T_W]),
+            .o_in(o_all_reg[gi*3*O_W +: 3*O_W]),
             .out_valid(nt_valid),
             .an_out(an),
             .ag_out(ag)
         );
         // delayed to LAT_FRONT (normally DLY_N = 0)
-        wire [ND_W-1:0] nd_in = {nt_valid, ag, an};
-        wire [ND_W-1:0] nd_out;
-        delay_line #(.W(ND_W), .N(DLY_N)) u_dly_n (.clk(clk), .rst(rst), .ce(ce), .d_in(nd_in), .d_out(nd_out));
-        assign front_valid[gi+1] = nd_out[AN_W+3*AG_W];
-        // sign extension to the exact-sum widths
-        wire [F_W-1:0]   f_ext;
-        wire [3*C_W-1:0] c_ext;
-        if (F_W > AN_W) begin : g_anext
-            assign f_ext = {{(F_W-AN_W){nd_out[AN_W-1]}}, nd_out[0 +: AN_W]};
-        end else begin : g_annoext
-            assign f_ext = nd_out[0 +: F_W];
-        end
-        if (`CFG_NOISE_GRADIENT) begin : g_grad
-            for (gj = 0; gj < 3; gj = gj + 1) begin : g_agext
-                wire [AG_W-1:0] agk = nd_out[AN_W + gj*AG_W +: AG_W];
-                if (C_W > AG_W) begin : g_ext
-                    assign c_ext[gj*C_W +: C_W] = {{(C_W-AG_W){agk[AG_W-1]}}, agk};
-                end else begin : g_noext
-                    assign c_ext[gj*C_W +: C_W] = agk[C_W-1:0];
-                end
-            end
-        end else begin : g_no_grad
-            // grad f = grad q: the terms' ag outputs are 0 by construction and not summed
-            assign c_ext = {3*C_W{1'b0}};
-            wire unused_ag = &{1'b0, nd_out[AN_W +: 3*AG_W]};
+        wire [AN_W-1:0]   an_d;
+        wire [3*AG_W-1:0] ag_d;
+        wire              v_d;
+        delay_line #(.W(AN_W), .N(DLY_N))           u_dly_an (.clk(clk), .rst(rst), .ce(ce), .d_in(an), .d_out(an_d));
+        delay_line #(.W(3*AG_W), .N(DLY_N))         u_dly_ag (.clk(clk), .rst(rst), .ce(ce), .d_in(ag), .d_out(ag_d));
+        delay_line #(.W(1), .N(DLY_N), .CLEAR(1))   u_dly_v  (.clk(clk), .rst(rst), .ce(ce), .d_in(nt_valid),
+                                                              .d_out(v_d));
+        wire v_all;  // this term's valid and all before it
+        if (gi == 0) begin : g_v0
+            assign v_all = v_d & qo_valid;
+        end else begin : g_vn
+            assign v_all = v_d & g_term[gi-1].v_all;
         end
     end
 
-    // tree leaves: 0 the quadric, 1..K the terms
+    if (K == 0) begin : g_v_q
+        assign sum_in_valid = qo_valid;
+    end else begin : g_v_terms
+        assign sum_in_valid = g_term[K-1].v_all;
+    end
+
+    // sign extension in processes (a net concatenation would be rebuilt bit by bit)
     for (gi = 0; gi <= K; gi = gi + 1) begin : g_leaf
         wire [F_W-1:0]   f;
         wire [3*C_W-1:0] c;
         if (gi == 0) begin : g_q
-            assign f = q_f_ext;
-            assign c = q_c_ext;
+            reg [F_W-1:0] f_x;
+            if (FX_Q > 0) begin : g_fx
+                always @* f_x = {{FX_Q{qo_q[QF_W-1]}}, qo_q};
+            end else begin : g_f
+                always @* f_x = qo_q;
+            end
+            assign f = f_x;
+            // !NG: the tree carries no gradient (the quadric's goes to filter_width)
+            assign c = NG ? qm_cq : {3*C_W{1'b0}};
         end else begin : g_n
-            assign f = g_term[gi-1].f_ext;
-            assign c = g_term[gi-1].c_ext;
+            wire [AN_W-1:0]   an = g_term[gi-1].an_d;
+            /* verilator lint_off UNUSEDSIGNAL */  // !NG: the terms' ag outputs are 0, not summed
+            wire [3*AG_W-1:0] ag = g_term[gi-1].ag_d;
+            /* verilator lint_on UNUSEDSIGNAL */
+            reg [F_W-1:0] f_x;
+            if (FX_N > 0) begin : g_fx
+                always @* f_x = {{FX_N{an[AN_W-1]}}, an};
+            end else begin : g_f
+                always @* f_x = an;
+            end
+            assign f = f_x;
+            if (NG && CX_N > 0) begin : g_cx
+                reg [3*C_W-1:0] c_x;
+                always @* c_x = {{CX_N{ag[3*AG_W-1]}}, ag[2*AG_W +: AG_W], {CX_N{ag[2*AG_W-1]}}, ag[AG_W +: AG_W],
+                                 {CX_N{ag[AG_W-1]}}, ag[0 +: AG_W]};
+                assign c = c_x;
+            end else if (NG) begin : g_c
+                assign c = ag;
+            end else begin : g_c0
+                assign c = {3*C_W{1'b0}};
+            end
         end
     end
 endgenerate
-
-// every block of the front must agree on validity (they share in_valid and ce)
-wire sum_in_valid = &front_valid;
 
 // ---------------------------------------------------------------------------
 // Adder tree of arity TREE_ARITY: level 0 is the K + 1 leaves, level l has
@@ -459,53 +450,81 @@ wire sum_in_valid = &front_valid;
 // registers than a binary tree: one level for K <= 3, two for K <= 15). Sums are modulo
 // 2^F_W / 2^C_W of sign-extended operands, i.e. exact two's complement sums: every partial
 // sum is bounded by the whole sum's bound, which F_W and C_W hold (model/config.py f_w, c_w).
+// Each node is one clocked process reading its children by name.
+
+wire [F_W-1:0]   f_sum;
+// !NG: the c sums of the tree are constant 0 and not read (no register survives synthesis)
+/* verilator lint_off UNUSEDSIGNAL */
+wire [3*C_W-1:0] c_sum;
+/* verilator lint_on UNUSEDSIGNAL */
 
 genvar gl;
 generate
-    for (gl = 0; gl <= TREE_LEVELS; gl = gl + 1) begin : g_lvl
-        localparam NN = tree_nodes_of(K + 1, gl, TREE_ARITY);  // nodes (level 0: leaves) on this level
-        wire [NN*F_W-1:0]   f_bus;
-        wire [NN*3*C_W-1:0] c_bus;
-        if (gl == 0) begin : g_leaves
-            for (gi = 0; gi < NN; gi = gi + 1) begin : g_in
-                assign f_bus[gi*F_W +: F_W]       = g_leaf[gi].f;
-                assign c_bus[gi*3*C_W +: 3*C_W]   = g_leaf[gi].c;
+    for (gl = 1; gl <= TREE_LEVELS; gl = gl + 1) begin : g_lvl
+        localparam NN = tree_nodes_of(K + 1, gl, TREE_ARITY);      // nodes on this level
+        localparam NP = tree_nodes_of(K + 1, gl - 1, TREE_ARITY);  // children on the level below
+        // the children: the leaves (level 1) or the node registers of the level below
+        for (gi = 0; gi < NP; gi = gi + 1) begin : g_kid
+            wire [F_W-1:0]   f;
+            wire [3*C_W-1:0] c;
+            if (gl == 1) begin : g_from_leaf
+                assign f = g_leaf[gi].f;
+                assign c = g_leaf[gi].c;
+            end else begin : g_from_node
+                assign f = g_lvl[gl-1].g_node[gi].f_reg;
+                assign c = g_lvl[gl-1].g_node[gi].c_reg;
             end
-        end else begin : g_nodes
-            localparam NP = tree_nodes_of(K + 1, gl - 1, TREE_ARITY);  // children on the level below
-            for (gi = 0; gi < NN; gi = gi + 1) begin : g_node
-                localparam NC = (NP - TREE_ARITY*gi < TREE_ARITY) ? NP - TREE_ARITY*gi : TREE_ARITY;
-                wire [NC*F_W-1:0]   f_kids = g_lvl[gl-1].f_bus[TREE_ARITY*gi*F_W +: NC*F_W];
-                wire [NC*3*C_W-1:0] c_kids = g_lvl[gl-1].c_bus[TREE_ARITY*gi*3*C_W +: NC*3*C_W];
-                reg  [F_W-1:0]      f_sum_c;
-                reg  [3*C_W-1:0]    c_sum_c;
-                integer             k, ch;
-                always @* begin
-                    f_sum_c = {F_W{1'b0}};
-                    c_sum_c = {3*C_W{1'b0}};
-                    for (k = 0; k < NC; k = k + 1) begin
-                        f_sum_c = f_sum_c + f_kids[k*F_W +: F_W];
-                        for (ch = 0; ch < 3; ch = ch + 1)
-                            c_sum_c[ch*C_W +: C_W] = c_sum_c[ch*C_W +: C_W] + c_kids[(3*k + ch)*C_W +: C_W];
-                    end
+        end
+        for (gi = 0; gi < NN; gi = gi + 1) begin : g_node
+            localparam B  = TREE_ARITY*gi;                                // first child
+            localparam NC = (NP - B < TREE_ARITY) ? NP - B : TREE_ARITY;  // children (1..4)
+            // children 1..3, 0 where absent
+            wire [F_W-1:0]   f1, f2, f3;
+            wire [3*C_W-1:0] c1, c2, c3;
+            if (NC > 1) begin : g_k1
+                assign f1 = g_kid[B+1].f;
+                assign c1 = g_kid[B+1].c;
+            end else begin : g_z1
+                assign f1 = {F_W{1'b0}};
+                assign c1 = {3*C_W{1'b0}};
+            end
+            if (NC > 2) begin : g_k2
+                assign f2 = g_kid[B+2].f;
+                assign c2 = g_kid[B+2].c;
+            end else begin : g_z2
+                assign f2 = {F_W{1'b0}};
+                assign c2 = {3*C_W{1'b0}};
+            end
+            if (NC > 3) begin : g_k3
+                assign f3 = g_kid[B+3].f;
+                assign c3 = g_kid[B+3].c;
+            end else begin : g_z3
+                assign f3 = {F_W{1'b0}};
+                assign c3 = {3*C_W{1'b0}};
+            end
+            wire [F_W-1:0]   f0 = g_kid[B].f;
+            wire [3*C_W-1:0] c0 = g_kid[B].c;
+            reg  [F_W-1:0]   f_reg;
+            reg  [3*C_W-1:0] c_reg;
+            always @(posedge clk) begin
+                if (ce) begin
+                    f_reg <= f0 + f1 + f2 + f3;
+                    c_reg <= {c0[2*C_W +: C_W] + c1[2*C_W +: C_W] + c2[2*C_W +: C_W] + c3[2*C_W +: C_W],
+                              c0[C_W +: C_W] + c1[C_W +: C_W] + c2[C_W +: C_W] + c3[C_W +: C_W],
+                              c0[0 +: C_W] + c1[0 +: C_W] + c2[0 +: C_W] + c3[0 +: C_W]};
                 end
-                reg [F_W-1:0]   f_reg;
-                reg [3*C_W-1:0] c_reg;
-                always @(posedge clk) begin
-                    if (ce) begin
-                        f_reg <= f_sum_c;
-                        c_reg <= c_sum_c;
-                    end
-                end
-                assign f_bus[gi*F_W +: F_W]     = f_reg;
-                assign c_bus[gi*3*C_W +: 3*C_W] = c_reg;
             end
         end
     end
-endgenerate
 
-wire [F_W-1:0]   f_sum = g_lvl[TREE_LEVELS].f_bus;
-wire [3*C_W-1:0] c_sum = g_lvl[TREE_LEVELS].c_bus;
+    if (TREE_LEVELS == 0) begin : g_sum_leaf
+        assign f_sum = g_leaf[0].f;
+        assign c_sum = g_leaf[0].c;
+    end else begin : g_sum_node
+        assign f_sum = g_lvl[TREE_LEVELS].g_node[0].f_reg;
+        assign c_sum = g_lvl[TREE_LEVELS].g_node[0].c_reg;
+    end
+endgenerate
 
 // valid through the tree (reset: no spurious pixel after rst)
 wire sum_valid;
@@ -553,10 +572,6 @@ filter_width u_filter_width (
     .w_out(fw_w)
 );
 
-// !NG: the c sums of the tree are constant 0 (no register survives synthesis)
-/* verilator lint_off UNUSEDSIGNAL */
-wire unused_c_sum = &{1'b0, c_sum};
-/* verilator lint_on UNUSEDSIGNAL */
 
 // While it waits, f is carried in FC_W <= F_W bits: colour_map reads only f mod 1 in mod mode
 // (the low F_FRAC bits), and in clamp mode compares f with thresholds inside
@@ -570,11 +585,11 @@ generate
         wire signed [F_W-1:0] f_s   = f_sum;
         wire signed [F_W-1:0] f_top = {{(F_W-GUARD-2){1'b0}}, 1'b1, {(GUARD+1){1'b0}}};  //  2^(GUARD+1)
         wire signed [F_W-1:0] f_bot = -f_top;                                              // -2^(GUARD+1)
-        wire [F_W-1:0] f_clip = (f_s > f_top) ? f_top : (f_s < f_bot) ? f_bot : f_sum;
-        assign f_carry = mode_reg ? f_clip[FC_W-1:0] : f_sum[FC_W-1:0];
+        // above FC_W: sign copies of a value that fits FC_W (not read)
         /* verilator lint_off UNUSEDSIGNAL */
-        wire unused_fhi = &{1'b0, f_clip[F_W-1:FC_W]};  // sign copies of a value that fits FC_W
+        wire [F_W-1:0] f_clip = (f_s > f_top) ? f_top : (f_s < f_bot) ? f_bot : f_sum;
         /* verilator lint_on UNUSEDSIGNAL */
+        assign f_carry = mode_reg ? f_clip[FC_W-1:0] : f_sum[FC_W-1:0];
     end else begin : g_fwhole
         assign f_carry = f_sum;
     end

@@ -1,0 +1,321 @@
+"""Where Icarus spends its time on the pixel pipeline: `make icarus-perf`.
+
+    python -m sim.icarus_perf [--config full] [--pixels 4096]   # per-block cost table
+    python -m sim.icarus_perf time [--config full] [--pixels N] [--stub BLOCK ...]
+    python -m sim.icarus_perf census [--config full]            # vvp functor census per module
+    python -m sim.icarus_perf opcost                            # vvp cost of one multiply-add
+
+`time` builds tb/frame/frame_tb.v under a Verilog clock (sim/icarus/perf_top.v, no cocotb,
+no Python while it runs), streams a synthetic pass (sim/frame_rtl.py synthetic_pass), checks
+every pixel against the golden model and prints the vvp CPU seconds. --stub replaces a block
+by a latency-only stub (stub_source: the block's own header, zero data). The default
+command prints the marginal vvp CPU per pixel of the whole pipeline and of its skeleton (all
+four blocks stubbed), each run's fixed cost (start-up, table load) removed by timing two
+sizes, and the floor that the multiplies alone put under any RTL of this arithmetic.
+
+`census` counts, per module definition, the vvp functors that make event-driven simulation
+slow (docs/simulation.md): .concat8 (a net driven piecewise), .reduce, net-level arithmetic,
+other functors, processes, and multiplies (behavioural %mul and net-level; a pixel runs each
+once). tb/test_sim_style.py asserts there is no .concat8.
+
+`opcost` times vvp on straight-line `acc = acc + a * b` (24-bit operands) in one always @*
+block, the cheapest form of the pipeline's arithmetic: a floor for any RTL of this size.
+"""
+from __future__ import annotations
+
+import argparse
+import collections
+import json
+import re
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from model.config import load_config  # noqa: E402
+from model.regmap import pack_pixels, pixels_hex, unpack_rgba, write_sequence, writes_hex  # noqa: E402
+
+HERE = ROOT / "sim" / "icarus"
+BLOCKS = ("quadric_mac", "noise_term", "filter_width", "colour_map")
+
+
+def _gen_dir(config: str) -> Path:
+    from tb.runner import gen_dir
+
+    return gen_dir(config)
+
+
+def _need(tool: str) -> None:
+    import shutil
+
+    if shutil.which(tool) is None:
+        sys.exit(f"icarus_perf: `{tool}` not found on PATH (make setup installs Icarus Verilog)")
+
+
+def _prepare(config: str, pixels: int) -> Path:
+    from model.golden import texture_pipeline
+    from sim.frame_rtl import synthetic_pass
+
+    wdir = ROOT / "build" / "icarus_perf" / f"{config}-{pixels}"
+    if (wdir / "expected.npy").exists():
+        return wdir
+    wdir.mkdir(parents=True, exist_ok=True)
+    cfg = load_config(config)
+    tex, s, Jm, je = synthetic_pass(config, pixels)
+    words = pack_pixels(cfg, np.asarray(s).reshape(-1, 3), np.asarray(Jm).reshape(-1, 3, 2),
+                        np.asarray(je).reshape(-1))
+    (wdir / "params.hex").write_text(writes_hex(write_sequence(cfg, tex)))
+    (wdir / "pixels.hex").write_text(pixels_hex(cfg, words))
+    np.save(wdir / "expected.npy", texture_pipeline(cfg, tex, s, Jm, je).astype(np.uint8))
+    return wdir
+
+
+def stub_source(module: str) -> str:
+    """A latency-only stub of rtl/<module>.v: its own module header (parameters and ports,
+    copied from the file), out_valid = in_valid delayed by `LAT_<MODULE>, every other output 0."""
+    text = (ROOT / "rtl" / f"{module}.v").read_text()
+    start = text.index(f"module {module}")
+    header = text[start:text.index("\n);", start) + 3].replace("output reg", "output wire")
+    outs = [o for o in re.findall(r"output\s+wire\s*(?:signed\s*)?(?:\[[^\]]*\])?\s*(\w+)", header) if o != "out_valid"]
+    lat = f"`LAT_{module.upper()}"
+    lines = [f"// {module} stub (sim/icarus_perf.py): out_valid = in_valid delayed by {lat}, data 0.",
+             "`default_nettype none", '`include "tex_cfg.vh"', '`include "tex_latency.vh"', header,
+             f"reg [{lat}-1:0] v_reg;",
+             "always @(posedge clk) begin",
+             f"    if (rst) v_reg <= {{{lat}{{1'b0}}}};",
+             f"    else if (ce) v_reg <= {{v_reg[{lat}-2:0], in_valid}};",
+             "end",
+             f"assign out_valid = v_reg[{lat}-1];"]
+    lines += [f"assign {o} = 0;" for o in outs]
+    lines += ["endmodule", "`default_nettype wire", ""]
+    return "\n".join(lines)
+
+
+def _compile(config: str, pixels: int, stubs=(), out: Path | None = None) -> Path:
+    _need("iverilog")
+    stubs = set(stubs)
+    sdir = ROOT / "build" / "icarus_perf" / "stubs"
+    sdir.mkdir(parents=True, exist_ok=True)
+    for m in stubs:
+        (sdir / f"{m}.v").write_text(stub_source(m))
+    srcs = [sdir / f"{p.stem}.v" if p.stem in stubs else p for p in sorted((ROOT / "rtl").glob("*.v"))]
+    srcs += [ROOT / "tb" / "frame" / "frame_tb.v", HERE / "perf_top.v"]
+    tag = "-".join(sorted(stubs)) or "rtl"
+    vvp = out or ROOT / "build" / "icarus_perf" / f"{config}-{tag}-{pixels}.vvp"
+    vvp.parent.mkdir(parents=True, exist_ok=True)
+    subprocess.run(["iverilog", "-g2005", "-o", str(vvp), "-s", "perf_top", f"-DPERF_MAX_PIX={pixels}",
+                    f"-I{_gen_dir(config)}", f"-I{ROOT / 'rtl'}"] + [str(s) for s in srcs], check=True)
+    return vvp
+
+
+def time_run(config: str, pixels: int, stubs=()) -> dict:
+    """vvp CPU seconds for `pixels` pixels (best of one run) and the mismatch count."""
+    wdir = _prepare(config, pixels)
+    vvp = _compile(config, pixels, stubs)
+    nwr = sum(1 for _ in open(wdir / "params.hex"))
+    out = wdir / ("out-" + ("-".join(sorted(stubs)) or "rtl") + ".hex")
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    subprocess.run(["vvp", "-n", str(vvp), f"+PARAMS={wdir / 'params.hex'}", f"+PIXELS={wdir / 'pixels.hex'}",
+                    f"+OUT={out}", f"+STATS={wdir / 'stats.txt'}", f"+NPIX={pixels}", f"+NWR={nwr}"],
+                   check=True, stdout=subprocess.DEVNULL)
+    wall = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    from sim.frame_rtl import read_hex
+
+    got = unpack_rgba(np.array(read_hex(out), dtype=np.uint64).astype(np.uint32))
+    exp = np.load(wdir / "expected.npy")
+    mism = int(np.count_nonzero(np.any(exp != got, axis=-1))) if got.shape == exp.shape else pixels
+    return {"config": config, "pixels": pixels, "stubs": sorted(stubs), "cpu_s": round(cpu, 3),
+            "wall_s": round(wall, 3), "mismatches": mism}
+
+
+def per_pixel_us(config: str, pixels: int, stubs=()) -> float:
+    """Marginal vvp CPU microseconds per pixel: (t(2P) - t(P)) / P, fixed costs removed."""
+    small = time_run(config, pixels, stubs)["cpu_s"]
+    big = time_run(config, 2 * pixels, stubs)["cpu_s"]
+    return max(big - small, 0.0) / pixels * 1e6
+
+
+def table(config: str, pixels: int) -> list[dict]:
+    """The whole pipeline, its skeleton (the four blocks stubbed: harness, parameter registers,
+    adder tree, delay lines, skid buffer) and the floor set by the multiplies alone."""
+    steps = ["whole pipeline", "skeleton", "census", "op cost"]
+    rows = []
+    _progress(0, steps)
+    whole = per_pixel_us(config, pixels)
+    check = time_run(config, pixels)
+    rows.append({"part": "whole pipeline", "us_per_pixel": round(whole, 1),
+                 "pixels_per_second": round(1e6 / whole, 1) if whole else None, "mismatches": check["mismatches"]})
+    _progress(1, steps)
+    skeleton = per_pixel_us(config, pixels, BLOCKS)
+    rows.append({"part": "skeleton (the four blocks stubbed)", "us_per_pixel": round(skeleton, 1),
+                 "pixels_per_second": round(1e6 / skeleton, 1) if skeleton else None})
+    _progress(2, steps)
+    muls = sum(r["mul"] for r in census_of_config(config)[0].values())
+    _progress(3, steps)
+    ns = opcost()["ns_per_multiply_add"]
+    floor = muls * ns / 1e3
+    rows.append({"part": f"floor: {muls} multiplies a pixel x {ns} ns (opcost)", "us_per_pixel": round(floor, 1),
+                 "pixels_per_second": round(1e6 / floor, 1) if floor else None})
+    _progress(4, steps)
+    return rows
+
+
+def _progress(i: int, steps) -> None:
+    done = "#" * i + "." * (len(steps) - i)
+    what = steps[i] if i < len(steps) else "done"
+    print(f"\r[{done}] {what:20s}", end="\n" if i == len(steps) else "", file=sys.stderr, flush=True)
+
+
+# ---------------------------------------------------------------------------
+# census
+
+
+def census(vvp: Path):
+    """Per module definition: Counter of concat8 / reduce / arith / functors / threads;
+    and the names of the nets driven through a .concat8."""
+    scope_def, parent = {}, {}
+    rows = collections.defaultdict(collections.Counter)
+    c8, c8_nets = set(), collections.Counter()
+    cur = None
+    lines = vvp.read_text().splitlines()
+
+    def module_of(scope):
+        while scope is not None and scope_def.get(scope) is None:
+            scope = parent.get(scope)
+        return scope_def.get(scope, "?") if scope else "?"
+
+    for line in lines:
+        m = re.match(r'(S_\w+)\s+\.scope (\w+), "([^"]*)" "([^"]*)"[^;]*?(?:, (S_\w+))?;', line)
+        if m:
+            lab, kind, _inst, defn, par = m.groups()
+            scope_def[lab] = defn if kind == "module" else None
+            parent[lab] = par
+            cur = lab
+            continue
+        m = re.match(r'\s+\.scope (S_\w+);', line)
+        if m:
+            cur = m.group(1)
+            continue
+        if line.startswith("    .thread"):
+            rows[module_of(cur)]["threads"] += 1
+            continue
+        if re.match(r'\s+%mul\b', line) or re.search(r'\.arith/mult\b', line):
+            rows[module_of(cur)]["mul"] += 1  # multiplies, behavioural or net-level
+        m = re.match(r'(\S+)\s+\.(\w+)(/\S+)?\s', line)
+        if not m or cur is None:
+            continue
+        lab, op = m.group(1), m.group(2)
+        mod = module_of(cur)
+        if op == "concat8":
+            c8.add(lab)
+            rows[mod]["concat8"] += 1
+        elif op == "reduce":
+            rows[mod]["reduce"] += 1
+        elif op in ("arith", "cmp"):
+            rows[mod]["arith"] += 1
+        elif op in ("functor", "part", "concat", "extend", "sfunc", "ufunc", "shift", "repeat", "substitute"):
+            rows[mod]["functors"] += 1
+    for line in lines:
+        m = re.match(r'\S+\s+\.net\S*\s+"([^"]+)".*,\s*(\S+);', line)
+        if m and m.group(2) in c8:
+            c8_nets[m.group(1)] += 1
+    return rows, c8_nets
+
+
+def census_of_config(config: str):
+    _need("iverilog")
+    with tempfile.TemporaryDirectory() as td:
+        vvp = Path(td) / "census.vvp"
+        srcs = sorted(str(p) for p in (ROOT / "rtl").glob("*.v"))
+        subprocess.run(["iverilog", "-g2005", "-o", str(vvp), "-s", "texture_pipeline", f"-I{_gen_dir(config)}",
+                        f"-I{ROOT / 'rtl'}"] + srcs, check=True)
+        return census(vvp)
+
+
+# ---------------------------------------------------------------------------
+# opcost
+
+OPCOST_V = """
+module top;
+reg clk = 1'b0; integer n = 0;
+reg [23:0] a_reg, b_reg;
+reg [47:0] acc, out_reg;
+always #5 clk = ~clk;
+always @* begin
+    acc = 48'd0;
+%s
+end
+always @(posedge clk) begin
+    n <= n + 1; a_reg <= a_reg + 24'd3; b_reg <= b_reg ^ 24'h5a5a5a; out_reg <= acc;
+    if (n == %d) $finish;
+end
+initial begin a_reg = 24'd1; b_reg = 24'd7; end
+endmodule
+"""
+
+
+def opcost(clocks: int = 100_000, ops: int = 100) -> dict:
+    _need("iverilog")
+    cpu = {}
+    with tempfile.TemporaryDirectory() as td:
+        for k in (0, ops):
+            src = Path(td) / f"op{k}.v"
+            src.write_text(OPCOST_V % ("\n".join(["    acc = acc + a_reg * b_reg;"] * k), clocks))
+            vvp = Path(td) / f"op{k}.vvp"
+            subprocess.run(["iverilog", "-o", str(vvp), str(src)], check=True, capture_output=True)
+            r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+            subprocess.run(["vvp", "-n", str(vvp)], check=True, stdout=subprocess.DEVNULL)
+            r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpu[k] = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    ns = (cpu[ops] - cpu[0]) / clocks / ops * 1e9
+    return {"ns_per_multiply_add": round(ns, 1), "clock_us_empty": round(cpu[0] / clocks * 1e6, 3)}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("what", nargs="?", default="table", choices=("table", "time", "census", "opcost"))
+    ap.add_argument("--config", default="full", choices=("full", "reduced"))
+    ap.add_argument("--pixels", type=int, default=2048)
+    ap.add_argument("--stub", action="append", default=[], choices=BLOCKS)
+    a = ap.parse_args(argv)
+    if a.pixels < 1:
+        sys.exit(f"icarus_perf: --pixels {a.pixels}: must be at least 1")
+    if a.what == "time":
+        r = time_run(a.config, a.pixels, a.stub)
+        print(json.dumps(r))
+        return 1 if r["mismatches"] and not a.stub else 0
+    if a.what == "census":
+        rows, nets = census_of_config(a.config)
+        cols = ["concat8", "reduce", "arith", "functors", "threads", "mul"]
+        print(f"{'module':20s}" + "".join(f"{c:>10s}" for c in cols))
+        tot = collections.Counter()
+        for mod in sorted(rows, key=lambda m: -sum(rows[m].values())):
+            print(f"{mod:20s}" + "".join(f"{rows[mod][c]:10d}" for c in cols))
+            tot.update(rows[mod])
+        print(f"{'total':20s}" + "".join(f"{tot[c]:10d}" for c in cols))
+        if nets:
+            print("nets driven piecewise (.concat8):", ", ".join(f"{n} x{k}" for n, k in sorted(nets.items())))
+        return 0
+    if a.what == "opcost":
+        print(json.dumps(opcost()))
+        return 0
+    print(f"Icarus, {a.config} configuration, marginal vvp CPU per pixel ({a.pixels} and {2 * a.pixels} pixels)",
+          file=sys.stderr)
+    rows = table(a.config, a.pixels)
+    for r in rows:
+        print(json.dumps(r))
+    return 1 if rows[0]["mismatches"] else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
