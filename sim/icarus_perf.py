@@ -1,9 +1,9 @@
 """Where Icarus spends its time on the pixel pipeline: `make icarus-perf`.
 
-    python -m sim.icarus_perf [--config full] [--pixels 4096]   # per-block cost table
+    python -m sim.icarus_perf [--config full] [--pixels 8192]   # cost table
     python -m sim.icarus_perf time [--config full] [--pixels N] [--stub BLOCK ...]
     python -m sim.icarus_perf census [--config full]            # vvp functor census per module
-    python -m sim.icarus_perf opcost                            # vvp cost of one multiply-add
+    python -m sim.icarus_perf opcost                            # vvp cost of one multiply
 
 `time` builds tb/frame/frame_tb.v under a Verilog clock (sim/icarus/perf_top.v, no cocotb,
 no Python while it runs), streams a synthetic pass (sim/frame_rtl.py synthetic_pass), checks
@@ -11,15 +11,19 @@ every pixel against the golden model and prints the vvp CPU seconds. --stub repl
 by a latency-only stub (stub_source: the block's own header, zero data). The default
 command prints the marginal vvp CPU per pixel of the whole pipeline and of its skeleton (all
 four blocks stubbed), each run's fixed cost (start-up, table load) removed by timing two
-sizes, and the floor that the multiplies alone put under any RTL of this arithmetic.
+sizes, the floor that the multiplies alone put under any RTL of this arithmetic, and that
+floor added to the skeleton.
 
 `census` counts, per module definition, the vvp functors that make event-driven simulation
 slow (docs/simulation.md): .concat8 (a net driven piecewise), .reduce, net-level arithmetic,
 other functors, processes, and multiplies (behavioural %mul and net-level; a pixel runs each
 once). tb/test_sim_style.py asserts there is no .concat8.
 
-`opcost` times vvp on straight-line `acc = acc + a * b` (24-bit operands) in one always @*
-block, the cheapest form of the pipeline's arithmetic: a floor for any RTL of this size.
+`opcost` times vvp on 100 straight-line statements in one always @* block (24-bit
+operands): `p_k = a * b` (each product to its own variable: two loads, a multiply, a store,
+the cheapest form a multiply takes in vvp) and `acc = acc + a * b` (a multiply-add); and on
+100 nets `wire p_k = a * b`. The floor uses the plain product: a pixel cannot cost less than
+its multiplies at that price. `opcost --write DIR` writes those sources (to profile vvp).
 """
 from __future__ import annotations
 
@@ -138,34 +142,37 @@ def time_run(config: str, pixels: int, stubs=()) -> dict:
             "wall_s": round(wall, 3), "mismatches": mism}
 
 
-def per_pixel_us(config: str, pixels: int, stubs=()) -> float:
-    """Marginal vvp CPU microseconds per pixel: (t(2P) - t(P)) / P, fixed costs removed."""
-    small = time_run(config, pixels, stubs)["cpu_s"]
-    big = time_run(config, 2 * pixels, stubs)["cpu_s"]
-    return max(big - small, 0.0) / pixels * 1e6
+def per_pixel_us(config: str, pixels: int, stubs=()) -> tuple[float, int]:
+    """Marginal vvp CPU microseconds per pixel, (t(2P) - t(P)) / P, fixed costs removed; and
+    the pixels that differed from the golden model in either run."""
+    small = time_run(config, pixels, stubs)
+    big = time_run(config, 2 * pixels, stubs)
+    return max(big["cpu_s"] - small["cpu_s"], 0.0) / pixels * 1e6, small["mismatches"] + big["mismatches"]
 
 
 def table(config: str, pixels: int) -> list[dict]:
     """The whole pipeline, its skeleton (the four blocks stubbed: harness, parameter registers,
-    adder tree, delay lines, skid buffer) and the floor set by the multiplies alone."""
+    adder tree, delay lines, skid buffer), the floor set by the multiplies alone, and that floor
+    on top of the skeleton: no RTL of this arithmetic under this harness runs faster."""
     steps = ["whole pipeline", "skeleton", "census", "op cost"]
     rows = []
     _progress(0, steps)
-    whole = per_pixel_us(config, pixels)
-    check = time_run(config, pixels)
+    whole, mismatches = per_pixel_us(config, pixels)
     rows.append({"part": "whole pipeline", "us_per_pixel": round(whole, 1),
-                 "pixels_per_second": round(1e6 / whole, 1) if whole else None, "mismatches": check["mismatches"]})
+                 "pixels_per_second": round(1e6 / whole, 1) if whole else None, "mismatches": mismatches})
     _progress(1, steps)
-    skeleton = per_pixel_us(config, pixels, BLOCKS)
+    skeleton, _ = per_pixel_us(config, pixels, BLOCKS)
     rows.append({"part": "skeleton (the four blocks stubbed)", "us_per_pixel": round(skeleton, 1),
                  "pixels_per_second": round(1e6 / skeleton, 1) if skeleton else None})
     _progress(2, steps)
     muls = sum(r["mul"] for r in census_of_config(config)[0].values())
     _progress(3, steps)
-    ns = opcost()["ns_per_multiply_add"]
+    ns = opcost()["ns_per_multiply"]
     floor = muls * ns / 1e3
     rows.append({"part": f"floor: {muls} multiplies a pixel x {ns} ns (opcost)", "us_per_pixel": round(floor, 1),
                  "pixels_per_second": round(1e6 / floor, 1) if floor else None})
+    rows.append({"part": "floor: skeleton + multiplies", "us_per_pixel": round(skeleton + floor, 1),
+                 "pixels_per_second": round(1e6 / (skeleton + floor), 1) if skeleton + floor else None})
     _progress(4, steps)
     return rows
 
@@ -250,6 +257,7 @@ module top;
 reg clk = 1'b0; integer n = 0;
 reg [23:0] a_reg, b_reg;
 reg [47:0] acc, out_reg;
+%s
 always #5 clk = ~clk;
 always @* begin
     acc = 48'd0;
@@ -264,29 +272,49 @@ endmodule
 """
 
 
-def opcost(clocks: int = 100_000, ops: int = 100) -> dict:
-    _need("iverilog")
-    cpu = {}
-    with tempfile.TemporaryDirectory() as td:
+def opcost_sources(ops: int = 100, clocks: int = 50_000) -> dict[str, str]:
+    """The Verilog that `opcost` times: per form, an empty block and one of `ops` statements."""
+    forms = {"multiply": lambda k: (f"reg [47:0] p{k};", f"    p{k} = a_reg * b_reg;"),
+             "multiply_add": lambda k: ("", "    acc = acc + a_reg * b_reg;"),
+             "net_multiply": lambda k: (f"wire [47:0] p{k} = a_reg * b_reg;", "")}
+    out = {}
+    for name, form in forms.items():
         for k in (0, ops):
-            src = Path(td) / f"op{k}.v"
-            src.write_text(OPCOST_V % ("\n".join(["    acc = acc + a_reg * b_reg;"] * k), clocks))
-            vvp = Path(td) / f"op{k}.vvp"
+            lines = [form(i) for i in range(k)]
+            out[f"{name}{k}"] = OPCOST_V % ("\n".join(d for d, _ in lines),
+                                            "\n".join(b for _, b in lines if b), clocks)
+    return out
+
+
+def opcost(clocks: int = 50_000, ops: int = 100) -> dict:
+    """vvp CPU per operation: marginal over an empty block, per clock and operation."""
+    _need("iverilog")
+    srcs = opcost_sources(ops, clocks)
+    out = {}
+    with tempfile.TemporaryDirectory() as td:
+        cpu = {}
+        for tag, text in srcs.items():
+            src = Path(td) / f"{tag}.v"
+            src.write_text(text)
+            vvp = Path(td) / f"{tag}.vvp"
             subprocess.run(["iverilog", "-o", str(vvp), str(src)], check=True, capture_output=True)
             r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
             subprocess.run(["vvp", "-n", str(vvp)], check=True, stdout=subprocess.DEVNULL)
             r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-            cpu[k] = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
-    ns = (cpu[ops] - cpu[0]) / clocks / ops * 1e9
-    return {"ns_per_multiply_add": round(ns, 1), "clock_us_empty": round(cpu[0] / clocks * 1e6, 3)}
+            cpu[tag] = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+        for name in ("multiply", "multiply_add", "net_multiply"):
+            out[f"ns_per_{name}"] = round((cpu[f"{name}{ops}"] - cpu[f"{name}0"]) / clocks / ops * 1e9, 1)
+        out["clock_us_empty"] = round(cpu["multiply0"] / clocks * 1e6, 3)
+    return out
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("what", nargs="?", default="table", choices=("table", "time", "census", "opcost"))
     ap.add_argument("--config", default="full", choices=("full", "reduced"))
-    ap.add_argument("--pixels", type=int, default=2048)
+    ap.add_argument("--pixels", type=int, default=8192)
     ap.add_argument("--stub", action="append", default=[], choices=BLOCKS)
+    ap.add_argument("--write", metavar="DIR", help="opcost: write its Verilog sources to DIR and stop")
     a = ap.parse_args(argv)
     if a.pixels < 1:
         sys.exit(f"icarus_perf: --pixels {a.pixels}: must be at least 1")
@@ -305,6 +333,13 @@ def main(argv=None) -> int:
         print(f"{'total':20s}" + "".join(f"{tot[c]:10d}" for c in cols))
         if nets:
             print("nets driven piecewise (.concat8):", ", ".join(f"{n} x{k}" for n, k in sorted(nets.items())))
+        return 0
+    if a.what == "opcost" and a.write:
+        d = Path(a.write)
+        d.mkdir(parents=True, exist_ok=True)
+        for tag, text in opcost_sources().items():
+            (d / f"{tag}.v").write_text(text)
+        print(f"opcost sources written to {d}/ (build: iverilog -o X.vvp {d}/multiply100.v; run: vvp -n X.vvp)")
         return 0
     if a.what == "opcost":
         print(json.dumps(opcost()))
