@@ -3,6 +3,7 @@
     python -m sim.icarus_perf [--config full] [--pixels 8192]   # cost table
     python -m sim.icarus_perf time [--config full] [--pixels N] [--stub BLOCK ...]
     python -m sim.icarus_perf census [--config full]            # vvp functor census per module
+    python -m sim.icarus_perf evals [--config full]             # always @* evaluations per pixel
     python -m sim.icarus_perf opcost                            # vvp cost of one multiply
 
 `time` builds tb/frame/frame_tb.v under a Verilog clock (sim/icarus/perf_top.v, no cocotb,
@@ -18,6 +19,11 @@ floor added to the skeleton.
 slow (docs/simulation.md): .concat8 (a net driven piecewise), .reduce, net-level arithmetic,
 other functors, processes, and multiplies (behavioural %mul and net-level; a pixel runs each
 once). tb/test_sim_style.py asserts there is no .concat8.
+
+`evals` instruments a copy of rtl/ so that every `always @* begin` block counts its
+evaluations, and prints per module the instances of those blocks and their evaluations per
+pixel: at most one per instance means no block reruns on glitches (inputs settling in
+several delta cycles). tb/test_sim_style.py asserts it.
 
 `opcost` times vvp on 100 straight-line statements in one always @* block (24-bit
 operands): `p_k = a * b` (each product to its own variable: two loads, a multiply, a store,
@@ -177,6 +183,57 @@ def table(config: str, pixels: int) -> list[dict]:
     return rows
 
 
+def _instrumented(config: str, pixels: int, td: Path) -> tuple[Path, dict]:
+    """A copy of rtl/ in which every `always @* begin` block first calls a perf_top task that
+    counts its module's evaluations, and a perf_top that prints the counts when done; built.
+    Returns the vvp and, per module, the instances of those blocks in the elaborated design."""
+    (td / "rtl").mkdir()
+    blocks = {}
+    for f in sorted((ROOT / "rtl").iterdir()):
+        text = f.read_text()
+        if f.suffix == ".v":
+            n = len(re.findall(r"^(\s*)always @\*\s*begin\s*(?://.*)?$", text, flags=re.M))
+            if n:
+                blocks[f.stem] = n
+                text = re.sub(r"^(\s*)always @\*\s*begin\s*(?://.*)?$",
+                              lambda m: f"{m.group(0)}\n{m.group(1)}    perf_top.bump_{f.stem};", text, flags=re.M)
+        (td / "rtl" / f.name).write_text(text)
+    top = (HERE / "perf_top.v").read_text()
+    decl = "".join(f"integer ev_{m} = 0;\ntask bump_{m}; ev_{m} = ev_{m} + 1; endtask\n" for m in blocks)
+    show = " ".join(f'$display("evals {m} %0d", ev_{m});' for m in blocks)
+    assert "wire done;\n" in top and "#20 $finish;" in top, "sim/icarus/perf_top.v changed: update evals()"
+    (td / "perf_top.v").write_text(top.replace("wire done;\n", "wire done;\n" + decl)
+                                   .replace("#20 $finish;", f"#20 {show} $finish;"))
+    srcs = sorted((td / "rtl").glob("*.v")) + [ROOT / "tb" / "frame" / "frame_tb.v", td / "perf_top.v"]
+    vvp = td / f"evals-{pixels}.vvp"
+    subprocess.run(["iverilog", "-g2005", "-o", str(vvp), "-s", "perf_top", f"-DPERF_MAX_PIX={pixels}",
+                    f"-I{_gen_dir(config)}", f"-I{td / 'rtl'}"] + [str(x) for x in srcs], check=True)
+    text = vvp.read_text()
+    return vvp, {m: len(re.findall(rf"%fork TD_perf_top\.bump_{m},", text)) for m in blocks}
+
+
+def evals(config: str, pixels: int) -> dict:
+    """Per module: instances of its `always @* begin` blocks, and their evaluations per pixel
+    (marginal over P and 2P pixels). A block whose inputs change once a clock runs once; more
+    evaluations than instances means blocks rerun as their inputs settle (glitches)."""
+    counts = {}
+    with tempfile.TemporaryDirectory() as tds:
+        for n in (pixels, 2 * pixels):
+            td = Path(tds) / str(n)
+            td.mkdir()
+            vvp, blocks = _instrumented(config, n, td)
+            wdir = _prepare(config, n)
+            nwr = sum(1 for _ in open(wdir / "params.hex"))
+            r = subprocess.run(["vvp", "-n", str(vvp), f"+PARAMS={wdir / 'params.hex'}",
+                                f"+PIXELS={wdir / 'pixels.hex'}", f"+OUT={td / 'out.hex'}",
+                                f"+STATS={td / 'stats.txt'}", f"+NPIX={n}", f"+NWR={nwr}"],
+                               check=True, capture_output=True, text=True)
+            counts[n] = {m: int(c) for m, c in re.findall(r"^evals (\w+) (\d+)$", r.stdout, flags=re.M)}
+    return {m: {"instances": blocks[m],
+                "evals_per_pixel": round((counts[2 * pixels][m] - counts[pixels][m]) / pixels, 2)}
+            for m in blocks}
+
+
 def _progress(i: int, steps) -> None:
     done = "#" * i + "." * (len(steps) - i)
     what = steps[i] if i < len(steps) else "done"
@@ -310,7 +367,7 @@ def opcost(clocks: int = 50_000, ops: int = 100) -> dict:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("what", nargs="?", default="table", choices=("table", "time", "census", "opcost"))
+    ap.add_argument("what", nargs="?", default="table", choices=("table", "time", "census", "evals", "opcost"))
     ap.add_argument("--config", default="full", choices=("full", "reduced"))
     ap.add_argument("--pixels", type=int, default=8192)
     ap.add_argument("--stub", action="append", default=[], choices=BLOCKS)
@@ -333,6 +390,11 @@ def main(argv=None) -> int:
         print(f"{'total':20s}" + "".join(f"{tot[c]:10d}" for c in cols))
         if nets:
             print("nets driven piecewise (.concat8):", ", ".join(f"{n} x{k}" for n, k in sorted(nets.items())))
+        return 0
+    if a.what == "evals":
+        print(f"{'module':20s}{'instances':>12s}{'evals/pixel':>14s}")
+        for m, r in sorted(evals(a.config, a.pixels).items(), key=lambda kv: -kv[1]["evals_per_pixel"]):
+            print(f"{m:20s}{r['instances']:12d}{r['evals_per_pixel']:14.2f}")
         return 0
     if a.what == "opcost" and a.write:
         d = Path(a.write)
