@@ -120,22 +120,32 @@ def _compile(config: str, pixels: int, stubs=(), out: Path | None = None) -> Pat
     tag = "-".join(sorted(stubs)) or "rtl"
     vvp = out or ROOT / "build" / "icarus_perf" / f"{config}-{tag}-{pixels}.vvp"
     vvp.parent.mkdir(parents=True, exist_ok=True)
+    return _iverilog(config, pixels, srcs, ROOT / "rtl", vvp)
+
+
+def _iverilog(config: str, pixels: int, srcs, rtl_dir: Path, vvp: Path) -> Path:
+    """Build perf_top over `srcs` (includes from the configuration and `rtl_dir`) into `vvp`."""
     subprocess.run(["iverilog", "-g2005", "-o", str(vvp), "-s", "perf_top", f"-DPERF_MAX_PIX={pixels}",
-                    f"-I{_gen_dir(config)}", f"-I{ROOT / 'rtl'}"] + [str(s) for s in srcs], check=True)
+                    f"-I{_gen_dir(config)}", f"-I{rtl_dir}"] + [str(s) for s in srcs], check=True)
     return vvp
+
+
+def _vvp(vvp: Path, wdir: Path, pixels: int, out: Path, stats: Path) -> str:
+    """Run a perf_top build on the pass prepared in `wdir`; its standard output."""
+    nwr = sum(1 for _ in open(wdir / "params.hex"))
+    return subprocess.run(["vvp", "-n", str(vvp), f"+PARAMS={wdir / 'params.hex'}", f"+PIXELS={wdir / 'pixels.hex'}",
+                           f"+OUT={out}", f"+STATS={stats}", f"+NPIX={pixels}", f"+NWR={nwr}"],
+                          check=True, capture_output=True, text=True).stdout
 
 
 def time_run(config: str, pixels: int, stubs=()) -> dict:
     """vvp CPU seconds for `pixels` pixels (best of one run) and the mismatch count."""
     wdir = _prepare(config, pixels)
     vvp = _compile(config, pixels, stubs)
-    nwr = sum(1 for _ in open(wdir / "params.hex"))
     out = wdir / ("out-" + ("-".join(sorted(stubs)) or "rtl") + ".hex")
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    subprocess.run(["vvp", "-n", str(vvp), f"+PARAMS={wdir / 'params.hex'}", f"+PIXELS={wdir / 'pixels.hex'}",
-                    f"+OUT={out}", f"+STATS={wdir / 'stats.txt'}", f"+NPIX={pixels}", f"+NWR={nwr}"],
-                   check=True, stdout=subprocess.DEVNULL)
+    _vvp(vvp, wdir, pixels, out, wdir / "stats.txt")
     wall = time.perf_counter() - t0
     r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
@@ -188,15 +198,14 @@ def _instrumented(config: str, pixels: int, td: Path) -> tuple[Path, dict]:
     counts its module's evaluations, and a perf_top that prints the counts when done; built.
     Returns the vvp and, per module, the instances of those blocks in the elaborated design."""
     (td / "rtl").mkdir()
-    blocks = {}
+    blocks = []
     for f in sorted((ROOT / "rtl").iterdir()):
         text = f.read_text()
         if f.suffix == ".v":
-            n = len(re.findall(r"^(\s*)always @\*\s*begin\s*(?://.*)?$", text, flags=re.M))
-            if n:
-                blocks[f.stem] = n
-                text = re.sub(r"^(\s*)always @\*\s*begin\s*(?://.*)?$",
+            text, n = re.subn(r"^(\s*)always @\*\s*begin\s*(?://.*)?$",
                               lambda m: f"{m.group(0)}\n{m.group(1)}    perf_top.bump_{f.stem};", text, flags=re.M)
+            if n:
+                blocks.append(f.stem)
         (td / "rtl" / f.name).write_text(text)
     top = (HERE / "perf_top.v").read_text()
     decl = "".join(f"integer ev_{m} = 0;\ntask bump_{m}; ev_{m} = ev_{m} + 1; endtask\n" for m in blocks)
@@ -205,9 +214,7 @@ def _instrumented(config: str, pixels: int, td: Path) -> tuple[Path, dict]:
     (td / "perf_top.v").write_text(top.replace("wire done;\n", "wire done;\n" + decl)
                                    .replace("#20 $finish;", f"#20 {show} $finish;"))
     srcs = sorted((td / "rtl").glob("*.v")) + [ROOT / "tb" / "frame" / "frame_tb.v", td / "perf_top.v"]
-    vvp = td / f"evals-{pixels}.vvp"
-    subprocess.run(["iverilog", "-g2005", "-o", str(vvp), "-s", "perf_top", f"-DPERF_MAX_PIX={pixels}",
-                    f"-I{_gen_dir(config)}", f"-I{td / 'rtl'}"] + [str(x) for x in srcs], check=True)
+    vvp = _iverilog(config, pixels, srcs, td / "rtl", td / f"evals-{pixels}.vvp")
     text = vvp.read_text()
     return vvp, {m: len(re.findall(rf"%fork TD_perf_top\.bump_{m},", text)) for m in blocks}
 
@@ -222,13 +229,8 @@ def evals(config: str, pixels: int) -> dict:
             td = Path(tds) / str(n)
             td.mkdir()
             vvp, blocks = _instrumented(config, n, td)
-            wdir = _prepare(config, n)
-            nwr = sum(1 for _ in open(wdir / "params.hex"))
-            r = subprocess.run(["vvp", "-n", str(vvp), f"+PARAMS={wdir / 'params.hex'}",
-                                f"+PIXELS={wdir / 'pixels.hex'}", f"+OUT={td / 'out.hex'}",
-                                f"+STATS={td / 'stats.txt'}", f"+NPIX={n}", f"+NWR={nwr}"],
-                               check=True, capture_output=True, text=True)
-            counts[n] = {m: int(c) for m, c in re.findall(r"^evals (\w+) (\d+)$", r.stdout, flags=re.M)}
+            stdout = _vvp(vvp, _prepare(config, n), n, td / "out.hex", td / "stats.txt")
+            counts[n] = {m: int(c) for m, c in re.findall(r"^evals (\w+) (\d+)$", stdout, flags=re.M)}
     return {m: {"instances": blocks[m],
                 "evals_per_pixel": round((counts[2 * pixels][m] - counts[pixels][m]) / pixels, 2)}
             for m in blocks}
