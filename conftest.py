@@ -1,5 +1,3 @@
-# Repository root on sys.path, so tests import `model`, `tb`, `sim` as packages.
-import sys
-from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+# pytest configuration of the whole repository. The project's packages (model, sim, synth,
+# hdlbuild) are importable through `pip install -e .` (make setup); pytest puts this folder
+# (the rootdir of this conftest) on sys.path, which is how the testbenches find `tb`.

@@ -2,7 +2,7 @@
 Hart et al. 1999, "Antialiased Parameterized Solid Texturing Simplified for
 Consumer-Level Hardware Implementation", sections 2 and 3.
 
-This is NOT a twin of the integer golden model (model/golden.py) and shares no
+This is NOT a twin of the integer golden model (model/hw/golden.py) and shares no
 code with it: it is the exact mathematics in float64, so that it can catch a
 mistake that the golden model and the RTL make together. Every function is
 vectorized over arrays of any shape (whole frames); trailing axes hold vector
@@ -31,20 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
-try:  # the project's texture description (the lead's); see model/texture.py
-    from model.texture import TextureParams  # noqa: F401  (re-exported)
-except ImportError:  # pragma: no cover - only before model/texture.py exists
-    from dataclasses import dataclass, field
-
-    @dataclass
-    class TextureParams:
-        Q: np.ndarray
-        terms: list = field(default_factory=list)
-        blend: str = "cubic"
-        mode: str = "mod"
-        clut: np.ndarray = None
-        filter: bool = True
-        noise_gradient: bool = True
+from model.texture import TextureParams  # noqa: F401  (re-exported)
 
 
 __all__ = [

@@ -2,7 +2,7 @@
 
 This is what the scene front end produces and what both the float reference
 (model.reference) and the quantizer feeding the golden model and the RTL
-(model.quantize) consume. Nothing here is fixed point.
+(model.hw.quantize) consume. Nothing here is fixed point.
 """
 from __future__ import annotations
 
@@ -13,12 +13,6 @@ import numpy as np
 # Order of the 10 quadric coefficients of eq. (3): q = A s^2 + 2B st + 2C sr + 2D s
 # + E t^2 + 2F tr + 2G t + H r^2 + 2I r + J.
 QUADRIC_NAMES = ("A", "B", "C", "D", "E", "F", "G", "H", "I", "J")
-
-
-def quadric_matrix(coef) -> np.ndarray:
-    """The symmetric 4x4 matrix Q of eq. (4) from the 10 coefficients A..J."""
-    A, B, C, D, E, F, G, H, I, J = (float(c) for c in coef)
-    return np.array([[A, B, C, D], [B, E, F, G], [C, F, H, I], [D, G, I, J]], dtype=np.float64)
 
 
 @dataclass

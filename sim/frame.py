@@ -19,11 +19,12 @@ from pathlib import Path
 
 import numpy as np
 
-from model import golden, reference
-from model.config import CONFIG_NAMES, ROOT, ConfigError, load_config
+from model import reference
+from model.hw import golden
+from model.hw.config import CONFIG_NAMES, ROOT, ConfigError, load_config
 from model.imageio import compare, contact_sheet, read_image, write_image
-from model.quantize import FormatError
-from model.render import SCENES, composite, frame_size, prepare_passes, scene_path, to8
+from model.hw.quantize import FormatError
+from model.scene.passes import SCENES, composite, frame_size, prepare_passes, scene_path, to8
 
 SIMS = ("verilator", "icarus")
 
@@ -41,8 +42,8 @@ def heat(d: np.ndarray) -> np.ndarray:
 
 def run_frame(scene_name: str, config_name: str, sim: str, size: int, out_root: Path | None = None,
               progress: bool = True, gaps: int = 0, stalls: int = 0) -> dict:
-    from model.frontend import render_passes
-    from model.scene import load_scene
+    from model.scene.frontend import render_passes
+    from model.scene.scene import load_scene
     from sim.frame_rtl import run_frame_rtl
 
     t0 = time.perf_counter()

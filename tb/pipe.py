@@ -16,7 +16,7 @@ import cocotb
 from cocotb.clock import Clock
 from cocotb.triggers import ReadOnly, RisingEdge
 
-from model.config import load_config
+from model.hw.config import load_config
 
 
 def cfg():

@@ -36,9 +36,9 @@ import time
 import numpy as np
 import pytest
 
-from model.frontend import REDUCED_LIMITS, Pass, composite_over, fixed_point_violations, render_passes
-from model.scene import load_scene, parse_scene
-from model.teapot import PATCHES, VERTICES, evaluate, teapot_mesh
+from model.scene.frontend import REDUCED_LIMITS, Pass, composite_over, fixed_point_violations, render_passes
+from model.scene.scene import load_scene, parse_scene
+from model.scene.teapot import PATCHES, VERTICES, evaluate, teapot_mesh
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = sorted(glob.glob(os.path.join(ROOT, "scenes", "*.toml")))
@@ -296,7 +296,7 @@ def test_teapot_speed():
 
 def test_torus_hits_match_ray_marching():
     """The quartic solver finds every hit, and the nearest one, against a dense march of the SDF."""
-    from model.frontend import Rays, intersect
+    from model.scene.frontend import Rays, intersect
 
     sc = load_scene(os.path.join(ROOT, "scenes", "torus.toml"))
     ob = sc.objects[0]
@@ -317,7 +317,7 @@ def test_torus_hits_match_ray_marching():
 
 def test_mesh_culling_matches_brute_force():
     """Cluster culling by screen rectangles loses no hit: compare with every ray x every triangle."""
-    from model.frontend import Rays, intersect
+    from model.scene.frontend import Rays, intersect
 
     sc = load_scene(os.path.join(ROOT, "scenes", "wood.toml"))
     ob = sc.objects[0]

@@ -11,10 +11,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from model import golden as G
+from model.hw import golden as G
 from model import reference as R
-from model.config import ConfigError, load_config
-from model.quantize import FormatError, quantize_pixels, quantize_texture, to_fixed
+from model.hw.config import ConfigError, load_config
+from model.hw.quantize import FormatError, quantize_pixels, quantize_texture, to_fixed
 from model.texture import NoiseTerm, TextureParams
 
 CONFIGS = ("full", "reduced")

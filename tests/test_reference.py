@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from model.config import load_config
+from model.hw.config import load_config
 from model.reference import (
     filter_width,
     filtered_lookup,

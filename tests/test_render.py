@@ -5,7 +5,7 @@ import json
 
 import pytest
 
-from model import render
+from model.scene import render
 from model.imageio import read_attrs, read_image
 
 

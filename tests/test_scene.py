@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-from model.scene import SceneError, colormap_to_clut, load_scene, parse_scene
+from model.scene.scene import SceneError, colormap_to_clut, load_scene, parse_scene
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = sorted(glob.glob(os.path.join(ROOT, "scenes", "*.toml")))
@@ -188,13 +188,13 @@ def test_unreadable_and_non_utf8(tmp_path):
 def test_cli_exit_codes(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text(VALID.replace("a = 0.5", 'a = "x"'))
-    r = subprocess.run([sys.executable, "-m", "model.scene", str(bad)], cwd=ROOT, capture_output=True, text=True)
+    r = subprocess.run([sys.executable, "-m", "model.scene.scene", str(bad)], cwd=ROOT, capture_output=True, text=True)
     assert r.returncode == 2
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(str(bad)) and "texture.t.noise[0].a" in lines[0]
     assert r.stdout == ""
     good = os.path.join(ROOT, "scenes", "wood.toml")
-    r = subprocess.run([sys.executable, "-m", "model.scene", good], cwd=ROOT, capture_output=True, text=True)
+    r = subprocess.run([sys.executable, "-m", "model.scene.scene", good], cwd=ROOT, capture_output=True, text=True)
     assert r.returncode == 0 and "wood" in r.stdout and r.stderr == ""
 
 

@@ -31,8 +31,8 @@ import pytest
 
 import cocotb
 
-import tb.runner
-from model.config import load_config
+import hdlbuild
+from model.hw.config import load_config
 from tb import pipe
 
 Q_W, LANES = 8, 4  # box_divide's defaults, as colour_map instantiates it
@@ -128,9 +128,9 @@ async def box_divide_vs_python(dut):
                   "all exact")
 
 
-@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_box_divide_rtl(sim, config):
-    tb.runner.run("box_divide", sources=["box_divide.v"], test_module="test_box_divide", sim=sim,
+    hdlbuild.run("box_divide", sources=["box_divide.v"], test_module="test_box_divide", sim=sim,
                   config=config, test_dir=Path(__file__).parent)
 
 
@@ -138,12 +138,12 @@ def _narrow_params():
     """(sim, config, B, SAT): each configuration's normalised divider (div_bits > 0), and the
     saturating divider (B <= 9) at B = 9 and 4 (built under the first configuration)."""
     out = []
-    for sim, config in tb.runner.sim_params():
+    for sim, config in hdlbuild.sim_params():
         b = load_config(config).div_bits
         if b > 0:
             out.append((sim, config, b, 1 if b <= 9 else 0))
-    sims = sorted({s for s, _ in tb.runner.sim_params()})
-    config = tb.runner.sim_params()[0][1]
+    sims = sorted({s for s, _ in hdlbuild.sim_params()})
+    config = hdlbuild.sim_params()[0][1]
     out += [(sim, config, b, 1) for sim in sims for b in (9, 4)]
     return out
 
@@ -152,9 +152,9 @@ def _narrow_params():
 def test_box_divide_narrow_rtl(sim, config, b, sat, monkeypatch):
     """colour_map's normalised division: DEN_W = B, NUM_W = B + 8 (+ 1 with SAT)."""
     num_w = b + 8 + sat
-    gdir = tb.runner.gen_dir(config)
-    monkeypatch.setattr(tb.runner, "gen_dir", lambda _config: gdir)
-    tb.runner.run("box_divide", sources=["box_divide.v"], test_module="test_box_divide", sim=sim,
+    gdir = hdlbuild.gen_dir(config)
+    monkeypatch.setattr(hdlbuild, "gen_dir", lambda _config: gdir)
+    hdlbuild.run("box_divide", sources=["box_divide.v"], test_module="test_box_divide", sim=sim,
                   config=f"{config}_n{num_w}_d{b}_s{sat}",
                   parameters={"NUM_W": num_w, "DEN_W": b, "SAT": sat},
                   extra_env={"CONFIG": config, "BD_NUM_W": str(num_w), "BD_DEN_W": str(b), "BD_SAT": str(sat)},

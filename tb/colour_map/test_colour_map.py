@@ -1,4 +1,4 @@
-"""colour_map (rtl/colour_map.v) against model/golden.py colour_map, bit for bit.
+"""colour_map (rtl/colour_map.v) against model/hw/golden.py colour_map, bit for bit.
 
 Two halves in one file (the project's testbench convention):
 - pytest entries: `test_colour_map_rtl` over (simulator, configuration),
@@ -37,9 +37,9 @@ import pytest
 import cocotb
 from cocotb.triggers import RisingEdge
 
-import tb.runner
-from model import golden
-from model.config import load_config, verilog_header
+import hdlbuild
+from model.hw import golden
+from model.hw.config import load_config, verilog_header
 from tb import pipe
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -277,9 +277,9 @@ async def colour_map_vs_golden(dut):
 # pytest side
 
 
-@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_colour_map_rtl(sim, config):
-    tb.runner.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim, config=config,
+    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim, config=config,
                   test_dir=Path(__file__).parent)
 
 
@@ -304,7 +304,7 @@ def _variant_gen_dir(config: str, filt: str) -> tuple[Path, Path]:
 def _variant_params():
     """Icarus only unless SIM= asks for a simulator (the variants are a cheap extra check)."""
     sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["icarus"]
-    cfgs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(tb.runner.CONFIGS)
+    cfgs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(hdlbuild.CONFIGS)
     return [(s, c, f) for s in sims for c in cfgs for f in ("mip", "none")]
 
 
@@ -312,8 +312,8 @@ def _variant_params():
 def test_colour_map_filter_variants_rtl(sim, config, filt, monkeypatch):
     """The same cocotb test with the configuration's filter switched to mip / none."""
     gdir, toml = _variant_gen_dir(config, filt)
-    monkeypatch.setattr(tb.runner, "gen_dir", lambda _config: gdir)
-    tb.runner.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim,
+    monkeypatch.setattr(hdlbuild, "gen_dir", lambda _config: gdir)
+    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim,
                   config=f"{config}_{filt}", extra_env={"CONFIG": str(toml), "CM_VARIANT": "1"},
                   test_dir=Path(__file__).parent)
 
@@ -338,7 +338,7 @@ def _div_variant_gen_dir(config: str, bits: int) -> tuple[Path, Path]:
 def _div_variant_params():
     """Icarus only unless SIM= asks for a simulator; CONFIG= narrows the configurations."""
     sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["icarus"]
-    cfgs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(tb.runner.CONFIGS)
+    cfgs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(hdlbuild.CONFIGS)
     bits = {"reduced": (4, 9, load_config("reduced").w_w - 1), "full": (10,)}
     return [(s, c, b) for s in sims for c in cfgs for b in bits.get(c, ())]
 
@@ -347,7 +347,7 @@ def _div_variant_params():
 def test_colour_map_div_variants_rtl(sim, config, bits, monkeypatch):
     """The same cocotb test with the configuration's div_bits switched."""
     gdir, toml = _div_variant_gen_dir(config, bits)
-    monkeypatch.setattr(tb.runner, "gen_dir", lambda _config: gdir)
-    tb.runner.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim,
+    monkeypatch.setattr(hdlbuild, "gen_dir", lambda _config: gdir)
+    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim,
                   config=f"{config}_div{bits}", extra_env={"CONFIG": str(toml)},
                   test_dir=Path(__file__).parent)

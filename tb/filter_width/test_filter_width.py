@@ -1,4 +1,4 @@
-"""filter_width: bit-exact against model/golden.py filter_width, every output bit.
+"""filter_width: bit-exact against model/hw/golden.py filter_width, every output bit.
 
 Stimulus: n_vectors() random vectors, a third over the full range of every input
 (c within the bound below, Jm, je, n_log2 = 0..n_log2_max), a third realistic
@@ -11,7 +11,7 @@ to the cap), w one step below, at and above N (one ulp of w where the root can
 resolve it) and the cap, gx or gy alone nonzero (both signs), the maximal c and
 Jm (widest g, every sign), normalising shifts 0..max, n_log2 = 0..n_log2_max.
 
-c bound: g = c^T Jm must fit G_W (model/config.py derives G_W from the largest
+c bound: g = c^T Jm must fit G_W (model/hw/config.py derives G_W from the largest
 |c| the pipeline produces, cmax); stimulus c stays within
 c_lim = (2^(G_W-1) - 1) / (3 2^(J_W-1)) >= cmax, which for the full configuration
 is below the C_W word's own range (see rtl/filter_width.v).
@@ -33,8 +33,8 @@ import pytest
 
 import cocotb
 
-import tb.runner
-from model import golden as G
+import hdlbuild
+from model.hw import golden as G
 from tb import pipe
 
 SOURCES = ["filter_width.v", "isqrt.v", "bitlen.v"]
@@ -42,13 +42,13 @@ SOURCES = ["filter_width.v", "isqrt.v", "bitlen.v"]
 
 def latency() -> int:
     """`LAT_FILTER_WIDTH from rtl/tex_latency.vh (the block must match it)."""
-    text = (tb.runner.ROOT / "rtl" / "tex_latency.vh").read_text()
+    text = (hdlbuild.ROOT / "rtl" / "tex_latency.vh").read_text()
     return int(re.search(r"`define\s+LAT_FILTER_WIDTH\s+(\d+)", text).group(1))
 
 
-@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_filter_width_rtl(sim, config):
-    tb.runner.run("filter_width", sources=SOURCES, test_module="test_filter_width", sim=sim, config=config,
+    hdlbuild.run("filter_width", sources=SOURCES, test_module="test_filter_width", sim=sim, config=config,
                   test_dir=Path(__file__).parent)
 
 

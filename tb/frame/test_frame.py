@@ -1,14 +1,11 @@
-"""texture_pipeline on whole pixel streams: RTL (tb/frame/frame_tb.v harness) vs golden model.
+"""texture_pipeline on whole pixel streams: RTL (sim/frame_tb.v harness) vs golden model.
 
-Two halves in one file (the project's testbench convention):
-- cocotb tests `frame_run` and `frame_reset`, run inside the simulator by
-  sim/frame_rtl.py: they only start the clock, reset, wait for the harness's
-  `done` and check the harness's own protocol counters (tlast, spurious outputs,
-  X); every pixel is driven and captured in Verilog, never from Python;
-- pytest entries, parametrized over (simulator, configuration): random textures
-  and pixel streams through run_frame_rtl, compared bit-exact with
-  model.golden.texture_pipeline on every pixel; the same stream with random
-  input gaps and output stalls; a reset in the middle of a frame.
+The pytest side only: the harness's cocotb tests (`frame_run`, `frame_reset`: clock, reset,
+wait for `done`, check the harness's protocol counters) live with the frame runner in
+sim/frame_cocotb.py. Here, parametrized over (simulator, configuration): random textures
+and pixel streams through sim.frame_rtl.run_frame_rtl, compared bit-exact with
+model.hw.golden.texture_pipeline on every pixel; the same stream with random input gaps
+and output stalls; a reset in the middle of a frame.
 
 Environment: SIM, CONFIG narrow the parametrization; SEED fixes the randomness;
 VECTORS scales the Verilator stream length (pixels per stream = max(3000, VECTORS));
@@ -17,111 +14,13 @@ Icarus streams 400 pixels; FRAME_PIXELS sets the length for both.
 from __future__ import annotations
 
 import os
-import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-import cocotb
-from cocotb.clock import Clock
-from cocotb.triggers import ClockCycles, FallingEdge, RisingEdge, SimTimeoutError, with_timeout
-
-import tb.runner
-from model.config import load_config
-
-# ---------------------------------------------------------------------------
-# cocotb side (runs inside the simulator)
-
-
-def _stats(path) -> dict:
-    out = {}
-    for line in Path(path).read_text().splitlines():
-        k, _, v = line.partition(" ")
-        if k:
-            out[k] = int(v)
-    return out
-
-
-def _outputs_resolve(dut, what: str):
-    """Every output of texture_pipeline is 0/1 (no X/Z): its value converts to an int.
-
-    frame_tb's wires m_tdata, m_tvalid, m_tlast, s_tready are u_pipe's m_axis_tdata,
-    m_axis_tvalid, m_axis_tlast, s_axis_tready."""
-    vals = {}
-    for name in ("m_tdata", "m_tvalid", "m_tlast", "s_tready"):
-        v = getattr(dut, name).value
-        try:
-            vals[name] = int(v)
-        except ValueError:
-            raise AssertionError(f"{what}: {name} = {v} is not a resolved value") from None
-    return vals
-
-
-async def _reset(dut, cycles: int = 4):
-    dut.rst.value = 1
-    await ClockCycles(dut.clk, cycles)
-    await FallingEdge(dut.clk)
-    vals = _outputs_resolve(dut, "right after reset")
-    assert vals["m_tvalid"] == 0, "m_axis_tvalid set during reset"
-    assert vals["m_tdata"] == 0 and vals["m_tlast"] == 0, f"output registers not reset: {vals}"
-    dut.rst.value = 0
-
-
-async def _finish(dut, t0: float):
-    timeout = int(os.environ.get("FRAME_TIMEOUT_CYCLES", "10000000"))
-    try:
-        await with_timeout(RisingEdge(dut.done), timeout * 10, "ns")
-    except SimTimeoutError:
-        raise AssertionError(
-            f"harness not done after {timeout} clocks: {int(dut.out_idx.value)} of {os.environ['FRAME_NPIX']} "
-            f"colours received (state {int(dut.state_reg.value)}): pixels lost or the pipeline stopped"
-        ) from None
-    wall = time.perf_counter() - t0
-    npix = int(os.environ["FRAME_NPIX"])
-    st = _stats(os.environ["FRAME_STATS"])
-    Path(os.environ["FRAME_PYSTATS"]).write_text(f"stream_wall_us {int(wall * 1e6)}\n")
-    assert st["out_count"] == npix and st["in_count"] == npix, f"pixels in/out {st['in_count']}/{st['out_count']}, expected {npix}"
-    assert st["tlast_err"] == 0, f"tlast wrong on {st['tlast_err']} pixels"
-    assert st["extra_out"] == 0, f"{st['extra_out']} outputs after the last pixel"
-    assert st["x_err"] == 0, f"X on the outputs in {st['x_err']} clocks"
-    n_out = sum(1 for line in Path(os.environ["FRAME_OUT"]).read_text().splitlines()
-                if line.split("//", 1)[0].strip())
-    assert n_out == npix, f"{n_out} colours in the output file, expected {npix}"
-    dut._log.info(
-        "frame: %d pixels, %d stream cycles (%.3f px/clk), %.3f s wall, %.0f px/s",
-        npix, st["stream_cycles"], npix / max(st["stream_cycles"], 1), wall, npix / max(wall, 1e-9),
-    )
-
-
-@cocotb.test()
-async def frame_run(dut):
-    """Clock, reset, wait for the harness to load, stream and write the frame."""
-    Clock(dut.clk, 10, unit="ns", impl="gpi").start()
-    await _reset(dut)
-    await _finish(dut, time.perf_counter())
-
-
-@cocotb.test()
-async def frame_reset(dut):
-    """Reset in the middle of the frame; the harness reloads and streams again from pixel 0."""
-    Clock(dut.clk, 10, unit="ns", impl="gpi").start()
-    await _reset(dut)
-    await ClockCycles(dut.clk, int(os.environ["FRAME_RESET_AT"]))
-    await FallingEdge(dut.clk)
-    out_idx, npix = int(dut.out_idx.value), int(os.environ["FRAME_NPIX"])
-    assert int(dut.state_reg.value) == 1 and 0 < out_idx < npix, (
-        f"reset not in the middle of the stream (state {int(dut.state_reg.value)}, {out_idx} of {npix} out)"
-    )
-    dut._log.info("reset after %d of %d colours", out_idx, npix)
-    await _reset(dut, cycles=3)
-    await _finish(dut, time.perf_counter())
-
-
-# ---------------------------------------------------------------------------
-# pytest side: stimulus, golden model, comparison
-
-from model.golden import MODE_CLAMP, MODE_MOD, TexInt, texture_stages  # noqa: E402
+import hdlbuild
+from model.hw.config import load_config
+from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt, texture_stages
 
 
 def _seed() -> int:
@@ -209,7 +108,7 @@ def random_pixels(cfg, r, n: int, kind: str):
 def junk_writes(cfg, r) -> list[tuple[int, int]]:
     """Writes the register map must ignore: unmapped registers, terms k >= K, fields 13..15,
     table indices past the end of clut / csat / mip, unmapped regions."""
-    from model.regmap import ADDR_CLUT, ADDR_CSAT, ADDR_MIP, ADDR_Q, ADDR_TERM, TERM_STRIDE
+    from model.hw.regmap import ADDR_CLUT, ADDR_CSAT, ADDR_MIP, ADDR_Q, ADDR_TERM, TERM_STRIDE
 
     K, nmax = cfg.noise_terms, cfg.n_log2_max
     addrs = [0x0001, 0x000F, ADDR_Q + 10, ADDR_Q + 15, 0x0020, 0x00FF]
@@ -242,7 +141,7 @@ def _frame_rtl():
     return run_frame_rtl
 
 
-@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_frame_random(sim, config):
     """(a) random textures (full-range and realistic), random streams: every pixel bit-exact;
     (b) the same stream with random input gaps and output stalls: the same pixels."""
@@ -280,7 +179,7 @@ def test_frame_random(sim, config):
     print(f"  gaps 30% / stalls 40%: {cycles} cycles for {n} px")
 
 
-@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_frame_reset(sim, config):
     """(c) reset in the middle of a frame (with gaps and stalls): reload, stream again, all correct;
     no output is X right after either reset (checked inside the cocotb test)."""
@@ -292,7 +191,7 @@ def test_frame_reset(sim, config):
     n = min(_n_pixels(sim), 3000)
     tex = random_texture(cfg, r, "real")
     s, Jm, je = random_pixels(cfg, r, n, "real")
-    from model.regmap import write_sequence
+    from model.hw.regmap import write_sequence
 
     nwr = len(write_sequence(cfg, tex))
     reset_at = nwr + 2 + int(r.integers(n // 4, n // 2))  # inside the stream (~1 px / clock)

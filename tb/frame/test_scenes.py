@@ -9,8 +9,8 @@ import os
 
 import pytest
 
-from model.render import SCENES
-from tb.runner import sim_params
+from model.scene.passes import SCENES
+from hdlbuild import sim_params
 
 SIZE = int(os.environ.get("SCENE_SIZE", 64))
 

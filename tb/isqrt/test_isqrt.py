@@ -23,9 +23,9 @@ import pytest
 
 import cocotb
 
-import tb.runner
-from model import golden as G
-from model.config import load_config
+import hdlbuild
+from model.hw import golden as G
+from model.hw.config import load_config
 from tb import pipe
 
 SOURCES = ["isqrt.v"]
@@ -37,15 +37,15 @@ SMALL = [(12, 6, 6), (11, 7, 2)]
 
 def sqrt_latency() -> int:
     """The isqrt stages inside filter_width: `LAT_FILTER_WIDTH - 5."""
-    text = (tb.runner.ROOT / "rtl" / "tex_latency.vh").read_text()
+    text = (hdlbuild.ROOT / "rtl" / "tex_latency.vh").read_text()
     return int(re.search(r"`define\s+LAT_FILTER_WIDTH\s+(\d+)", text).group(1)) - 5
 
 
-@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_isqrt_rtl(sim, config):
     cfg = load_config(config)
     lat = sqrt_latency()
-    tb.runner.run("isqrt", sources=SOURCES, test_module="test_isqrt", sim=sim, config=config,
+    hdlbuild.run("isqrt", sources=SOURCES, test_module="test_isqrt", sim=sim, config=config,
                   parameters={"LATENCY": lat}, test_dir=Path(__file__).parent,
                   extra_env={"ISQRT_L_W": str(cfg.l_w), "ISQRT_R_W": str(cfg.r_w), "ISQRT_LAT": str(lat),
                              "ISQRT_EXHAUSTIVE": "0"})
@@ -54,38 +54,21 @@ def test_isqrt_rtl(sim, config):
 def small_params():
     """(sim, variant) pairs, narrowed by SIM=: the first variant on every simulator, the
     others on Icarus only (a Verilator build costs more than the exhaustive run)."""
-    sims = sorted({s for s, _ in tb.runner.sim_params()})
+    sims = sorted({s for s, _ in hdlbuild.sim_params()})
     return [pytest.param(s, v, id=f"{s}-L{v[0]}R{v[1]}P{v[2]}") for i, v in enumerate(SMALL) for s in sims
             if i == 0 or s == "icarus"]
 
 
 @pytest.mark.parametrize("sim,variant", small_params())
 def test_isqrt_small_rtl(sim, variant):
-    """Exhaustive small builds. tb.runner.run keys its build directory on the
-    configuration only, so these builds get their own directory here."""
-    from cocotb_tools.runner import get_results, get_runner
-
+    """Exhaustive small builds, each in its own build directory (build_name); isqrt's
+    default parameters come from the full configuration's tex_cfg.vh."""
     l_w, r_w, lat = variant
-    if sim == "verilator":
-        tb.runner.setup_verilator_env()
-    gdir = tb.runner.gen_dir("full")  # isqrt's default parameters come from tex_cfg.vh
-    build_dir = tb.runner.ROOT / "build" / "sim" / "isqrt" / f"L{l_w}R{r_w}P{lat}-{sim}"
-    runner = get_runner(sim)
-    build_args = ["-Wno-fatal", "--x-assign", "unique", "--x-initial", "unique", "-O3"] if sim == "verilator" else []
-    runner.build(sources=[tb.runner.ROOT / "rtl" / s for s in SOURCES], includes=[gdir, tb.runner.ROOT / "rtl"],
-                 hdl_toplevel="isqrt", parameters={"L_W": l_w, "R_W": r_w, "LATENCY": lat},
-                 build_args=build_args, build_dir=build_dir, timescale=("1ns", "1ps"))
-    s = tb.runner.seed()
-    print(f"[isqrt L{l_w}R{r_w}P{lat} {sim}] SEED={s}", flush=True)
-    results = runner.test(
-        hdl_toplevel="isqrt", test_module="test_isqrt", test_dir=Path(__file__).parent, build_dir=build_dir,
-        seed=s, timescale=("1ns", "1ps"),
-        extra_env={"CONFIG": "full", "SEED": str(s), "VECTORS": str(tb.runner.vectors()),
-                   "PYTHONPATH": os.pathsep.join([str(tb.runner.ROOT), str(Path(__file__).parent),
-                                                  os.environ.get("PYTHONPATH", "")]),
-                   "ISQRT_L_W": str(l_w), "ISQRT_R_W": str(r_w), "ISQRT_LAT": str(lat), "ISQRT_EXHAUSTIVE": "1"})
-    n_tests, n_fail = get_results(results)
-    assert n_tests > 0 and n_fail == 0, f"isqrt L{l_w}R{r_w}P{lat} [{sim}]: {n_fail} of {n_tests} failed (SEED={s})"
+    hdlbuild.run("isqrt", sources=SOURCES, test_module="test_isqrt", sim=sim, config="full",
+                 parameters={"L_W": l_w, "R_W": r_w, "LATENCY": lat}, test_dir=Path(__file__).parent,
+                 build_name=f"L{l_w}R{r_w}P{lat}",
+                 extra_env={"ISQRT_L_W": str(l_w), "ISQRT_R_W": str(r_w), "ISQRT_LAT": str(lat),
+                            "ISQRT_EXHAUSTIVE": "1"})
 
 
 # ---------------------------------------------------------------------------

@@ -1,5 +1,5 @@
 """noise_hash (combinational): the 8 corner lattice values of a cell, bit-exact against
-model/golden.py noise_hash at (ix + i, iy + j, iz + k) mod 2^hash_bits.
+model/hw/golden.py noise_hash at (ix + i, iy + j, iz + k) mod 2^hash_bits.
 
 Coverage scales with VECTORS (budget 2 * VECTORS cells): every cell when 2^(3 hash_bits)
 fits the budget; otherwise every (iy, iz) for fixed ix in
@@ -16,14 +16,14 @@ import pytest
 import cocotb
 from cocotb.triggers import Timer
 
-import tb.runner
-from model import golden as G
+import hdlbuild
+from model.hw import golden as G
 from tb import pipe
 
 
-@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_noise_hash_rtl(sim, config):
-    tb.runner.run("noise_hash", sources=["noise_hash.v"], test_module="test_noise_hash", sim=sim, config=config,
+    hdlbuild.run("noise_hash", sources=["noise_hash.v"], test_module="test_noise_hash", sim=sim, config=config,
                   test_dir=Path(__file__).parent)
 
 

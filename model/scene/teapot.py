@@ -10,7 +10,7 @@ is about 6.5 wide in x (handle at -x, spout at +x), 4 deep in y and 3.15 high.
 quad, and drops the degenerate triangles at the lid and bottom poles (where a patch row
 collapses to one point). Triangles are emitted in clusters: the 2 x 2-quad cells of a
 patch in turn, 8 triangles per full cell, so that consecutive triangles are close in
-space and the ray caster (model.frontend) can cull a whole cluster by its bounding box.
+space and the ray caster (model.scene.frontend) can cull a whole cluster by its bounding box.
 """
 from __future__ import annotations
 

@@ -5,7 +5,7 @@ and computes exactly what that module computes: the same word widths, the same
 floor (arithmetic shift right) truncations, the same saturations. All arrays
 are int64 and every function is vectorized over whole frames ([..., ] leading
 axes). Formats, bounds and rounding rules are in docs/numerics.md; the widths
-are derived in model/config.py from config/<name>.toml.
+are derived in model/hw/config.py from config/<name>.toml.
 
 Conventions
 - `>>` on int64 is floor division by a power of two (two's complement), the
@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from model.config import Config
+from model.hw.config import Config
 
 MODE_MOD, MODE_CLAMP = 0, 1
 I64 = np.int64
@@ -51,7 +51,7 @@ def isqrt(L):
 
 @dataclass
 class TexInt:
-    """A texture's parameters as the hardware holds them (see model/quantize.py)."""
+    """A texture's parameters as the hardware holds them (see model/hw/quantize.py)."""
 
     Q: np.ndarray  # int64 [10]: A..J, s{q_w}.{q_frac}
     a: np.ndarray  # int64 [K]: amplitudes, s{a_w}.{a_frac}

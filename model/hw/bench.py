@@ -11,9 +11,10 @@ import time
 
 import numpy as np
 
-from model import golden, reference
-from model.config import load_config
-from model.quantize import quantize_pixels, quantize_texture
+from model import reference
+from model.hw import golden
+from model.hw.config import load_config
+from model.hw.quantize import quantize_pixels, quantize_texture
 from model.texture import NoiseTerm, TextureParams
 
 

@@ -1,11 +1,12 @@
 """Verilog includes generated from a configuration (tables the RTL must not type in).
 
-`python -m model.gen_rtl CONFIG OUTDIR` writes every generated file into OUTDIR: tex_cfg.vh
-(the widths, model/config.py verilog_header), perm.hex, and perm_rom.vh: the lattice hash
-permutation of the configuration (model/config.py permutation(), 2^hash_bits entries)
+`python -m model.hw.gen_rtl CONFIG OUTDIR` writes every generated file into OUTDIR: tex_cfg.vh
+(the widths, model/hw/config.py verilog_header) and perm_rom.vh: the lattice hash
+permutation of the configuration (model/hw/config.py permutation(), 2^hash_bits entries)
 as a ROM (constant array perm_rom) read by the function `perm_lookup`. rtl/noise_hash.v
-includes it inside its module body; tb/runner.py gen_dir() regenerates it next to
-tex_cfg.vh in build/gen/<config>/.
+includes it inside its module body; hdlbuild.gen_dir() regenerates both in
+build/gen/<config>/. This module is the one writer of generated files (`python -m
+model.hw.config NAME OUT_DIR` calls it).
 """
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ import threading
 import sys
 from pathlib import Path
 
-from model.config import Config, ConfigError, _rel, load_config, perm_hex, verilog_header
+from model.hw.config import Config, ConfigError, _rel, load_config, verilog_header
 
 
 def perm_rom(cfg: Config) -> str:
@@ -30,7 +31,7 @@ def perm_rom(cfg: Config) -> str:
     hb = cfg.hash_bits
     n = 1 << hb
     lines = [
-        f"// Generated from {_rel(cfg.path)} by model/gen_rtl.py. Do not edit.",
+        f"// Generated from {_rel(cfg.path)} by model/hw/gen_rtl.py. Do not edit.",
         f"// Configuration: {cfg.name}. Lattice hash permutation perm[0..{n - 1}] (seed {cfg.seed}) as a",
         "// ROM (constant array) and its read function. Included inside a module body; needs tex_cfg.vh.",
         f"reg [`CFG_HASH_BITS-1:0] perm_rom [0:{n - 1}];",
@@ -52,7 +53,7 @@ def perm_rom(cfg: Config) -> str:
 
 
 # file name -> generator
-GENERATED = {"tex_cfg.vh": verilog_header, "perm.hex": perm_hex, "perm_rom.vh": perm_rom}
+GENERATED = {"tex_cfg.vh": verilog_header, "perm_rom.vh": perm_rom}
 
 
 def write(cfg: Config, outdir) -> list[Path]:
@@ -75,7 +76,7 @@ def write(cfg: Config, outdir) -> list[Path]:
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if len(argv) != 2:
-        print("usage: python -m model.gen_rtl CONFIG OUTDIR", file=sys.stderr)
+        print("usage: python -m model.hw.gen_rtl CONFIG OUTDIR", file=sys.stderr)
         return 2
     try:
         cfg = load_config(argv[0])

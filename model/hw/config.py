@@ -6,7 +6,7 @@ magnitude bound, documented in docs/numerics.md). The golden model reads the
 result; `verilog_header(cfg)` writes the same numbers as Verilog parameters, so
 no width is typed twice.
 
-Run `python -m model.config NAME [OUT.vh]` to print or write the header.
+Run `python -m model.hw.config NAME [OUT.vh]` to print or write the header.
 """
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]  # the repository (model/hw/config.py)
 CONFIG_DIR = ROOT / "config"
 CONFIG_NAMES = ("full", "reduced")
 
@@ -294,7 +294,7 @@ def _rel(path) -> str:
 def verilog_header(cfg: Config) -> str:
     """A Verilog include with every width of `cfg` as a `define (CFG_<NAME>)."""
     lines = [
-        f"// Generated from {_rel(cfg.path)} by model/config.py. Do not edit.",
+        f"// Generated from {_rel(cfg.path)} by model/hw/gen_rtl.py. Do not edit.",
         f"// Configuration: {cfg.name}",
         "`ifndef TEX_CFG_VH",
         "`define TEX_CFG_VH",
@@ -319,16 +319,10 @@ def verilog_header(cfg: Config) -> str:
     return "\n".join(lines) + "\n"
 
 
-def perm_hex(cfg: Config) -> str:
-    """The permutation table as a $readmemh file (one hex entry per line)."""
-    nd = (cfg.hash_bits + 3) // 4
-    return "".join(f"{int(v):0{nd}x}\n" for v in cfg.perm)
-
-
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if not argv:
-        print("usage: python -m model.config NAME [OUT_DIR]", file=sys.stderr)
+        print("usage: python -m model.hw.config NAME [OUT_DIR]", file=sys.stderr)
         return 2
     try:
         cfg = load_config(argv[0])
@@ -336,7 +330,7 @@ def main(argv=None) -> int:
         print(f"config: {e}", file=sys.stderr)
         return 2
     if len(argv) > 1:
-        from model.gen_rtl import write  # the one writer of generated files
+        from model.hw.gen_rtl import write  # the one writer of generated files
 
         write(cfg, argv[1])
     else:

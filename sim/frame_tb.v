@@ -3,8 +3,8 @@
 // The top of the simulation. cocotb only drives clk and rst and waits for `done`; every
 // per-pixel action happens here, in the simulator:
 //   1. $readmemh the parameter writes (+PARAMS=<file>, +NWR=<count>; one write a line,
-//      {addr[15:0], data[31:0]}, 12 hex digits, model/regmap.py writes_hex) and the pixel
-//      words (+PIXELS=<file>, +NPIX=<count>; model/regmap.py pixels_hex);
+//      {addr[15:0], data[31:0]}, 12 hex digits, model/hw/regmap.py writes_hex) and the pixel
+//      words (+PIXELS=<file>, +NPIX=<count>; model/hw/regmap.py pixels_hex);
 //   2. after rst falls, drive the writes through the parameter port, one a clock;
 //   3. stream the pixels into s_axis (tlast on the last one) with pseudo-random input gaps
 //      (+GAPS=<percent>: the source idles on that share of the clocks where it could offer a

@@ -5,7 +5,7 @@ malformed TOML, unknown key, missing field, wrong type, out-of-range value, colo
 out of order, a reference to an undefined texture -- raises `SceneError`, whose str is ONE
 line: ``<file>: <key path>: <what was expected>, got <what was found>``, e.g.
 ``scenes/wood.toml: texture.wood.noise[0].a: expected a number, got 'x'``.
-``python -m model.scene FILE...`` checks files: it prints a summary per file to stdout and
+``python -m model.scene.scene FILE...`` checks files: it prints a summary per file to stdout and
 exits 0, or prints the error line to stderr and exits 2.
 
 Schema (every key not listed is an error; [] = optional, with its default)
@@ -68,7 +68,7 @@ Schema (every key not listed is an error; [] = optional, with its default)
 
 The limits enforced here are those every configuration shares (the widest formats).
 The tighter limits of the reduced hardware are checked by
-`model.frontend.fixed_point_violations`.
+`model.scene.frontend.fixed_point_violations`.
 """
 from __future__ import annotations
 
@@ -534,7 +534,7 @@ def _parse_object(file, i, ov, textures):
                     ov.err(k, "no vertices/triangles with builtin", ov.t[k])
             ov.str("builtin", choices=("teapot",))
             n = ov.int("subdivisions", 8, lo=1, hi=32)
-            from model.teapot import teapot_mesh
+            from model.scene.teapot import teapot_mesh
 
             V, T, C = teapot_mesh(n)
         else:
@@ -638,7 +638,7 @@ def summary(scene: Scene) -> str:
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     if not argv:
-        print("usage: python -m model.scene FILE...", file=sys.stderr)
+        print("usage: python -m model.scene.scene FILE...", file=sys.stderr)
         return 2
     for f in argv:
         try:

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from model.config import Config
-from model.golden import MODE_CLAMP, MODE_MOD, TexInt
+from model.hw.config import Config
+from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt
 from model.texture import QUADRIC_NAMES, TextureParams
 
 

@@ -1,6 +1,6 @@
 """Model-only rendering of a scene: float reference, golden model, ground truth, reports.
 
-`python -m model.render --scene zone_plate --config full --size 256` (make render)
+`python -m model.scene.render --scene zone_plate --config full --size 256` (make render)
 writes out/render/<scene>/<config>-<size>/: reference.exr (float reference, with
 provenance attributes), reference.png, golden.png, unfiltered.png, truth.png
 (8x8 supersampled unfiltered float reference, box-averaged), filter_width.png
@@ -15,82 +15,16 @@ import json
 import subprocess
 import sys
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from model import golden, reference
-from model.config import CONFIG_NAMES, ROOT, ConfigError, load_config
+from model import reference
+from model.hw import golden
+from model.hw.config import CONFIG_NAMES, ROOT, ConfigError, load_config
+from model.hw.quantize import FormatError
 from model.imageio import compare, contact_sheet, write_image
-from model.quantize import FormatError, quantize_pixels, quantize_texture
-
-SCENE_DIR = ROOT / "scenes"
-SCENES = ("wood", "marble", "seascape", "fire", "planet", "moonrise", "zone_plate", "torus")
-
-
-@dataclass
-class PassData:
-    """One texture pass, quantized for the hardware (masked pixels only, row-major)."""
-
-    name: str
-    tex: object  # TextureParams (float)
-    mask: np.ndarray  # bool [H, W]
-    s: np.ndarray  # float [P, 3]
-    J: np.ndarray  # float [P, 3, 2]
-    ti: golden.TexInt
-    info: dict
-    si: np.ndarray
-    Jm: np.ndarray
-    je: np.ndarray
-
-
-def scene_path(name: str) -> Path:
-    p = Path(name)
-    return p if p.suffix == ".toml" else SCENE_DIR / f"{name}.toml"
-
-
-def prepare_passes(cfg, passes) -> list[PassData]:
-    """Quantize every pass; a value that does not fit names the pass and the value."""
-    out = []
-    for ps in passes:
-        try:
-            ti, info = quantize_texture(cfg, ps.texture)
-            s = ps.s[ps.mask]
-            J = ps.J[ps.mask]
-            si, Jm, je = quantize_pixels(cfg, s, J)
-        except FormatError as e:
-            raise FormatError(f"pass '{ps.name}': {e}") from None
-        out.append(PassData(ps.name, ps.texture, ps.mask, s, J, ti, info, si, Jm, je))
-    return out
-
-
-def composite(layers, shape, background) -> np.ndarray:
-    """'over' compositing, layers front to back: [(mask [H,W], rgba [P,4] 0..255 float)].
-
-    Straight (non-premultiplied) alpha from the colour tables. Returns float RGBA
-    [H, W, 4] in 0..255 over the opaque-or-not background.
-    """
-    H, W = shape
-    acc = np.zeros((H, W, 3))
-    acc_a = np.zeros((H, W))
-    for mask, rgba in layers:
-        rgba = np.asarray(rgba, dtype=np.float64)
-        a = rgba[:, 3] / 255.0
-        t = 1.0 - acc_a[mask]
-        acc[mask] += (t * a)[:, None] * rgba[:, :3]
-        acc_a[mask] += t * a
-    bg = np.asarray(background, dtype=np.float64)
-    ba = bg[3] / 255.0
-    t = 1.0 - acc_a
-    out = np.empty((H, W, 4))
-    out[..., :3] = acc + (t * ba)[..., None] * bg[:3]
-    out[..., 3] = 255.0 * (acc_a + t * ba)
-    return out
-
-
-def to8(img: np.ndarray) -> np.ndarray:
-    return np.clip(np.rint(img), 0, 255).astype(np.uint8)
+from model.scene.passes import SCENES, composite, frame_size, prepare_passes, scene_path, to8
 
 
 def git_describe() -> str:
@@ -101,15 +35,10 @@ def git_describe() -> str:
         return "unknown"
 
 
-def frame_size(scene, size: int) -> tuple[int, int]:
-    w0, h0 = scene.width, scene.height
-    return size, max(1, round(size * h0 / w0))
-
-
 def render(scene_name: str, config_name: str, size: int, truth: bool = True, truth_ss: int = 8,
            out_root: Path | None = None, progress: bool = True) -> dict:
-    from model.frontend import render_passes
-    from model.scene import load_scene
+    from model.scene.frontend import render_passes
+    from model.scene.scene import load_scene
 
     t0 = time.perf_counter()
     cfg = load_config(config_name)
@@ -182,7 +111,7 @@ def supersampled_truth(scene, cfg, W, H, ss: int) -> np.ndarray:
     Rendered in horizontal bands to bound memory; each band is a full-width
     render of ss*W x ss*H restricted to its rows by the front end's row window.
     """
-    from model.frontend import render_passes
+    from model.scene.frontend import render_passes
 
     big = render_passes(scene, W * ss, H * ss)
     layers = []
@@ -276,7 +205,7 @@ def write_scenes_md(reps: list[dict], size: int) -> None:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m model.render", description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(prog="python -m model.scene.render", description=__doc__.splitlines()[0])
     ap.add_argument("--scene", default="zone_plate")
     ap.add_argument("--config", default="full", choices=CONFIG_NAMES)
     ap.add_argument("--size", type=int, default=256)

@@ -3,7 +3,7 @@
 The twin of the header of rtl/texture_pipeline.v: what the parameter write port
 expects (`write_sequence`) and how a pixel is packed into s_axis_tdata
 (`pack_pixels`) and the colour is unpacked from m_axis_tdata (`unpack_rgba`).
-All widths come from the configuration (model/config.py).
+All widths come from the configuration (model/hw/config.py).
 
 Register map (word addresses, 32-bit data; signed values two's complement in the
 LSBs of the word):
@@ -28,8 +28,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from model.config import Config
-from model.golden import MODE_CLAMP, MODE_MOD, TexInt
+from model.hw.config import Config
+from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt
 
 ADDR_CTRL = 0x0000
 ADDR_Q = 0x0010

@@ -55,7 +55,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from model.scene import Scene, SceneObject
+from model.scene.scene import Scene, SceneObject
 from model.texture import TextureParams
 
 T_EPS = 1e-9  # smallest accepted ray parameter (relative to |D| ~ 1)
