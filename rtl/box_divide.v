@@ -5,9 +5,9 @@
 // SAT = 0: precondition num < den * 2^Q_W (the quotient fits Q_W bits; den = 0 never meets
 // it); then q = floor(num / den) exactly. Outside it q is some deterministic value, not the
 // quotient. colour_map guarantees it (num <= 255.5 den, den >= 1; or, divisor normalised
-// to CFG_DIV_BITS >= 10 bits, num < 256 den: docs/numerics.md "Colour map").
+// to div_bits >= 10 bits, num < 256 den: docs/numerics.md "Colour map").
 // SAT = 1: precondition num < den * 2^(Q_W+1); q = min(floor(num / den), 2^Q_W - 1), the
-// quotient saturated (colour_map, divisor normalised to CFG_DIV_BITS <= 9 bits). Stage 0
+// quotient saturated (colour_map, divisor normalised to div_bits <= 9 bits). Stage 0
 // also compares num >> Q_W with den, in parallel with its quotient bit: num >= den 2^Q_W
 // sets a per-lane flag that forces q to all ones (the other lanes meet the SAT = 0
 // precondition, so bit RW of their numerator is 0 and the Q_W stages below are exact).
@@ -26,11 +26,9 @@
 
 `default_nettype none
 
-`include "tex_cfg.vh"
-
 module box_divide #(
-    parameter NUM_W = `CFG_D_W - 1,  // numerator width per lane (colour_map: (D + w) / 2)
-    parameter DEN_W = `CFG_W_W,      // divisor width (colour_map: the filter width w)
+    parameter NUM_W = 40,           // numerator width per lane (colour_map: (D + w) / 2)
+    parameter DEN_W = 33,           // divisor width (colour_map: the filter width w)
     parameter Q_W   = 8,             // quotient bits = pipeline stages (>= 2)
     parameter LANES = 4,             // numerators per vector (one shared divisor)
     parameter SAT   = 0              // 1: saturate the quotient at 2^Q_W - 1 (see above)

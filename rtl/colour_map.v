@@ -1,7 +1,7 @@
 // colour_map: RGBA8 of the colour index f box-filtered over the filter width w (paper 3.3);
-// the bit-exact twin of model/golden.py colour_map.
+// the bit-exact twin of model/hw/golden.py colour_map.
 //
-// Formats (widths `CFG_*, generated from config/<name>.toml):
+// Formats (the parameters; derived widths from rtl/tex_widths.vh):
 //   f_in   s{F_W}.{F_FRAC}   1.0 = the whole colour table
 //   w_in   u{W_W}.{F_FRAC}   colour-table entries; contract: w <= 2^(W_CAP_LOG2 + F_FRAC)
 //                            (filter_width saturates there; D_W and X_W are sized for it;
@@ -14,17 +14,17 @@
 //   u = (f mod 1) N (mod) or clip(f N, -W/2, N + W/2), W = 2^W_CAP_LOG2 (clamp)
 //       [s{U_W}.{F_FRAC} entries; clamp compares f with the thresholds shifted right
 //        by n_log2, exact because they are multiples of 2^n_log2]
-//   `CFG_FILTER 1 (sat): a = 2u - w, b = 2u + w (s{X_W}.{F_FRAC+1}), and per channel
+//   FILTER 1 (sat): a = 2u - w, b = 2u + w (s{X_W}.{F_FRAC+1}), and per channel
 //       D = I(b) - I(a) = ((whole + csat[kb-1] - csat[ka-1]) << XF) + fr_b clut[kb] - fr_a clut[ka]
 //       (sat_index, sat_integral), whole = (kx_b - kx_a) total (mod: kx = whole tables
 //       before x) or kx_b clut[kb] - kx_a clut[ka] (clamp: kx = whole entries past an edge),
 //       formed by two KW x QW multipliers in either mode (mod: the bytes of total; QW = 8
 //       for N_LOG2_MAX <= 8);
 //       computed mod 2^D_W, exact since 0 <= D <= 255 * 2w < 2^D_W;
-//       `CFG_DIV_BITS = 0 (exact): out = floor((D + w) / (2w)) = floor(((D + w) >> 1) / w)
+//       DIV_BITS = 0 (exact): out = floor((D + w) / (2w)) = floor(((D + w) >> 1) / w)
 //       by box_divide on u{D_W-1} / u{W_W} (8 quotient bits: D + w <= 511 w < 2^8 * 2w, so
 //       out <= 255, never 256);
-//       `CFG_DIV_BITS = B > 0 (normalised; built when B < W_W, else w never has more than B
+//       DIV_BITS = B > 0 (normalised; built when B < W_W, else w never has more than B
 //       bits and the exact division is built): h(s) = 2^s >> 1,
 //         sh0 = bitlen(w >> B), w_r = w + h(sh0), sh = bitlen(w_r >> B) (sh0 or sh0 + 1),
 //         den' = w_r >> sh = round(w / 2^sh) (u{B}, >= 2^(B-1) when sh > 0),
@@ -36,10 +36,10 @@
 //       w = 0 or filter off: the point lookup clut[k], k = floor(u) mod N or clipped, which
 //       is the clut read at window end a when w is forced to 0 (a = b = 2u), fed through the
 //       divider as num = clut[k], den = 1 (normalised: sh = 0).
-//   `CFG_FILTER 2 (mip): mip[2N - (2N >> l) + (floor(u) >> l)], l = clip(floor(log2 w), 0,
+//   FILTER 2 (mip): mip[2N - (2N >> l) + (floor(u) >> l)], l = clip(floor(log2 w), 0,
 //       n_log2) (mip_index); filter off: clut[k].
-//   `CFG_FILTER 0 (none): clut[k].
-// Only the configured filter is built (generate on `CFG_FILTER).
+//   FILTER 0 (none): clut[k].
+// Only the configured filter is built (generate on FILTER).
 //
 // Tables (colour_table): loaded by the host through the write port (synchronous,
 // independent of ce): wr_table 0 clut, 1 csat (inclusive prefix sums of clut, eq. 13),
@@ -65,40 +65,50 @@
 
 `default_nettype none
 
-`include "tex_cfg.vh"
 `include "tex_latency.vh"
 
-module colour_map (
-    input  wire                         clk,
-    input  wire                         rst,
-    input  wire                         ce,
-    input  wire                         in_valid,
-    input  wire [`CFG_F_W-1:0]          f_in,       // signed
-    input  wire [`CFG_W_W-1:0]          w_in,
-    input  wire                         mode,       // 0 mod, 1 clamp
-    input  wire [`CFG_N_LOG2_W-1:0]     n_log2,
-    input  wire                         filter_en,
-    // table write port
-    input  wire                         wr_en,
-    input  wire [1:0]                   wr_table,   // 0 clut, 1 csat, 2 mip
-    input  wire [`CFG_N_LOG2_MAX:0]     wr_addr,
-    input  wire [4*`CFG_CSAT_W-1:0]     wr_data,
-    output wire                         out_valid,
-    output wire [31:0]                  rgba_out
-);
+module colour_map #(
+    // formats and modes (config/<name>.toml keys in brackets); every internal width is
+    // derived from them below (rtl/tex_widths.vh, the twin of model/hw/config.py)
+    parameter F_W        = 42,  // f_in word width (texture_pipeline: the exact sum's)
+    parameter F_FRAC     = 16,  // [f_frac] fraction bits of f and w
+    parameter W_CAP_LOG2 = 16,  // [w_cap_log2] w saturates at 2^W_CAP_LOG2 entries
+    parameter N_LOG2_MAX = 8,   // [n_log2_max] log2 of the largest colour table (>= 1)
+    parameter FILTER     = 1,   // [filter] 0 none (point lookup), 1 sat, 2 mip
+    parameter DIV_BITS   = 0    // [div_bits] box-filter division: 0 exact, B > 0 on B-bit w
+) (clk, rst, ce, in_valid, f_in, w_in, mode, n_log2, filter_en, wr_en, wr_table, wr_addr, wr_data,
+   out_valid, rgba_out);
 
-localparam FILTER = `CFG_FILTER;
-localparam F_W    = `CFG_F_W;
-localparam W_W    = `CFG_W_W;
-localparam U_W    = `CFG_U_W;
-localparam X_W    = `CFG_X_W;
-localparam XF     = `CFG_X_FRAC;
-localparam FF     = `CFG_F_FRAC;
-localparam CS_W   = `CFG_CSAT_W;
-localparam D_W    = `CFG_D_W;
-localparam NMAX   = `CFG_N_LOG2_MAX;
-localparam NL_W   = `CFG_N_LOG2_W;
-localparam WCAP   = `CFG_W_CAP_LOG2;
+`include "tex_widths.vh"
+
+localparam FF     = F_FRAC;
+localparam W_W    = W_CAP_LOG2 + F_FRAC + 1;                       // w
+localparam U_W    = tw_u_w(N_LOG2_MAX, F_FRAC, W_CAP_LOG2);        // u = f N (signed)
+localparam X_W    = tw_x_w(N_LOG2_MAX, F_FRAC, W_CAP_LOG2);        // window ends (signed)
+localparam XF     = F_FRAC + 1;                                    // their fraction bits
+localparam CS_W   = tw_csat_w(N_LOG2_MAX);                         // summed-area channel
+localparam D_W    = tw_d_w(F_FRAC, W_CAP_LOG2);                    // D = I(b) - I(a)
+localparam NMAX   = N_LOG2_MAX;
+localparam NL_W   = tw_bits_unsigned(N_LOG2_MAX);                  // n_log2
+localparam WCAP   = W_CAP_LOG2;
+
+input  wire                 clk;
+input  wire                 rst;
+input  wire                 ce;
+input  wire                 in_valid;
+input  wire [F_W-1:0]       f_in;       // signed
+input  wire [W_W-1:0]       w_in;
+input  wire                 mode;       // 0 mod, 1 clamp
+input  wire [NL_W-1:0]      n_log2;
+input  wire                 filter_en;
+// table write port
+input  wire                 wr_en;
+input  wire [1:0]           wr_table;   // 0 clut, 1 csat, 2 mip
+input  wire [NMAX:0]        wr_addr;
+input  wire [4*CS_W-1:0]    wr_data;
+output wire                 out_valid;
+output wire [31:0]          rgba_out;
+
 localparam LAT    = `LAT_COLOUR_MAP;
 
 localparam KW     = X_W - XF;           // entry index of a window end (signed)
@@ -109,7 +119,6 @@ localparam CW     = (F_W > U_W) ? F_W : U_W;  // clamp comparison width
 
 // box-filter division (sat): exact (DIV_BITS = 0, or >= W_W: w never has more bits), or on
 // w normalised to B = DIV_BITS significant bits
-localparam DIV_BITS = `CFG_DIV_BITS;
 localparam NORM   = (FILTER == 1) && (DIV_BITS > 0) && (DIV_BITS < W_W);
 localparam B      = NORM ? DIV_BITS : 1;
 localparam HW     = W_W - B;            // high bits of w: sh0 = bitlen(w >> B), 0..HW
@@ -214,11 +223,11 @@ generate
         wire [XF-1:0]   fr_a, fr_b;
         wire [KW-1:0]   kx_a, kx_b;
 
-        sat_index u_index_a (
+        sat_index #(.X_W(X_W), .XF(XF), .NMAX(NMAX), .NL_W(NL_W)) u_index_a (
             .clk(clk), .ce(ce), .x_in(s2_a_reg), .mode(s2_mode_reg), .n_log2(s2_n_log2_reg),
             .kk_out(kk_a), .km1_out(km1_a), .first_out(first_a), .fr_out(fr_a), .kx_out(kx_a)
         );
-        sat_index u_index_b (
+        sat_index #(.X_W(X_W), .XF(XF), .NMAX(NMAX), .NL_W(NL_W)) u_index_b (
             .clk(clk), .ce(ce), .x_in(s2_b_reg), .mode(s2_mode_reg), .n_log2(s2_n_log2_reg),
             .kk_out(kk_b), .km1_out(km1_b), .first_out(first_b), .fr_out(fr_b), .kx_out(kx_b)
         );
@@ -236,7 +245,7 @@ generate
         wire [31:0]       unused_mip_data;
         /* verilator lint_on UNUSEDSIGNAL */
 
-        colour_table u_table (
+        colour_table #(.FILTER(FILTER), .NMAX(NMAX), .CS_W(CS_W), .NL_W(NL_W)) u_table (
             .clk(clk), .ce(ce),
             .wr_en(wr_en), .wr_table(wr_table), .wr_addr(wr_addr), .wr_data(wr_data),
             .clut_addr_a(kk_a), .clut_addr_b(kk_b), .csat_addr_a(km1_a), .csat_addr_b(km1_b),
@@ -277,11 +286,11 @@ generate
         wire [4*D_W-1:0] p_a, p_b;
         wire [4*TW-1:0]  e_a, e_b;
 
-        sat_integral #(.QW(QW)) u_integral_a (
+        sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W)) u_integral_a (
             .clk(clk), .ce(ce), .c_in(clut_a), .before_in(csat_a), .first_in(s4_first_a_reg),
             .fr_in(s4_fr_a_reg), .k_in(s4_k_a_reg), .q_in(q_a), .p_out(p_a), .e_out(e_a)
         );
-        sat_integral #(.QW(QW)) u_integral_b (
+        sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W)) u_integral_b (
             .clk(clk), .ce(ce), .c_in(clut_b), .before_in(csat_b), .first_in(s4_first_b_reg),
             .fr_in(s4_fr_b_reg), .k_in(s4_k_b_reg), .q_in(q_b), .p_out(p_b), .e_out(e_b)
         );
@@ -335,7 +344,7 @@ generate
         end
 
         if (!NORM) begin : g_exact
-            // ---- exact division (CFG_DIV_BITS = 0): the divisor is w itself
+            // ---- exact division (DIV_BITS = 0): the divisor is w itself
             reg [W_W-1:0] s5_w_reg;
             always @(posedge clk) begin
                 if (ce)
@@ -380,7 +389,7 @@ generate
             assign den = den_x;
 
         end else begin : g_norm
-            // ---- normalised division (B = CFG_DIV_BITS > 0), docs/numerics.md "Colour map":
+            // ---- normalised division (B = DIV_BITS > 0), docs/numerics.md "Colour map":
             //   sh0 = bitlen(w >> B); t = w >> (sh0 - 1) (B + 1 bits; {w, 0} when sh0 = 0)
             //   den' = round(w / 2^sh0) = (t + 1) >> 1, or, when t is all ones (the rounding
             //   carries to 2^B), den' = 2^(B-1) with sh = sh0 + 1; else sh = sh0
@@ -489,7 +498,7 @@ generate
         wire [NMAX:0] addr;
         wire          use_mip;
 
-        mip_index #(.FILTER(FILTER)) u_index (
+        mip_index #(.FILTER(FILTER), .U_W(U_W), .W_W(W_W), .FF(FF), .NMAX(NMAX), .NL_W(NL_W)) u_index (
             .clk(clk), .ce(ce), .u_in(s1_u_reg), .w_in(s1_w_reg), .mode(s1_mode_reg),
             .n_log2(s1_n_log2_reg), .filter_en(s1_filter_en_reg),
             .addr_out(addr), .use_mip_out(use_mip)
@@ -502,7 +511,7 @@ generate
         wire [4*CS_W-1:0] unused_csat_a, unused_csat_b, unused_total;
         /* verilator lint_on UNUSEDSIGNAL */
 
-        colour_table u_table (
+        colour_table #(.FILTER(FILTER), .NMAX(NMAX), .CS_W(CS_W), .NL_W(NL_W)) u_table (
             .clk(clk), .ce(ce),
             .wr_en(wr_en), .wr_table(wr_table), .wr_addr(wr_addr), .wr_data(wr_data),
             .clut_addr_a(addr[NMAX-1:0]), .clut_addr_b({NMAX{1'b0}}),

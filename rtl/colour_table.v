@@ -11,7 +11,7 @@
 //             a register (4 CS_W flip-flops) that takes every csat entry written, so it
 //             holds the last one. CONTRACT: the last csat write of a table load is entry
 //             N - 1 (write csat in ascending order, as golden build_tables and
-//             model/regmap.py do; an update of clut[j] rewrites csat[j..N-1], so it ends
+//             model/hw/regmap.py do; an update of clut[j] rewrites csat[j..N-1], so it ends
 //             there too). Not a third read port of csat, and no n_log2 dependence.
 //   FILTER 2: clut at clut_addr_a (point lookup), mip at mip_addr
 //   FILTER 0: clut at clut_addr_a
@@ -28,13 +28,11 @@
 
 `default_nettype none
 
-`include "tex_cfg.vh"
-
 module colour_table #(
-    parameter FILTER = `CFG_FILTER,          // 0 none (point lookup), 1 sat, 2 mip
-    parameter NMAX   = `CFG_N_LOG2_MAX,      // log2 of the table size (>= 1)
-    parameter CS_W   = `CFG_CSAT_W,          // summed-area table channel width
-    parameter NL_W   = `CFG_N_LOG2_W         // width of n_log2
+    parameter FILTER = 1,                   // 0 none (point lookup), 1 sat, 2 mip
+    parameter NMAX   = 8,                   // log2 of the table size (>= 1)
+    parameter CS_W   = 16,                  // summed-area table channel width
+    parameter NL_W   = 4                    // width of n_log2
 ) (
     input  wire                clk,
     input  wire                ce,

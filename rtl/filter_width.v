@@ -1,6 +1,6 @@
 /*
  * filter_width: the box-filter width w = |c^T J| N in colour-table entries.
- * Twin of model/golden.py filter_width().
+ * Twin of model/hw/golden.py filter_width().
  * Written for event-driven simulation speed: combinational logic in a few always @*
  * blocks (blocking assigns, straight-line code), all registers in one clocked process,
  * no bus driven piecewise.
@@ -19,9 +19,9 @@
  * bits; a right shift by R_W or more gives 0 (the golden model's clip at 63 is
  * the same thing).
  *
- * Formats (widths from tex_cfg.vh):
- *   c_in   {c2, c1, c0}, each s{C_W}.{C_FRAC}; |c_k| must keep |g| < 2^(G_W-1)
- *          (model/config.py bounds c by cmax, which does)
+ * Formats (the parameters; derived widths from rtl/tex_widths.vh):
+ *   c_in   {c2, c1, c0}, each s{C_W}.{C_FRAC}; G_W is derived from the word itself
+ *          (|c_k| <= 2^(C_W-1)), so every c_in gives an exact g
  *   jm_in  Jm[k][col] at element 2 k + col, each s{J_W}.0 (J = Jm 2^je)
  *   je_in  s{JE_W}.0
  *   n_log2 u{N_LOG2_W}.0, 0..N_LOG2_MAX (N = 2^n_log2 colour-table entries)
@@ -39,39 +39,44 @@
  *   stage N:       scale by 2^e, saturate
  */
 
-`include "tex_cfg.vh"
 `include "tex_latency.vh"
 
 `default_nettype none
 
 module filter_width #(
-    parameter C_W        = `CFG_C_W,         // gradient element word width
-    parameter C_FRAC     = `CFG_C_FRAC,      // gradient fraction bits
-    parameter J_W        = `CFG_J_W,         // Jacobian mantissa word width
-    parameter JE_W       = `CFG_JE_W,        // Jacobian exponent word width
-    parameter N_LOG2_W   = `CFG_N_LOG2_W,    // n_log2 word width
-    parameter G_W        = `CFG_G_W,         // screen gradient mantissa word width (signed)
-    parameter GABS_W     = `CFG_GABS_W,      // its absolute value (unsigned)
-    parameter NORM_BITS  = `CFG_NORM_BITS,   // |g| normalised to this many bits
-    parameter L_W        = `CFG_L_W,         // ax^2 + ay^2 word width
-    parameter R_W        = `CFG_R_W,         // square root word width
-    parameter SH_W       = `CFG_SH_W,        // normalising shift word width
-    parameter E_W        = `CFG_E_W,         // scale exponent word width (signed)
-    parameter F_FRAC     = `CFG_F_FRAC,      // w fraction bits
-    parameter W_CAP_LOG2 = `CFG_W_CAP_LOG2,  // w saturates at 2^W_CAP_LOG2 entries
-    parameter W_W        = `CFG_W_W          // w word width (unsigned)
-) (
-    input  wire                clk,
-    input  wire                rst,
-    input  wire                ce,
-    input  wire                in_valid,
-    input  wire [3*C_W-1:0]    c_in,
-    input  wire [6*J_W-1:0]    jm_in,
-    input  wire [JE_W-1:0]     je_in,
-    input  wire [N_LOG2_W-1:0] n_log2,
-    output wire                out_valid,
-    output wire [W_W-1:0]      w_out
-);
+    // formats (config/<name>.toml keys in brackets); every other width is derived from
+    // them below (rtl/tex_widths.vh, the twin of model/hw/config.py)
+    parameter C_W        = 31,  // gradient element word width (texture_pipeline: the exact sum's)
+    parameter C_FRAC     = 12,  // [c_frac] gradient fraction bits
+    parameter J_W        = 12,  // [j_w] Jacobian mantissa word width
+    parameter JE_W       = 8,   // [je_w] Jacobian exponent word width
+    parameter NORM_BITS  = 12,  // [norm_bits] |g| normalised to this many bits
+    parameter F_FRAC     = 16,  // [f_frac] w fraction bits
+    parameter W_CAP_LOG2 = 16,  // [w_cap_log2] w saturates at 2^W_CAP_LOG2 entries
+    parameter N_LOG2_MAX = 8    // [n_log2_max] log2 of the largest colour table
+) (clk, rst, ce, in_valid, c_in, jm_in, je_in, n_log2, out_valid, w_out);
+
+`include "tex_widths.vh"
+
+localparam N_LOG2_W = tw_bits_unsigned(N_LOG2_MAX);                  // n_log2 word
+localparam G_W      = tw_bits_signed(tw_g_max(C_W, J_W));            // g = c . Jm (signed)
+localparam GABS_W   = tw_bits_unsigned(tw_g_max(C_W, J_W));          // |g|
+localparam L_W      = tw_l_w(NORM_BITS);                             // ax^2 + ay^2
+localparam R_W      = tw_r_w(NORM_BITS);                             // its square root
+localparam SH_W     = tw_sh_w(GABS_W, NORM_BITS);                    // normalising shift
+localparam E_W      = tw_e_w(SH_W, JE_W, C_FRAC, F_FRAC, N_LOG2_MAX); // scale exponent (signed)
+localparam W_W      = W_CAP_LOG2 + F_FRAC + 1;                       // w (unsigned)
+
+input  wire                clk;
+input  wire                rst;
+input  wire                ce;
+input  wire                in_valid;
+input  wire [3*C_W-1:0]    c_in;
+input  wire [6*J_W-1:0]    jm_in;
+input  wire [JE_W-1:0]     je_in;
+input  wire [N_LOG2_W-1:0] n_log2;
+output wire                out_valid;
+output wire [W_W-1:0]      w_out;
 
 localparam LATENCY  = `LAT_FILTER_WIDTH;
 localparam SQ_LAT   = LATENCY - 5;           // isqrt stages
@@ -127,7 +132,7 @@ reg [W_W-1:0]         w_reg;
 // so it is exact
 reg signed [G_W-1:0]  gx, gy;
 /* verilator lint_off UNUSEDSIGNAL */
-// the MSB of |g| in G_W bits is zero: |g| < 2^GABS_W (model/config.py: gabs_w)
+// the MSB of |g| in G_W bits is zero: |g| < 2^GABS_W (model/hw/config.py: gabs_w)
 reg [G_W-1:0]         gx_abs, gy_abs;
 // L: the squares (2 NORM_BITS bits) zero-extended and summed in L_W + 2 NORM_BITS
 // bits (L_W >= 2 NORM_BITS; equal only for NORM_BITS = 1); L fits L_W

@@ -1,6 +1,6 @@
 /*
  * isqrt: pipelined integer square root, r_out = floor(sqrt(l_in)), exact.
- * Twin of model/golden.py isqrt().
+ * Twin of model/hw/golden.py isqrt().
  *
  * Restoring digit-by-digit method, one result bit per iteration, R_W iterations
  * (most significant bit first). l_in is zero-padded to 2 R_W bits and consumed
@@ -28,13 +28,12 @@
  * (blocking assigns, constant stage masks), one clocked process, no bus driven piecewise.
  */
 
-`include "tex_cfg.vh"
 
 `default_nettype none
 
 module isqrt #(
-    parameter L_W     = `CFG_L_W,  // input width (unsigned)
-    parameter R_W     = `CFG_R_W,  // output width: iterations, one result bit each; 2 R_W >= L_W
+    parameter L_W     = 25,        // input width (unsigned)
+    parameter R_W     = 13,        // output width: iterations, one result bit each; 2 R_W >= L_W
     parameter LATENCY = 3          // register stages, 1..R_W
 ) (
     input  wire           clk,

@@ -15,15 +15,13 @@
 
 `default_nettype none
 
-`include "tex_cfg.vh"
-
 module mip_index #(
-    parameter FILTER = `CFG_FILTER,      // 2 mip; 0 point lookup only (1, sat, does not use this)
-    parameter U_W    = `CFG_U_W,         // width of u (signed)
-    parameter W_W    = `CFG_W_W,         // width of w
-    parameter FF     = `CFG_F_FRAC,      // fraction bits of u and w
-    parameter NMAX   = `CFG_N_LOG2_MAX,  // log2 of the largest table (>= 1)
-    parameter NL_W   = `CFG_N_LOG2_W     // width of n_log2
+    parameter FILTER = 2,                // 2 mip; 0 point lookup only (1, sat, does not use this)
+    parameter U_W    = 33,               // width of u (signed)
+    parameter W_W    = 33,               // width of w
+    parameter FF     = 16,               // fraction bits of u and w
+    parameter NMAX   = 8,                // log2 of the largest table (>= 1)
+    parameter NL_W   = 4                 // width of n_log2
 ) (
     input  wire            clk,
     input  wire            ce,

@@ -1,6 +1,6 @@
 // noise_blend: the blend weight and its slope for a cell fraction, combinational.
 //
-// The twin of model/golden.py noise_blend(cfg, fp):
+// The twin of model/hw/golden.py noise_blend(cfg, fp):
 //   linear (BLEND = 0): w = fp,                 dw = 1
 //   cubic  (BLEND = 1): w = 3 f2 - 2 f3,        dw = 6 (fp - f2),
 //                       f2 = floor(fp^2 / 2^P_FRAC), f3 = floor(f2 fp / 2^P_FRAC)
@@ -15,9 +15,9 @@
 `default_nettype none
 
 module noise_blend #(
-    parameter BLEND  = 1,   // 0: linear, 1: cubic (`CFG_BLEND)
-    parameter P_FRAC = 12,  // fraction bits of fp, w and dw (`CFG_P_FRAC)
-    parameter BW     = 14   // width of w and dw (`CFG_BLEND_W, >= P_FRAC + 2)
+    parameter BLEND  = 1,   // 0: linear, 1: cubic (blend)
+    parameter P_FRAC = 12,  // fraction bits of fp, w and dw (p_frac)
+    parameter BW     = 14   // width of w and dw (blend_w, >= P_FRAC + 2)
 ) (
     input  wire        [P_FRAC-1:0] fp,
     output reg  signed [BW-1:0]     w,

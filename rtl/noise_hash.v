@@ -1,11 +1,12 @@
 // noise_hash: the lattice values at the eight corners of a noise cell, combinational.
 //
-// The twin of model/golden.py noise_hash(cfg, ix, iy, iz) applied to the corners
+// The twin of model/hw/golden.py noise_hash(cfg, ix, iy, iz) applied to the corners
 // (ix + i, iy + j, iz + k) mod 2^H, i, j, k in {0, 1}, as noise_term uses them:
 //   h    = perm[perm[perm[x] ^ y] ^ z]          (perm: the configuration's permutation)
 //   v    = (h - 2^(H-1)) * 2^(N_FRAC - H + 1)   in [-1, 1)
-// The permutation comes from build/gen/<config>/perm_rom.vh (model/gen_rtl.py), a
-// constant array perm_rom (a 2^H-entry ROM, read directly); no table is typed in here.
+// The permutation is the parameter PERM (the configuration's, model/hw/config.py
+// permutation(), set by the top), held in a constant array perm_rom (a 2^H-entry ROM,
+// read directly) that an initial block fills from PERM; no table is typed in here.
 // The first two hash levels are shared between corners: 2 + 4 + 8 = 14 lookups.
 // Formats: ix, iy, iz u{H}.0 (cell's low corner); v sN_W.N_FRAC, corner (i, j, k)
 // at element 4*i + 2*j + k of v_out (element 0 at the LSBs).
@@ -16,12 +17,13 @@
 
 `default_nettype none
 
-`include "tex_cfg.vh"
-
 module noise_hash #(
-    parameter H      = `CFG_HASH_BITS,  // lattice coordinate width, period 2^H (keep: the ROM is built for it)
-    parameter N_FRAC = `CFG_N_FRAC,     // fraction bits of a lattice value
-    parameter N_W    = `CFG_N_W         // width of a lattice value (signed, >= N_FRAC + 2)
+    parameter H      = 8,           // lattice coordinate width, period 2^H (hash_bits)
+    parameter N_FRAC = 12,          // fraction bits of a lattice value (n_frac >= H - 1)
+    parameter N_W    = N_FRAC + 2,  // width of a lattice value (signed, >= N_FRAC + 2)
+    // the permutation of 0..2^H-1, entry i at [i*H +: H] (default 0: a placeholder, every
+    // configuration sets it)
+    parameter [H*(1<<H)-1:0] PERM = {H*(1<<H){1'b0}}
 ) (
     input  wire [H-1:0]       ix,
     input  wire [H-1:0]       iy,
@@ -29,9 +31,16 @@ module noise_hash #(
     output reg  [8*N_W-1:0]   v_out
 );
 
-`include "perm_rom.vh"
+// the permutation as a ROM (a reg array written only by this initial block, the one kind
+// of initial block the RTL conventions allow; Yosys maps it to logic)
+reg [H-1:0] perm_rom [0:(1<<H)-1];
+integer     pi;
+initial begin
+    for (pi = 0; pi < (1 << H); pi = pi + 1)
+        perm_rom[pi] = PERM[pi*H +: H];
+end
 
-localparam V_SHIFT = N_FRAC - H + 1;  // >= 0 (checked by model/config.py)
+localparam V_SHIFT = N_FRAC - H + 1;  // >= 0 (checked by model/hw/config.py)
 
 reg [H-1:0]   ix1, iy1, iz1;               // c + 1 (wraps mod 2^H)
 reg [H-1:0]   hx0, hx1;                    // first level, per x

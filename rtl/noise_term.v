@@ -1,6 +1,6 @@
 // noise_term: one noise term a n(T s + o) and its texture-space gradient a (dn/dp) T.
 //
-// The bit-exact twin of model/golden.py noise_term(cfg, a, T, o, s) (with noise_hash,
+// The bit-exact twin of model/hw/golden.py noise_term(cfg, a, T, o, s) (with noise_hash,
 // noise_blend and _lerp), for one vector per enabled clock:
 //   p_j  = ((sum_k T_jk s_k) >> TS_SHIFT) + o_j  mod 2^P_W     (lattice cell . fraction)
 //   v    = lattice values at the 8 cell corners (noise_hash), w/dw = blend weights (noise_blend)
@@ -12,24 +12,24 @@
 // Every ">>" is a floor (arithmetic shift right of a signed word); a negative shift
 // count is a left shift.
 //
-// Formats (`CFG_* widths from tex_cfg.vh, config/<name>.toml):
+// Formats (the parameters below; derived widths from rtl/tex_widths.vh):
 //   s_in   3 x s{S_W}.{S_FRAC}, {r, t, s} (s at the LSBs)
 //   a_in   s{A_W}.{A_FRAC}
 //   t_in   9 x s{T_W}.{T_FRAC}, T[j][k] at element 3*j + k
 //   o_in   3 x u{O_W}.{P_FRAC} (O_W = P_W = HASH_BITS + P_FRAC: a phase mod the lattice period)
-//   an_out s{AN_W}.{F_FRAC};  ag_out 3 x s{AG_W}.{C_FRAC} (all 0 when `CFG_NOISE_GRADIENT = 0)
+//   an_out s{AN_W}.{F_FRAC};  ag_out 3 x s{AG_W}.{C_FRAC} (all 0 when NOISE_GRADIENT = 0)
 // Internal: p u{P_W}.{P_FRAC}; v, e, fz, n s{N_W}.{N_FRAC}; differences s{N_W+1}.{N_FRAC};
 //   w, dw s{BLEND_W}.{P_FRAC} in [0, 1.5]; g s{GN_W}.{N_FRAC}; h s{H_W}.{C_FRAC + A_FRAC}.
 //   T s only matters mod 2^(TS_SHIFT + P_W) (p wraps), so the transform products are
 //   only that wide.
 //
-// Transform (`CFG_TRANSFORM): affine (0) uses multipliers for T s and g T. pow2 (1):
-// T is diagonal with entries 0 or 2^e (model/quantize.py guarantees it; the
+// Transform (TRANSFORM): affine (0) uses multipliers for T s and g T. pow2 (1):
+// T is diagonal with entries 0 or 2^e (model/hw/quantize.py guarantees it; the
 // off-diagonal entries are ignored), so T_jj s_j and g_j T_jj are barrel shifts by
 // e = the priority-encoded highest set bit of T_jj (0 when T_jj = 0); no multipliers.
 //
-// Amplitude (`CFG_AMPLITUDE): any (0) uses multipliers for a n and a h. pow2 (1): a is
-// 0 or +-2^e (model/quantize.py guarantees it), e in 0..A_W-2 for a > 0 and 0..A_W-1
+// Amplitude (AMPLITUDE): any (0) uses multipliers for a n and a h. pow2 (1): a is
+// 0 or +-2^e (model/hw/quantize.py guarantees it), e in 0..A_W-2 for a > 0 and 0..A_W-1
 // for a < 0 (-2^(A_W-1), the format's most negative value, is legal). a_in is decoded
 // once, combinationally, into ac_in = {zero, neg, e} (1 + 1 + EA_W bits, EA_W =
 // clog2(A_W)): e = the lowest set bit of a_in (2^e has bit e alone, -2^e bits e..A_W-1),
@@ -77,50 +77,66 @@
 
 `default_nettype none
 
-`include "tex_cfg.vh"
 `include "tex_latency.vh"
 
-module noise_term (
-    input  wire                      clk,
-    input  wire                      rst,
-    input  wire                      ce,
-    input  wire                      in_valid,
-    input  wire [3*`CFG_S_W-1:0]     s_in,
-    input  wire [`CFG_A_W-1:0]       a_in,
-    input  wire [9*`CFG_T_W-1:0]     t_in,
-    input  wire [3*`CFG_O_W-1:0]     o_in,
-    output wire                      out_valid,
-    output wire [`CFG_AN_W-1:0]      an_out,
-    output wire [3*`CFG_AG_W-1:0]    ag_out
-);
+module noise_term #(
+    // formats and modes (config/<name>.toml keys in brackets); every internal width is
+    // derived from them below (rtl/tex_widths.vh, the twin of model/hw/config.py)
+    parameter S_W            = 24,  // [s_w] texture coordinate word s{S_W}.{S_FRAC}
+    parameter S_FRAC         = 16,  // [s_frac]
+    parameter T_W            = 17,  // [t_w] transform entry word s{T_W}.{T_FRAC}
+    parameter T_FRAC         = 10,  // [t_frac]
+    parameter A_W            = 16,  // [a_w] amplitude word s{A_W}.{A_FRAC}
+    parameter A_FRAC         = 12,  // [a_frac]
+    parameter P_FRAC         = 12,  // [p_frac] noise-space fraction bits (cell position, weights)
+    parameter HASH_BITS      = 8,   // [hash_bits] lattice period 2^HASH_BITS per axis
+    parameter N_FRAC         = 12,  // [n_frac] noise value / gradient fraction bits
+    parameter F_FRAC         = 16,  // [f_frac] fraction bits of an_out
+    parameter C_FRAC         = 12,  // [c_frac] fraction bits of ag_out
+    parameter TRANSFORM      = 0,   // [transform] 0 affine, 1 pow2 (diagonal 0 / 2^k: shifts)
+    parameter BLEND          = 1,   // [blend] 0 linear, 1 cubic
+    parameter AMPLITUDE      = 0,   // [amplitude] 0 any, 1 pow2 (0 / +-2^k: shifts)
+    parameter NOISE_GRADIENT = 1,   // [noise_gradient] 1: compute ag_out; 0: ag_out = 0
+    // the lattice permutation, entry i at [i*HASH_BITS +: HASH_BITS] (noise_hash)
+    parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}
+) (clk, rst, ce, in_valid, s_in, a_in, t_in, o_in, out_valid, an_out, ag_out);
+
+`include "tex_widths.vh"
 
 // ---------------------------------------------------------------------------
-// Formats and derived widths (all from the configuration)
+// Formats and derived widths (model/hw/config.py derives the same; tb/test_widths.py)
 
 localparam STAGES   = 8;                    // register stages of this implementation
 localparam LATENCY  = `LAT_NOISE_TERM;      // must equal STAGES (checked below)
-localparam AFFINE   = (`CFG_TRANSFORM == 0);
-localparam CUBIC    = (`CFG_BLEND == 1);
-localparam GRAD     = (`CFG_NOISE_GRADIENT != 0);
-localparam AMP_POW2 = (`CFG_AMPLITUDE == 1);
+localparam AFFINE   = (TRANSFORM == 0);
+localparam CUBIC    = (BLEND == 1);
+localparam GRAD     = (NOISE_GRADIENT != 0);
+localparam AMP_POW2 = (AMPLITUDE == 1);
 
-localparam S_W      = `CFG_S_W;
-localparam T_W      = `CFG_T_W;
-localparam A_W      = `CFG_A_W;
-localparam A_FRAC   = `CFG_A_FRAC;
-localparam O_W      = `CFG_O_W;
-localparam P_W      = `CFG_P_W;
-localparam P_FRAC   = `CFG_P_FRAC;
-localparam HB       = `CFG_HASH_BITS;
-localparam N_W      = `CFG_N_W;
-localparam GN_W     = `CFG_GN_W;
-localparam BW       = `CFG_BLEND_W;
-localparam AN_W     = `CFG_AN_W;
-localparam H_W      = `CFG_H_W;
-localparam AG_W     = `CFG_AG_W;
-localparam TS_SHIFT = `CFG_TS_SHIFT;        // s_frac + t_frac - p_frac >= 0
-localparam AN_SHIFT = `CFG_AN_SHIFT;        // a_frac + n_frac - f_frac
-localparam H_SHIFT  = `CFG_H_SHIFT;         // n_frac + t_frac - c_frac
+localparam HB       = HASH_BITS;
+localparam P_W      = HASH_BITS + P_FRAC;                     // p: cell . fraction, mod the period
+localparam O_W      = P_W;                                    // offset o: a phase of p
+localparam N_W      = tw_bits_signed(64'd1 << N_FRAC);        // n in [-1, 1]
+localparam GN_W     = tw_bits_signed(3 * (64'd1 << N_FRAC));  // |dn/dp| <= 2 * 1.5
+localparam BW       = P_FRAC + 2;                             // blend weight / slope, [0, 1.5]
+localparam AN_W     = tw_an_w(A_W, A_FRAC, N_FRAC, F_FRAC);
+localparam H_W      = tw_h_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC);
+localparam AG_W     = tw_ag_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC);
+localparam TS_SHIFT = S_FRAC + T_FRAC - P_FRAC;   // >= 0 (model/hw/config.py checks)
+localparam AN_SHIFT = A_FRAC + N_FRAC - F_FRAC;
+localparam H_SHIFT  = N_FRAC + T_FRAC - C_FRAC;
+
+input  wire                      clk;
+input  wire                      rst;
+input  wire                      ce;
+input  wire                      in_valid;
+input  wire [3*S_W-1:0]          s_in;
+input  wire [A_W-1:0]            a_in;
+input  wire [9*T_W-1:0]          t_in;
+input  wire [3*O_W-1:0]          o_in;
+output wire                      out_valid;
+output wire [AN_W-1:0]           an_out;
+output wire [3*AG_W-1:0]         ag_out;
 
 localparam D_W      = N_W + 1;              // difference of two lattice-range values
 localparam ACC_W    = TS_SHIFT + P_W;       // T s mod 2^ACC_W decides p
@@ -307,20 +323,20 @@ wire signed [BW-1:0] wx_next, wy_next, wz_next;
 wire signed [BW-1:0] dwx_next, dwy_next, dwz_next;
 /* verilator lint_on UNUSEDSIGNAL */
 
-noise_hash u_hash (
+noise_hash #(.H(HB), .N_FRAC(N_FRAC), .N_W(N_W), .PERM(PERM)) u_hash (
     .ix(ix_reg),
     .iy(iy_reg),
     .iz(iz_reg),
     .v_out(v_next)
 );
 
-noise_blend #(.BLEND(`CFG_BLEND), .P_FRAC(P_FRAC), .BW(BW)) u_blend_x (
+noise_blend #(.BLEND(BLEND), .P_FRAC(P_FRAC), .BW(BW)) u_blend_x (
     .fp(fpx_reg), .w(wx_next), .dw(dwx_next)
 );
-noise_blend #(.BLEND(`CFG_BLEND), .P_FRAC(P_FRAC), .BW(BW)) u_blend_y (
+noise_blend #(.BLEND(BLEND), .P_FRAC(P_FRAC), .BW(BW)) u_blend_y (
     .fp(fpy_reg), .w(wy_next), .dw(dwy_next)
 );
-noise_blend #(.BLEND(`CFG_BLEND), .P_FRAC(P_FRAC), .BW(BW)) u_blend_z (
+noise_blend #(.BLEND(BLEND), .P_FRAC(P_FRAC), .BW(BW)) u_blend_z (
     .fp(fpz_reg), .w(wz_next), .dw(dwz_next)
 );
 
@@ -371,7 +387,7 @@ reg [AN_W-1:0] an_next;
 
 generate
     if (AMP_POW2) begin : g_an_pow2
-        // a n = sign(a) n << e (0 when a = 0); an fits AN_W bits (model/config.py
+        // a n = sign(a) n << e (0 when a = 0); an fits AN_W bits (model/hw/config.py
         // bound), the rest of the word are sign copies
         reg signed [N_W:0]      n_ext;
         /* verilator lint_off UNUSEDSIGNAL */
@@ -508,7 +524,7 @@ generate
             end
         end
 
-        // stage 7: h_k = (sum_j g_j T_jk) >> H_SHIFT; h fits H_W bits (model/config.py
+        // stage 7: h_k = (sum_j g_j T_jk) >> H_SHIFT; h fits H_W bits (model/hw/config.py
         // bound), the rest of the word are sign copies
         reg [3*H_W-1:0]         h_next;
         /* verilator lint_off UNUSEDSIGNAL */
@@ -544,7 +560,7 @@ generate
             end
         end
 
-        // stage 8: ag_k = (a h_k) >> A_FRAC; ag fits AG_W bits (model/config.py bound),
+        // stage 8: ag_k = (a h_k) >> A_FRAC; ag fits AG_W bits (model/hw/config.py bound),
         // the rest of the product are sign copies
         reg [3*AG_W-1:0]        ag_next;
         /* verilator lint_off UNUSEDSIGNAL */

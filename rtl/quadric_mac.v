@@ -1,13 +1,13 @@
 /*
  * quadric_mac: the quadric q = x^T Q x, x = (s, t, r, 1), and its texture-space
- * gradient dq/ds = 2 (Q x)[0:3]. Twin of model/golden.py quadric_mac().
+ * gradient dq/ds = 2 (Q x)[0:3]. Twin of model/hw/golden.py quadric_mac().
  *
  *   v_k = ((Q_k0 s + Q_k1 t + Q_k2 r) >>> s_frac) + Q_k3        k = 0..3
  *   q   = ((s v0 + t v1 + r v2) >>> s_frac) + v3
  *   q_out  = q   shifted by f_frac - q_frac     (left, or floor right)
  *   cq_out = v_k shifted by c_frac - q_frac + 1 (the factor 2 is a shift)
  *
- * `CFG_QUADRIC 1 (diagonal: B = C = F = 0, model/quantize.py guarantees it; B, C, F
+ * DIAG = 1 (diagonal: B = C = F = 0, model/hw/quantize.py guarantees it; B, C, F
  * are not read) computes the same form with 6 products instead of 15:
  *
  *   v_k = ((Q_kk s_k) >>> s_frac) + Q_k3                       k = 0..2
@@ -15,10 +15,10 @@
  *
  * Products are full precision and each three-product sum is formed before its
  * floor shift (>>> = floor), exactly as the golden model; every word is wide
- * enough for the worst-case magnitude (model/config.py derives V_W, QV_W, QF_W),
+ * enough for the worst-case magnitude (model/hw/config.py derives V_W, QV_W, QF_W),
  * so no intermediate ever wraps.
  *
- * Formats (widths from tex_cfg.vh):
+ * Formats (the parameters; V_W, QV_W, QF_W derived in rtl/tex_widths.vh):
  *   s_in   {r, t, s}, each s{S_W}.{S_FRAC}
  *   q_coef {J, I, H, G, F, E, D, C, B, A} (A at the LSBs), each s{Q_W}.{Q_FRAC}
  *          Q = [[A B C D] [B E F G] [C F H I] [D G I J]]
@@ -47,34 +47,40 @@
  * per stage, few clocked processes, no bus driven piecewise.
  */
 
-`include "tex_cfg.vh"
 `include "tex_latency.vh"
 
 `default_nettype none
 
 module quadric_mac #(
-    parameter DIAG   = `CFG_QUADRIC, // 1: diagonal quadric (B = C = F = 0, not read)
-    parameter S_W    = `CFG_S_W,     // texture coordinate word width
-    parameter S_FRAC = `CFG_S_FRAC,  // texture coordinate fraction bits
-    parameter Q_W    = `CFG_Q_W,     // quadric coefficient word width
-    parameter Q_FRAC = `CFG_Q_FRAC,  // quadric coefficient fraction bits
-    parameter V_W    = `CFG_V_W,     // v_k = (Q x)_k word width (Q_FRAC fraction bits)
-    parameter QV_W   = `CFG_QV_W,    // q word width (Q_FRAC fraction bits)
-    parameter QF_W   = `CFG_QF_W,    // q_out word width (F_FRAC fraction bits)
-    parameter F_FRAC = `CFG_F_FRAC,  // q_out fraction bits
-    parameter C_W    = `CFG_C_W,     // cq_out element word width
-    parameter C_FRAC = `CFG_C_FRAC   // cq_out fraction bits
-) (
-    input  wire              clk,
-    input  wire              rst,
-    input  wire              ce,
-    input  wire              in_valid,
-    input  wire [3*S_W-1:0]  s_in,
-    input  wire [10*Q_W-1:0] q_coef,
-    output wire              out_valid,
-    output wire [QF_W-1:0]   q_out,
-    output wire [3*C_W-1:0]  cq_out
-);
+    // formats and mode (config/<name>.toml keys in brackets); V_W, QV_W, QF_W are derived
+    // from them below (rtl/tex_widths.vh, the twin of model/hw/config.py)
+    parameter DIAG   = 0,   // [quadric] 0 full (10 coefficients), 1 diagonal (B = C = F = 0, not read)
+    parameter S_W    = 24,  // [s_w] texture coordinate word width
+    parameter S_FRAC = 16,  // [s_frac] texture coordinate fraction bits
+    parameter Q_W    = 24,  // [q_w] quadric coefficient word width
+    parameter Q_FRAC = 16,  // [q_frac] quadric coefficient fraction bits
+    parameter F_FRAC = 16,  // [f_frac] q_out fraction bits
+    parameter C_FRAC = 12,  // [c_frac] cq_out fraction bits
+    // cq_out element word width: at least the gradient's own bound (texture_pipeline: the
+    // exact-sum width of grad f, which also holds the noise terms' gradients)
+    parameter C_W    = 31
+) (clk, rst, ce, in_valid, s_in, q_coef, out_valid, q_out, cq_out);
+
+`include "tex_widths.vh"
+
+localparam V_W  = tw_v_w(DIAG, S_W, S_FRAC, Q_W);                  // v_k = (Q x)_k (Q_FRAC)
+localparam QV_W = tw_qv_w(DIAG, S_W, S_FRAC, Q_W);                 // q (Q_FRAC)
+localparam QF_W = tw_qf_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC); // q_out (F_FRAC)
+
+input  wire              clk;
+input  wire              rst;
+input  wire              ce;
+input  wire              in_valid;
+input  wire [3*S_W-1:0]  s_in;
+input  wire [10*Q_W-1:0] q_coef;
+output wire              out_valid;
+output wire [QF_W-1:0]   q_out;
+output wire [3*C_W-1:0]  cq_out;
 
 localparam LATENCY = `LAT_QUADRIC_MAC;  // this implementation has exactly 4 stages
 
@@ -149,7 +155,7 @@ generate
         reg signed [S_W-1:0]  s0_1_reg, s1_1_reg, s2_1_reg;
 
         // stage 2: v_k = (p >>> S_FRAC) + Q_k3 and x_k = v_k + Q_k3; both fit V_W
-        // (model/config.py: v_w bounds |Q_kk s_k| >> S_FRAC + 1 + 2 |Q_k3|)
+        // (model/hw/config.py: v_w bounds |Q_kk s_k| >> S_FRAC + 1 + 2 |Q_k3|)
         /* verilator lint_off UNUSEDSIGNAL */
         // the S_FRAC low bits are dropped by the floor shift; the bits above
         // S_FRAC + V_W are sign copies
@@ -201,7 +207,7 @@ generate
 
         /* verilator lint_off UNUSEDSIGNAL */
         // the S_FRAC low bits are dropped by the floor shift; the bits above
-        // S_FRAC + V_W are sign copies of a value that fits V_W (model/config.py: v_w)
+        // S_FRAC + V_W are sign copies of a value that fits V_W (model/hw/config.py: v_w)
         reg signed [M1_W-1:0] m0, m1, m2, m3;
         /* verilator lint_on UNUSEDSIGNAL */
         reg signed [V_W-1:0] v0, v1, v2, v3;
@@ -251,13 +257,13 @@ endgenerate
 
 /* verilator lint_off UNUSEDSIGNAL */
 // as in stage 2: low S_FRAC bits dropped by the floor, high bits are sign copies
-// of a value that fits QV_W (model/config.py: qv_w)
+// of a value that fits QV_W (model/hw/config.py: qv_w)
 reg signed [M2_W-1:0] mq;
 // q -> q_out: bits dropped by a right (floor) shift and bits above QF_W, which are
-// sign copies: q_out fits QF_W (model/config.py: qf_w)
+// sign copies: q_out fits QF_W (model/hw/config.py: qf_w)
 reg signed [QX_W-1:0] q_x, q_sh;
 // v_k -> cq_k: bits dropped by a right (floor) shift and bits above C_W, which are
-// sign copies: 2 v_k fits C_W (model/config.py: c_w >= bits of cq_max)
+// sign copies: 2 v_k fits C_W (model/hw/config.py: c_w >= bits of cq_max)
 reg signed [CX_W-1:0] v0_x, v1_x, v2_x, c0_sh, c1_sh, c2_sh;
 /* verilator lint_on UNUSEDSIGNAL */
 reg signed [QV_W-1:0] q;

@@ -18,13 +18,11 @@
 
 `default_nettype none
 
-`include "tex_cfg.vh"
-
 module sat_index #(
-    parameter X_W  = `CFG_X_W,         // width of x (signed)
-    parameter XF   = `CFG_X_FRAC,      // fraction bits of x
-    parameter NMAX = `CFG_N_LOG2_MAX,  // log2 of the largest table (>= 1)
-    parameter NL_W = `CFG_N_LOG2_W,    // width of n_log2
+    parameter X_W  = 35,               // width of x (signed)
+    parameter XF   = 17,               // fraction bits of x
+    parameter NMAX = 8,                // log2 of the largest table (>= 1)
+    parameter NL_W = 4,                // width of n_log2
     parameter KW   = X_W - XF          // width of k and kx (derived: do not override)
 ) (
     input  wire            clk,

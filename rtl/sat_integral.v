@@ -20,14 +20,12 @@
 
 `default_nettype none
 
-`include "tex_cfg.vh"
-
 module sat_integral #(
-    parameter XF   = `CFG_X_FRAC,            // fraction bits of fr and of p
-    parameter KW   = `CFG_X_W - `CFG_X_FRAC, // width of k_in (signed)
+    parameter XF   = 17,                     // fraction bits of fr and of p
+    parameter KW   = 18,                     // width of k_in (signed)
     parameter QW   = 8,                      // width of q_in (colour_map: max(8, CSAT_W - 8))
-    parameter CS_W = `CFG_CSAT_W,            // csat channel width
-    parameter D_W  = `CFG_D_W,               // width of p (mod 2^D_W); D_W >= CS_W + XF, XF + 8
+    parameter CS_W = 16,                     // csat channel width
+    parameter D_W  = 41,                     // width of p (mod 2^D_W); D_W >= CS_W + XF, XF + 8
     parameter TW   = D_W - XF                // width of e (derived: do not override)
 ) (
     input  wire              clk,

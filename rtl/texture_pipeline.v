@@ -1,6 +1,6 @@
 // texture_pipeline: the pixel pipeline of the texture unit (the RTL top).
 //
-// For every pixel (s, Jm, je) it computes, bit-exact with model/golden.py
+// For every pixel (s, Jm, je) it computes, bit-exact with model/hw/golden.py
 // texture_pipeline / texture_stages,
 //
 //   f = q(s) + sum_i a_i n(T_i s + o_i)                 (quadric_mac + K x noise_term)
@@ -8,7 +8,7 @@
 //   w = |c^T J| N                                        (filter_width, J = Jm 2^je)
 //   rgba = colour_map(f, w)                              (SAT box filter / MIP / point)
 //
-// Formats (all widths `CFG_* from tex_cfg.vh, generated from config/<name>.toml):
+// Formats (every width derived from the parameters below, rtl/tex_widths.vh):
 //   s      s{S_W}.{S_FRAC}, three of them {r, t, s} (s at the LSBs)
 //   Jm     s{J_W}.0, six of them, Jm[k][col] at element 2*k+col; je s{JE_W}.0 (J = Jm 2^je)
 //   f      s{F_W}.{F_FRAC}: q (QF_W bits) and the K a_i n_i (AN_W bits) sign-extended to
@@ -16,7 +16,7 @@
 //   c      3 x s{C_W}.{C_FRAC}: dq/ds (C_W) plus the K a_i grad n_i (AG_W), summed exactly
 //   w      u{W_W}.{F_FRAC} colour-table entries; rgba RGBA8, R at [7:0], A at [31:24]
 //
-// Pixel input word, s_axis_tdata[PIX_W-1:0] (PIX_W = 3*S_W + 6*J_W + JE_W; model/regmap.py
+// Pixel input word, s_axis_tdata[PIX_W-1:0] (PIX_W = 3*S_W + 6*J_W + JE_W; model/hw/regmap.py
 // pack_pixels is its Python twin):
 //   [3*S_W-1 : 0]                     s  = {r, t, s}      (element e at [e*S_W +: S_W])
 //   [3*S_W+6*J_W-1 : 3*S_W]           jm = Jm[k][col] at element 2*k+col (J_W bits each)
@@ -24,7 +24,7 @@
 //
 // Register map (cfg_wr_addr is a 32-bit-word address; writes to unmapped addresses and past
 // the end of a table are ignored; values are taken from the LSBs of cfg_wr_data, two's complement for signed
-// fields; model/regmap.py write_sequence is the Python twin):
+// fields; model/hw/regmap.py write_sequence is the Python twin):
 //   0x0000            CTRL: [0] mode (0 mod, 1 clamp), [1] filter_en,
 //                     [8 +: N_LOG2_W] n_log2 (N = 2^n_log2 colour-table entries)
 //   0x0010 + i        Q coefficient i = 0..9 (A..J), s{Q_W}.{Q_FRAC}
@@ -43,7 +43,7 @@
 //
 // Pipeline: quadric_mac and K noise_term instances in parallel on s, a registered adder tree
 // of arity 4 for f (TREE_LEVELS = ceil(log4(K+1)) stages), filter_width, then colour_map.
-// With the noise gradient (`CFG_NOISE_GRADIENT 1: grad f = grad q + sum a_i grad n_i), the
+// With the noise gradient (NOISE_GRADIENT 1: grad f = grad q + sum a_i grad n_i), the
 // tree also sums the gradients and filter_width follows it; the quadric's input waits so that
 // its outputs meet the terms'. Without it (grad f = grad q), filter_width runs on the
 // quadric's gradient in parallel with the noise terms, and q waits for the terms instead.
@@ -66,51 +66,88 @@
 
 `default_nettype none
 
-`include "tex_cfg.vh"
 `include "tex_latency.vh"
 
-// The parameters restate the configuration's defines for readability; the blocks take their
-// widths from the same defines, so keep the defaults.
+// Every parameter is one key of a configuration file (config/<name>.toml, in brackets);
+// a configuration sets all of them (hdlbuild writes build/gen/<name>/texture_unit.v, a
+// wrapper with the configuration's values). Every word width is derived from them here and
+// in the blocks (rtl/tex_widths.vh, the twin of model/hw/config.py; tb/test_widths.py
+// checks that the two agree). The defaults are placeholders of a valid configuration.
 module texture_pipeline #(
-    parameter K        = `CFG_NOISE_TERMS,  // noise terms (0..8)
-    parameter S_W      = `CFG_S_W,          // texture coordinate word
-    parameter Q_W      = `CFG_Q_W,          // quadric coefficient word
-    parameter J_W      = `CFG_J_W,          // Jacobian mantissa word
-    parameter JE_W     = `CFG_JE_W,         // Jacobian shared exponent word
-    parameter T_W      = `CFG_T_W,          // noise transform entry word
-    parameter A_W      = `CFG_A_W,          // noise amplitude word
-    parameter O_W      = `CFG_O_W,          // noise offset word
-    parameter QF_W     = `CFG_QF_W,         // quadric value (f_frac) word
-    parameter AN_W     = `CFG_AN_W,         // a_i n_i word
-    parameter AG_W     = `CFG_AG_W,         // a_i grad n_i component word
-    parameter F_W      = `CFG_F_W,          // f word (exact sum)
-    parameter C_W      = `CFG_C_W,          // grad f component word (exact sum)
-    parameter W_W      = `CFG_W_W,          // filter width word
-    parameter CSAT_W   = `CFG_CSAT_W,       // summed-area table channel word
-    parameter NL_W     = `CFG_N_LOG2_W,     // n_log2 word
-    parameter NLMAX    = `CFG_N_LOG2_MAX,   // log2 of the largest colour table
-    parameter PIX_W    = 3*S_W + 6*J_W + JE_W  // pixel input word
-) (
-    input  wire             clk,
-    input  wire             rst,
+    parameter QUADRIC        = 0,   // [quadric] 0 full (10 coefficients), 1 diagonal (B = C = F = 0)
+    parameter NOISE_TERMS    = 8,   // [noise_terms] K: noise terms a_i n(T_i s + o_i), 0..8
+    parameter BLEND          = 1,   // [blend] 0 linear, 1 cubic
+    parameter TRANSFORM      = 0,   // [transform] 0 affine, 1 pow2
+    parameter AMPLITUDE      = 0,   // [amplitude] 0 any, 1 pow2
+    parameter FILTER         = 1,   // [filter] 0 none (point lookup), 1 sat, 2 mip
+    parameter NOISE_GRADIENT = 1,   // [noise_gradient] 1: grad f includes the noise terms'
+    parameter S_W            = 24,  // [s_w] texture coordinates s{S_W}.{S_FRAC}
+    parameter S_FRAC         = 16,  // [s_frac]
+    parameter Q_W            = 24,  // [q_w] quadric coefficients s{Q_W}.{Q_FRAC}
+    parameter Q_FRAC         = 16,  // [q_frac]
+    parameter J_W            = 12,  // [j_w] Jacobian mantissas s{J_W}.0
+    parameter JE_W           = 8,   // [je_w] shared Jacobian exponent s{JE_W}.0
+    parameter T_W            = 17,  // [t_w] transform entries s{T_W}.{T_FRAC}
+    parameter T_FRAC         = 10,  // [t_frac]
+    parameter A_W            = 16,  // [a_w] amplitudes s{A_W}.{A_FRAC}
+    parameter A_FRAC         = 12,  // [a_frac]
+    parameter P_FRAC         = 12,  // [p_frac] noise-space fraction bits
+    parameter HASH_BITS      = 8,   // [hash_bits] lattice period 2^HASH_BITS
+    parameter N_FRAC         = 12,  // [n_frac] noise value / gradient fraction bits
+    parameter F_FRAC         = 16,  // [f_frac] f fraction bits (1.0 = the whole table)
+    parameter C_FRAC         = 12,  // [c_frac] grad f fraction bits
+    parameter NORM_BITS      = 12,  // [norm_bits] |grad f| normalised to this many bits
+    parameter W_CAP_LOG2     = 16,  // [w_cap_log2] w saturates at 2^W_CAP_LOG2 entries
+    parameter DIV_BITS       = 0,   // [div_bits] box-filter division: 0 exact, B > 0 on B-bit w
+    parameter N_LOG2_MAX     = 8,   // [n_log2_max] colour tables of up to 2^N_LOG2_MAX entries
+    // [hash.seed] the lattice permutation (model/hw/config.py permutation()), entry i at
+    // [i*HASH_BITS +: HASH_BITS]
+    parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}
+) (clk, rst, cfg_wr_en, cfg_wr_addr, cfg_wr_data, s_axis_tdata, s_axis_tvalid, s_axis_tready, s_axis_tlast,
+   m_axis_tdata, m_axis_tvalid, m_axis_tready, m_axis_tlast);
 
-    // parameter write port (32-bit words, register map above)
-    input  wire             cfg_wr_en,
-    input  wire [15:0]      cfg_wr_addr,
-    input  wire [31:0]      cfg_wr_data,
+`include "tex_widths.vh"
 
-    // pixel input stream: {je, jm, s}
-    input  wire [PIX_W-1:0] s_axis_tdata,
-    input  wire             s_axis_tvalid,
-    output wire             s_axis_tready,
-    input  wire             s_axis_tlast,
+// ---------------------------------------------------------------------------
+// Derived widths (the same functions as the blocks': each block derives its own internal
+// widths, the top derives the words that cross between blocks)
 
-    // colour output stream: RGBA8, R at [7:0]
-    output wire [31:0]      m_axis_tdata,
-    output wire             m_axis_tvalid,
-    input  wire             m_axis_tready,
-    output wire             m_axis_tlast
-);
+localparam K      = NOISE_TERMS;
+localparam DIAG   = QUADRIC;
+localparam CUBIC  = BLEND;
+localparam POW2T  = TRANSFORM;
+localparam O_W    = HASH_BITS + P_FRAC;                                        // noise offset word
+localparam QF_W   = tw_qf_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC);           // quadric value
+localparam AN_W   = tw_an_w(A_W, A_FRAC, N_FRAC, F_FRAC);                      // a_i n_i
+localparam AG_W   = tw_ag_w(CUBIC, POW2T, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC); // a_i grad n_i
+localparam F_W    = tw_f_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC, K, A_W, A_FRAC, N_FRAC); // f (exact sum)
+localparam C_W    = tw_c_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, C_FRAC, K, NOISE_GRADIENT, CUBIC, POW2T, T_W,
+                           T_FRAC, N_FRAC, A_W, A_FRAC);                       // grad f (exact sum)
+localparam W_W    = W_CAP_LOG2 + F_FRAC + 1;                                   // filter width
+localparam CSAT_W = tw_csat_w(N_LOG2_MAX);                                     // summed-area channel
+localparam NL_W   = tw_bits_unsigned(N_LOG2_MAX);                              // n_log2
+localparam NLMAX  = N_LOG2_MAX;
+localparam PIX_W  = 3*S_W + 6*J_W + JE_W;                                      // pixel input word
+
+input  wire             clk;
+input  wire             rst;
+
+// parameter write port (32-bit words, register map above)
+input  wire             cfg_wr_en;
+input  wire [15:0]      cfg_wr_addr;
+input  wire [31:0]      cfg_wr_data;
+
+// pixel input stream: {je, jm, s}
+input  wire [PIX_W-1:0] s_axis_tdata;
+input  wire             s_axis_tvalid;
+output wire             s_axis_tready;
+input  wire             s_axis_tlast;
+
+// colour output stream: RGBA8, R at [7:0]
+output wire [31:0]      m_axis_tdata;
+output wire             m_axis_tvalid;
+input  wire             m_axis_tready;
+output wire             m_axis_tlast;
 
 // ---------------------------------------------------------------------------
 // Latencies and alignment
@@ -153,7 +190,7 @@ localparam T_F         = LAT_FRONT + TREE_LEVELS;                        // f (a
 // f, and filter_width follows the tree: the quadric's input waits DLY_Q so that its outputs
 // meet the terms'. Without it, grad f = grad q: filter_width takes the quadric's gradient
 // straight away, in parallel with the noise terms, and only q waits (DLY_QO) for the terms.
-localparam NG          = `CFG_NOISE_GRADIENT;
+localparam NG          = NOISE_GRADIENT;
 localparam DLY_Q       = NG ? LAT_FRONT - LAT_QM : 0;                    // quadric input (s) delay
 localparam DLY_QO      = NG ? 0 : LAT_FRONT - LAT_QM;                    // quadric q output delay
 localparam DLY_J       = NG ? T_F : LAT_QM;                              // Jm, je to filter_width
@@ -337,7 +374,10 @@ wire [QF_W-1:0]  qm_q;
 wire [3*C_W-1:0] qm_cq;
 wire             qm_valid;
 
-quadric_mac u_quadric_mac (
+quadric_mac #(
+    .DIAG(DIAG), .S_W(S_W), .S_FRAC(S_FRAC), .Q_W(Q_W), .Q_FRAC(Q_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
+    .C_W(C_W)
+) u_quadric_mac (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(qs_valid),
     .s_in(qs_s),
@@ -370,7 +410,12 @@ generate
         wire [AN_W-1:0]   an;
         wire [3*AG_W-1:0] ag;
         wire              nt_valid;
-        noise_term u_noise_term (
+        noise_term #(
+            .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
+            .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
+            .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
+            .PERM(PERM)
+        ) u_noise_term (
             .clk(clk), .rst(rst), .ce(ce),
             .in_valid(in_valid),
             .s_in(px_s),
@@ -449,7 +494,7 @@ endgenerate
 // sum of its (up to TREE_ARITY) children; TREE_LEVELS levels down to one node (fewer
 // registers than a binary tree: one level for K <= 3, two for K <= 15). Sums are modulo
 // 2^F_W / 2^C_W of sign-extended operands, i.e. exact two's complement sums: every partial
-// sum is bounded by the whole sum's bound, which F_W and C_W hold (model/config.py f_w, c_w).
+// sum is bounded by the whole sum's bound, which F_W and C_W hold (model/hw/config.py f_w, c_w).
 // Each node is one clocked process reading its children by name.
 
 wire [F_W-1:0]   f_sum;
@@ -561,7 +606,10 @@ delay_line #(.W(1), .N(T_CM + LAT_CM)) u_dly_last (.clk(clk), .rst(rst), .ce(ce)
 wire [W_W-1:0] fw_w;
 wire           fw_valid;
 
-filter_width u_filter_width (
+filter_width #(
+    .C_W(C_W), .C_FRAC(C_FRAC), .J_W(J_W), .JE_W(JE_W), .NORM_BITS(NORM_BITS), .F_FRAC(F_FRAC),
+    .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX)
+) u_filter_width (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(NG ? sum_valid : qm_valid),
     .c_in(NG ? c_sum : qm_cq),
@@ -577,7 +625,7 @@ filter_width u_filter_width (
 // (the low F_FRAC bits), and in clamp mode compares f with thresholds inside
 // [-2^GUARD, 2^F_FRAC + 2^GUARD], GUARD = W_CAP_LOG2 + F_FRAC - 1, so saturating f to
 // +-2^(GUARD+1) there changes no result. mode_reg is static during a pass.
-localparam GUARD = `CFG_W_CAP_LOG2 + `CFG_F_FRAC - 1;
+localparam GUARD = W_CAP_LOG2 + F_FRAC - 1;
 localparam FC_W  = (DLY_F > 0 && GUARD + 3 < F_W) ? GUARD + 3 : F_W;
 wire [FC_W-1:0] f_carry;
 generate
@@ -616,7 +664,10 @@ generate
     end
 endgenerate
 
-colour_map u_colour_map (
+colour_map #(
+    .F_W(F_W), .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .FILTER(FILTER),
+    .DIV_BITS(DIV_BITS)
+) u_colour_map (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(cm_in_valid),
     .f_in(f_cm),

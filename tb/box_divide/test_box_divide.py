@@ -130,8 +130,11 @@ async def box_divide_vs_python(dut):
 
 @pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_box_divide_rtl(sim, config):
+    cfg = hdlbuild.config_of(config)
+    # colour_map's exact division (the widths box_divide_vs_python assumes by default)
     hdlbuild.run("box_divide", sources=["box_divide.v"], test_module="test_box_divide", sim=sim,
-                  config=config, test_dir=Path(__file__).parent)
+                  config=config, test_dir=Path(__file__).parent,
+                  parameters={"NUM_W": cfg.d_w - 1, "DEN_W": cfg.w_w, "Q_W": Q_W, "LANES": LANES, "SAT": 0})
 
 
 def _narrow_params():
@@ -149,13 +152,11 @@ def _narrow_params():
 
 
 @pytest.mark.parametrize("sim,config,b,sat", _narrow_params())
-def test_box_divide_narrow_rtl(sim, config, b, sat, monkeypatch):
+def test_box_divide_narrow_rtl(sim, config, b, sat):
     """colour_map's normalised division: DEN_W = B, NUM_W = B + 8 (+ 1 with SAT)."""
     num_w = b + 8 + sat
-    gdir = hdlbuild.gen_dir(config)
-    monkeypatch.setattr(hdlbuild, "gen_dir", lambda _config: gdir)
     hdlbuild.run("box_divide", sources=["box_divide.v"], test_module="test_box_divide", sim=sim,
-                  config=f"{config}_n{num_w}_d{b}_s{sat}",
-                  parameters={"NUM_W": num_w, "DEN_W": b, "SAT": sat},
-                  extra_env={"CONFIG": config, "BD_NUM_W": str(num_w), "BD_DEN_W": str(b), "BD_SAT": str(sat)},
+                  config=config, build_name=f"{config}_n{num_w}_d{b}_s{sat}",
+                  parameters={"NUM_W": num_w, "DEN_W": b, "Q_W": Q_W, "LANES": LANES, "SAT": sat},
+                  extra_env={"BD_NUM_W": str(num_w), "BD_DEN_W": str(b), "BD_SAT": str(sat)},
                   test_dir=Path(__file__).parent)

@@ -28,7 +28,6 @@ VECTORS = random vectors in all (default 2000; the hard cases come on top).
 from __future__ import annotations
 
 import os
-import re
 from pathlib import Path
 
 import numpy as np
@@ -39,7 +38,7 @@ from cocotb.triggers import RisingEdge
 
 import hdlbuild
 from model.hw import golden
-from model.hw.config import load_config, verilog_header
+from model.hw.config import load_config, variant
 from tb import pipe
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -48,8 +47,7 @@ TABLE_CLUT, TABLE_CSAT, TABLE_MIP = 0, 1, 2
 
 
 def latency() -> int:
-    text = (ROOT / "rtl" / "tex_latency.vh").read_text()
-    return int(re.search(r"`define\s+LAT_COLOUR_MAP\s+(\d+)", text).group(1))
+    return hdlbuild.latency("colour_map")
 
 
 # ---------------------------------------------------------------------------
@@ -277,28 +275,10 @@ async def colour_map_vs_golden(dut):
 # pytest side
 
 
-@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.family_params())
 def test_colour_map_rtl(sim, config):
     hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim, config=config,
                   test_dir=Path(__file__).parent)
-
-
-def _variant_gen_dir(config: str, filt: str) -> tuple[Path, Path]:
-    """build/gen/<config>_<filt>/: the configuration with its filter switched, and its header."""
-    out = ROOT / "build" / "gen" / f"{config}_{filt}"
-    out.mkdir(parents=True, exist_ok=True)
-    text = (ROOT / "config" / f"{config}.toml").read_text()
-    text, n = re.subn(r'(?m)^filter\s*=\s*"[a-z]+"', f'filter = "{filt}"', text)
-    assert n == 1, f"config/{config}.toml: no features.filter line"
-    toml = out / f"{config}_{filt}.toml"
-    header = out / "tex_cfg.vh"
-    for p, t in ((toml, text),):
-        if not p.exists() or p.read_text() != t:
-            p.write_text(t)
-    h = verilog_header(load_config(toml))
-    if not header.exists() or header.read_text() != h:
-        header.write_text(h)
-    return out, toml
 
 
 def _variant_params():
@@ -309,30 +289,11 @@ def _variant_params():
 
 
 @pytest.mark.parametrize("sim,config,filt", _variant_params())
-def test_colour_map_filter_variants_rtl(sim, config, filt, monkeypatch):
+def test_colour_map_filter_variants_rtl(sim, config, filt):
     """The same cocotb test with the configuration's filter switched to mip / none."""
-    gdir, toml = _variant_gen_dir(config, filt)
-    monkeypatch.setattr(hdlbuild, "gen_dir", lambda _config: gdir)
-    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim,
-                  config=f"{config}_{filt}", extra_env={"CONFIG": str(toml), "CM_VARIANT": "1"},
-                  test_dir=Path(__file__).parent)
-
-
-def _div_variant_gen_dir(config: str, bits: int) -> tuple[Path, Path]:
-    """build/gen/<config>_div<bits>/: the configuration with formats.div_bits switched, and its header."""
-    out = ROOT / "build" / "gen" / f"{config}_div{bits}"
-    out.mkdir(parents=True, exist_ok=True)
-    text = (ROOT / "config" / f"{config}.toml").read_text()
-    text, n = re.subn(r'(?m)^div_bits\s*=\s*\d+', f"div_bits = {bits}", text)
-    assert n == 1, f"config/{config}.toml: no formats.div_bits line"
-    toml = out / f"{config}_div{bits}.toml"
-    header = out / "tex_cfg.vh"
-    if not toml.exists() or toml.read_text() != text:
-        toml.write_text(text)
-    h = verilog_header(load_config(toml))
-    if not header.exists() or header.read_text() != h:
-        header.write_text(h)
-    return out, toml
+    cfg = variant(load_config(config), f"{config}_{filt}", filter=filt)
+    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim, config=cfg,
+                  extra_env={"CM_VARIANT": "1"}, test_dir=Path(__file__).parent)
 
 
 def _div_variant_params():
@@ -344,10 +305,8 @@ def _div_variant_params():
 
 
 @pytest.mark.parametrize("sim,config,bits", _div_variant_params())
-def test_colour_map_div_variants_rtl(sim, config, bits, monkeypatch):
+def test_colour_map_div_variants_rtl(sim, config, bits):
     """The same cocotb test with the configuration's div_bits switched."""
-    gdir, toml = _div_variant_gen_dir(config, bits)
-    monkeypatch.setattr(hdlbuild, "gen_dir", lambda _config: gdir)
-    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim,
-                  config=f"{config}_div{bits}", extra_env={"CONFIG": str(toml)},
+    cfg = variant(load_config(config), f"{config}_div{bits}", div_bits=bits)
+    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim, config=cfg,
                   test_dir=Path(__file__).parent)

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import math
 import os
-import re
 from pathlib import Path
 
 import numpy as np
@@ -42,11 +41,10 @@ SOURCES = ["filter_width.v", "isqrt.v", "bitlen.v"]
 
 def latency() -> int:
     """`LAT_FILTER_WIDTH from rtl/tex_latency.vh (the block must match it)."""
-    text = (hdlbuild.ROOT / "rtl" / "tex_latency.vh").read_text()
-    return int(re.search(r"`define\s+LAT_FILTER_WIDTH\s+(\d+)", text).group(1))
+    return hdlbuild.latency("filter_width")
 
 
-@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.family_params())
 def test_filter_width_rtl(sim, config):
     hdlbuild.run("filter_width", sources=SOURCES, test_module="test_filter_width", sim=sim, config=config,
                   test_dir=Path(__file__).parent)

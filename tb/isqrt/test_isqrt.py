@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 import os
-import re
 from pathlib import Path
 
 import numpy as np
@@ -25,7 +24,6 @@ import cocotb
 
 import hdlbuild
 from model.hw import golden as G
-from model.hw.config import load_config
 from tb import pipe
 
 SOURCES = ["isqrt.v"]
@@ -37,16 +35,15 @@ SMALL = [(12, 6, 6), (11, 7, 2)]
 
 def sqrt_latency() -> int:
     """The isqrt stages inside filter_width: `LAT_FILTER_WIDTH - 5."""
-    text = (hdlbuild.ROOT / "rtl" / "tex_latency.vh").read_text()
-    return int(re.search(r"`define\s+LAT_FILTER_WIDTH\s+(\d+)", text).group(1)) - 5
+    return hdlbuild.latency("filter_width") - 5
 
 
 @pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_isqrt_rtl(sim, config):
-    cfg = load_config(config)
+    cfg = hdlbuild.config_of(config)
     lat = sqrt_latency()
     hdlbuild.run("isqrt", sources=SOURCES, test_module="test_isqrt", sim=sim, config=config,
-                  parameters={"LATENCY": lat}, test_dir=Path(__file__).parent,
+                  test_dir=Path(__file__).parent,
                   extra_env={"ISQRT_L_W": str(cfg.l_w), "ISQRT_R_W": str(cfg.r_w), "ISQRT_LAT": str(lat),
                              "ISQRT_EXHAUSTIVE": "0"})
 
@@ -61,8 +58,7 @@ def small_params():
 
 @pytest.mark.parametrize("sim,variant", small_params())
 def test_isqrt_small_rtl(sim, variant):
-    """Exhaustive small builds, each in its own build directory (build_name); isqrt's
-    default parameters come from the full configuration's tex_cfg.vh."""
+    """Exhaustive small builds, each in its own build directory (build_name)."""
     l_w, r_w, lat = variant
     hdlbuild.run("isqrt", sources=SOURCES, test_module="test_isqrt", sim=sim, config="full",
                  parameters={"L_W": l_w, "R_W": r_w, "LATENCY": lat}, test_dir=Path(__file__).parent,

@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import math
 import os
-import re
 from pathlib import Path
 
 import numpy as np
@@ -52,11 +51,10 @@ SOURCES = ["noise_term.v", "noise_hash.v", "noise_blend.v", "lerp.v"]
 
 def latency() -> int:
     """`LAT_NOISE_TERM from rtl/tex_latency.vh (the block must match it)."""
-    text = (hdlbuild.ROOT / "rtl" / "tex_latency.vh").read_text()
-    return int(re.search(r"`define\s+LAT_NOISE_TERM\s+(\d+)", text).group(1))
+    return hdlbuild.latency("noise_term")
 
 
-@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.family_params())
 def test_noise_term_rtl(sim, config):
     hdlbuild.run("noise_term", sources=SOURCES, test_module="test_noise_term", sim=sim, config=config,
                   test_dir=Path(__file__).parent)

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import math
 import os
-import re
 from pathlib import Path
 
 import numpy as np
@@ -48,11 +47,10 @@ MAX_BATCH = 256  # random batches: 1..MAX_BATCH vectors, log-uniform
 
 def latency() -> int:
     """`LAT_QUADRIC_MAC from rtl/tex_latency.vh (the block must match it)."""
-    text = (hdlbuild.ROOT / "rtl" / "tex_latency.vh").read_text()
-    return int(re.search(r"`define\s+LAT_QUADRIC_MAC\s+(\d+)", text).group(1))
+    return hdlbuild.latency("quadric_mac")
 
 
-@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.family_params())
 def test_quadric_mac_rtl(sim, config):
     hdlbuild.run("quadric_mac", sources=SOURCES, test_module="test_quadric_mac", sim=sim, config=config,
                   test_dir=Path(__file__).parent)

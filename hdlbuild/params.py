@@ -1,0 +1,123 @@
+"""The Verilog parameters of a configuration: the top's parameter set and each block's.
+
+A configuration reaches the RTL only as parameters. `top_params(cfg)` is the parameter set
+of `texture_pipeline` (one parameter per configuration key, enums as integers, and the
+lattice permutation PERM); `texture_unit_source(cfg)` is the generated wrapper module
+`texture_unit`, texture_pipeline with those values, that harnesses and flows instantiate.
+`block_params(cfg, module)` is what texture_pipeline passes to one of its blocks, for the
+blocks' own testbenches and gate counts. Every derived width the blocks need is derived
+inside the RTL (rtl/tex_widths.vh); model/hw/config.py derives the same in Python, and
+tb/test_widths.py checks that the two agree.
+"""
+from __future__ import annotations
+
+import re
+
+from model.hw.config import ROOT, Config, _rel
+from model.hw.regmap import pix_width
+
+# config/<name>.toml enum values as the RTL's integer parameters
+ENUMS = {
+    "quadric": {"full": 0, "diagonal": 1},
+    "blend": {"linear": 0, "cubic": 1},
+    "transform": {"affine": 0, "pow2": 1},
+    "amplitude": {"any": 0, "pow2": 1},
+    "filter": {"none": 0, "sat": 1, "mip": 2},
+}
+# configuration keys that are parameters of texture_pipeline (pixels_per_clock is not a
+# knob of the RTL yet; seed reaches it as PERM)
+TOP_KEYS = ("quadric", "noise_terms", "blend", "transform", "amplitude", "filter", "noise_gradient",
+            "s_w", "s_frac", "q_w", "q_frac", "j_w", "je_w", "t_w", "t_frac", "a_w", "a_frac", "p_frac",
+            "hash_bits", "n_frac", "f_frac", "c_frac", "norm_bits", "w_cap_log2", "div_bits", "n_log2_max")
+
+# texture_pipeline's ports: (direction, width or None for the pixel word, name)
+PORTS = (("input", 1, "clk"), ("input", 1, "rst"),
+         ("input", 1, "cfg_wr_en"), ("input", 16, "cfg_wr_addr"), ("input", 32, "cfg_wr_data"),
+         ("input", None, "s_axis_tdata"), ("input", 1, "s_axis_tvalid"), ("output", 1, "s_axis_tready"),
+         ("input", 1, "s_axis_tlast"),
+         ("output", 32, "m_axis_tdata"), ("output", 1, "m_axis_tvalid"), ("input", 1, "m_axis_tready"),
+         ("output", 1, "m_axis_tlast"))
+
+
+def value(cfg: Config, key: str) -> int:
+    """A configuration key as the integer the RTL takes."""
+    v = getattr(cfg, key)
+    return ENUMS[key][v] if key in ENUMS else int(v)
+
+
+def perm_literal(cfg: Config) -> str:
+    """The permutation as one Verilog literal, entry i at bits [i*H +: H]."""
+    hb = cfg.hash_bits
+    word = 0
+    for i, p in enumerate(cfg.perm):
+        word |= int(p) << (i * hb)
+    bits = hb << hb
+    return f"{bits}'h{word:0{(bits + 3) // 4}x}"
+
+
+def top_params(cfg: Config) -> dict:
+    """texture_pipeline's parameters for `cfg` (name -> integer, PERM a Verilog literal)."""
+    out = {k.upper(): value(cfg, k) for k in TOP_KEYS}
+    out["PERM"] = perm_literal(cfg)
+    return out
+
+
+def _pick(cfg: Config, *keys) -> dict:
+    return {k.upper(): value(cfg, k) for k in keys}
+
+
+def block_params(cfg: Config, module: str) -> dict:
+    """The parameters texture_pipeline gives `module` under `cfg` (its own testbench and gate
+    count use the same)."""
+    if module == "texture_pipeline":
+        return top_params(cfg)
+    if module == "quadric_mac":
+        p = _pick(cfg, "s_w", "s_frac", "q_w", "q_frac", "f_frac", "c_frac")
+        return {"DIAG": value(cfg, "quadric"), **p, "C_W": cfg.c_w}
+    if module == "noise_term":
+        return {**_pick(cfg, "s_w", "s_frac", "t_w", "t_frac", "a_w", "a_frac", "p_frac", "hash_bits", "n_frac",
+                        "f_frac", "c_frac", "transform", "blend", "amplitude", "noise_gradient"),
+                "PERM": perm_literal(cfg)}
+    if module == "noise_hash":
+        return {"H": cfg.hash_bits, "N_FRAC": cfg.n_frac, "N_W": cfg.n_w, "PERM": perm_literal(cfg)}
+    if module == "filter_width":
+        return {"C_W": cfg.c_w, **_pick(cfg, "c_frac", "j_w", "je_w", "norm_bits", "f_frac", "w_cap_log2",
+                                        "n_log2_max")}
+    if module == "colour_map":
+        return {"F_W": cfg.f_w, **_pick(cfg, "f_frac", "w_cap_log2", "n_log2_max", "filter", "div_bits")}
+    if module == "box_divide":  # as colour_map divides: exact, or on a div_bits-bit w
+        b = cfg.div_bits
+        if cfg.filter == "sat" and 0 < b < cfg.w_w:
+            sat = 1 if b <= 9 else 0
+            return {"NUM_W": b + 8 + sat, "DEN_W": b, "Q_W": 8, "LANES": 4, "SAT": sat}
+        return {"NUM_W": cfg.d_w - 1, "DEN_W": cfg.w_w, "Q_W": 8, "LANES": 4, "SAT": 0}
+    if module == "isqrt":
+        return {"L_W": cfg.l_w, "R_W": cfg.r_w, "LATENCY": latency("filter_width") - 5}
+    raise KeyError(f"block_params: no parameter set for module '{module}'")
+
+
+def latency(module: str) -> int:
+    """A block's latency in register stages, from rtl/tex_latency.vh (`LAT_<MODULE>)."""
+    text = (ROOT / "rtl" / "tex_latency.vh").read_text()
+    m = re.search(rf"`define\s+LAT_{module.upper()}\s+(\d+)", text)
+    if not m:
+        raise KeyError(f"rtl/tex_latency.vh: no LAT_{module.upper()}")
+    return int(m.group(1))
+
+
+def texture_unit_source(cfg: Config) -> str:
+    """The wrapper module `texture_unit`: texture_pipeline with the parameters of `cfg`."""
+    params = top_params(cfg)
+    lines = [f"// Generated from {_rel(cfg.path)} by hdlbuild/params.py. Do not edit.",
+             f"// texture_unit: texture_pipeline with the parameters of configuration `{cfg.name}`",
+             "// (rtl/texture_pipeline.v documents the ports).",
+             "`default_nettype none", "",
+             "module texture_unit (" + ", ".join(n for _, _, n in PORTS) + ");"]
+    for d, w, n in PORTS:
+        w = pix_width(cfg) if w is None else w
+        lines.append(f"{d:<6} wire {f'[{w - 1}:0] ' if w > 1 else ''}{n};")
+    lines.append("texture_pipeline #(")
+    lines.append(",\n".join(f"    .{k}({v})" for k, v in params.items()))
+    lines.append(") u_pipe (" + ", ".join(f".{n}({n})" for _, _, n in PORTS) + ");")
+    lines += ["endmodule", "", "`default_nettype wire", ""]
+    return "\n".join(lines)

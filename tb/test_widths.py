@@ -1,0 +1,110 @@
+"""The widths the RTL elaborates to equal the Python derivation (model/hw/config.py _derive).
+
+The RTL gets only a configuration's keys as parameters and derives every word width itself
+(rtl/tex_widths.vh); the golden model derives them in Python. For both configurations and
+for random valid configurations, this test elaborates the configuration's top
+(build/gen/<name>/texture_unit.v) and a noise_term with the parameters texture_pipeline
+gives it under Icarus, reads every derived width back from the elaborated instances
+(hierarchical references to their localparams, printed by $display), and compares each
+with the Python value. A differing width is a derivation written twice that drifted apart.
+
+Environment: RANDOM_WIDTH_CONFIGS (default 10) random configurations, RANDOM_SEED picks
+another set.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+import hdlbuild
+from hdlbuild.params import block_params
+
+# Python key -> elaborated name: under the top (texture_unit.u_pipe) or the stand-alone
+# noise_term (nt, which exists for every configuration, also without noise terms)
+TOP = "u.u_pipe"
+WIDTHS = {
+    "v_w": f"{TOP}.u_quadric_mac.V_W", "qv_w": f"{TOP}.u_quadric_mac.QV_W", "qf_w": f"{TOP}.u_quadric_mac.QF_W",
+    "p_w": "nt.P_W", "o_w": "nt.O_W", "ts_shift": "nt.TS_SHIFT", "n_w": "nt.N_W", "gn_w": "nt.GN_W",
+    "blend_w": "nt.BW", "an_shift": "nt.AN_SHIFT", "an_w": "nt.AN_W", "h_shift": "nt.H_SHIFT", "h_w": "nt.H_W",
+    "ag_w": "nt.AG_W",
+    "f_w": f"{TOP}.F_W", "c_w": f"{TOP}.C_W", "n_log2_w": f"{TOP}.NL_W",
+    "g_w": f"{TOP}.u_filter_width.G_W", "gabs_w": f"{TOP}.u_filter_width.GABS_W",
+    "l_w": f"{TOP}.u_filter_width.L_W", "r_w": f"{TOP}.u_filter_width.R_W", "sh_w": f"{TOP}.u_filter_width.SH_W",
+    "e_w": f"{TOP}.u_filter_width.E_W", "w_w": f"{TOP}.u_filter_width.W_W",
+    "u_w": f"{TOP}.u_colour_map.U_W", "x_w": f"{TOP}.u_colour_map.X_W", "x_frac": f"{TOP}.u_colour_map.XF",
+    "csat_w": f"{TOP}.u_colour_map.CS_W", "d_w": f"{TOP}.u_colour_map.D_W",
+}
+# the same word derived where it crosses between blocks: the top's copy must agree
+CROSS = {"qf_w": f"{TOP}.QF_W", "an_w": f"{TOP}.AN_W", "ag_w": f"{TOP}.AG_W", "o_w": f"{TOP}.O_W",
+         "w_w": f"{TOP}.W_W", "csat_w": f"{TOP}.CSAT_W", "n_log2_w": f"{TOP}.u_filter_width.N_LOG2_W"}
+
+
+def _configs():
+    n = int(os.environ.get("RANDOM_WIDTH_CONFIGS", "10"))
+    base = int(os.environ.get("RANDOM_SEED", "12")) * 100 + 50
+    return list(hdlbuild.CONFIGS) + [f"random:{base + i}" for i in range(n)]
+
+
+def elaborated_widths(config) -> dict:
+    """{name: value} of every entry of WIDTHS and CROSS, read from the elaborated RTL."""
+    if shutil.which("iverilog") is None:
+        raise RuntimeError("iverilog: not found on PATH (run `make setup`)")
+    cfg = hdlbuild.config_of(config)
+    gdir = hdlbuild.gen_dir(cfg)
+    nt = block_params(cfg, "noise_term")
+    names = {**WIDTHS, **{f"{k}@top": v for k, v in CROSS.items()}}
+    probe = ["module width_probe;", "texture_unit u ();",
+             "noise_term #(" + ", ".join(f".{k}({v})" for k, v in nt.items()) + ") nt ();",
+             "initial begin"]
+    probe += [f'    $display("{k} %0d", {v});' for k, v in names.items()]
+    probe += ["end", "endmodule", ""]
+    bdir = hdlbuild.ROOT / "build" / "widths" / cfg.name
+    bdir.mkdir(parents=True, exist_ok=True)
+    (bdir / "width_probe.v").write_text("\n".join(probe))
+    vvp = bdir / "probe.vvp"
+    srcs = [str(bdir / "width_probe.v"), str(gdir / "texture_unit.v")] + sorted(
+        str(p) for p in hdlbuild.RTL_DIR.glob("*.v"))
+    # unconnected ports: the probe only elaborates (-Wnone: no port warnings)
+    r = subprocess.run(["iverilog", "-g2005", "-Wnone", "-o", str(vvp), "-s", "width_probe", f"-I{hdlbuild.RTL_DIR}",
+                        *srcs], capture_output=True, text=True)
+    assert r.returncode == 0, f"{cfg.name}: iverilog failed:\n{r.stderr[-2000:]}"
+    out = subprocess.run(["vvp", "-n", str(vvp)], capture_output=True, text=True, check=True).stdout
+    got = {}
+    for line in out.splitlines():
+        k, _, v = line.partition(" ")
+        if k in names:
+            got[k] = int(v)
+    assert set(got) == set(names), f"{cfg.name}: not printed: {sorted(set(names) - set(got))}"
+    return got
+
+
+@pytest.mark.parametrize("config", _configs())
+def test_rtl_widths_equal_python(config):
+    cfg = hdlbuild.config_of(config)
+    got = elaborated_widths(cfg)
+    bad = [f"{k}: RTL {got[k]}, Python {cfg.d[k]}" for k in WIDTHS if got[k] != cfg.d[k]]
+    bad += [f"{k} (texture_pipeline's copy): RTL {got[k + '@top']}, Python {cfg.d[k]}" for k in CROSS
+            if got[k + "@top"] != cfg.d[k]]
+    assert not bad, f"{cfg.name}: derived widths differ:\n  " + "\n  ".join(bad)
+
+
+# derived values the RTL has no word for: the model's own checks and bounds
+MODEL_ONLY = {
+    "w_cap": "the saturated w, a value (filter_width and colour_map use W_CAP_LOG2 + F_FRAC)",
+    "widest_product": "the int64 check of the golden model",
+    "je_min": "the range of je (the RTL's je is a JE_W-bit word)",
+    "je_max": "the range of je",
+    "i_w": "the integral I(x) is never formed whole: colour_map forms D = I(b) - I(a) mod 2^D_W",
+}
+
+
+def test_every_derived_width_is_checked():
+    """Each width model/hw/config.py derives is read back from the RTL, or named model-only."""
+    d = hdlbuild.config_of("full").d
+    assert set(d) == set(WIDTHS) | set(MODEL_ONLY), (
+        f"derived but not checked: {sorted(set(d) - set(WIDTHS) - set(MODEL_ONLY))}; "
+        f"checked but not derived: {sorted((set(WIDTHS) | set(MODEL_ONLY)) - set(d))}")
