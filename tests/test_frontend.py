@@ -36,7 +36,8 @@ import time
 import numpy as np
 import pytest
 
-from model.scene.frontend import REDUCED_LIMITS, Pass, composite_over, fixed_point_violations, render_passes
+from model.hw.config import CONFIG_NAMES, input_limits, load_config
+from model.scene.frontend import Pass, composite_over, fixed_point_violations, render_passes
 from model.scene.scene import load_scene, parse_scene
 from model.scene.teapot import PATCHES, VERTICES, evaluate, teapot_mesh
 
@@ -185,13 +186,17 @@ def test_scene_masks_and_fixed_point_limits(path):
         assert np.all(np.isfinite(p.s)) and np.all(np.isfinite(p.J))
         assert p.alpha_mode in ("opaque", "over")
         assert np.all(p.s[~p.mask] == 0) and np.all(p.J[~p.mask] == 0)
-    assert fixed_point_violations(sc, passes) == []
-    # planes: the bound holds at every resolution, from the extent alone
-    for ob in sc.objects:
-        if ob.type == "plane":
-            M = ob.texture_matrix
-            bound = np.abs(M[:, :3] @ ob.params["point"] + M[:, 3]) + ob.params["extent"] * np.linalg.norm(M[:, :3], axis=1)
-            assert np.all(bound < REDUCED_LIMITS["s_max"]), (ob.name, bound)
+    for name in CONFIG_NAMES:
+        cfg = load_config(name)
+        assert fixed_point_violations(sc, cfg, passes) == [], name
+        # planes: the bound holds at every resolution, from the extent alone
+        s_lo, s_hi, _ = input_limits(cfg)["s"]
+        for ob in sc.objects:
+            if ob.type == "plane":
+                M = ob.texture_matrix
+                bound = (np.abs(M[:, :3] @ ob.params["point"] + M[:, 3])
+                         + ob.params["extent"] * np.linalg.norm(M[:, :3], axis=1))
+                assert np.all(bound < s_hi), (name, ob.name, bound)
 
 
 def test_fixed_point_violations_reports():
@@ -199,11 +204,49 @@ def test_fixed_point_violations_reports():
                      pos="[0.0, 2.0, 4.0]", look="[0.0, 0.5, -3.0]",
                      texture_matrix="[[1.0, 0, 0, 0], [0, 1.0, 0, 0], [0, 0, 1.0, 0]]")
     txt = txt.replace("quadric = [1.0,", "quadric = [70.0,") + "\n[[texture.t.noise]]\na = 5.0\nT = [3.0, 1.0, 128.0]\n"
-    txt = txt.replace("T = [3.0, 1.0, 128.0]", "T = [3.0, 1.0, 64.0]")
+    txt = txt.replace("T = [3.0, 1.0, 128.0]", "T = [1.0, 1.0, 1.0]") + "\n[[texture.t.noise]]\na = 0.5\nT = [3.0, 1.0, 16.0]\n"
     sc = parse_scene(txt, "<lim>")
-    v = fixed_point_violations(sc, render_passes(sc))
+    v = fixed_point_violations(sc, load_config("reduced"), render_passes(sc))
     joined = "\n".join(v)
-    assert "quadric" in joined and ".a:" in joined and "2^k" in joined and "max |s|" in joined
+    assert "quadric.A = 70 does not fit s15.8" in joined and "noise[0].a = 5" in joined, joined
+    assert "power of two" in joined and "pass " in joined and "pixel s" in joined, joined
+    assert all(x.startswith(("texture.t: ", "pass ")) and "\n" not in x for x in v), v
+
+
+def _lim_scene(Q0=1.0, T=None, s_scale=1.0):
+    """A screen quad with s = s_scale * (x, y, 0) / size, one texture, an optional noise term."""
+    txt = scene_text('type = "screen"', texture_matrix=f"[[{s_scale}, 0, 0, 0], [0, {s_scale}, 0, 0], [0, 0, 1.0, 0]]")
+    txt = txt.replace("quadric = [1.0,", f"quadric = [{Q0},")
+    if T is not None:
+        txt += f"\n[[texture.t.noise]]\na = 0.5\nT = {T}\n"
+    sc = parse_scene(txt, "<lim>")
+    return sc, render_passes(sc, 8, 8)
+
+
+@pytest.mark.parametrize("case,violates", [
+    # issue 16: the frontend's own copy of the reduced limits (REDUCED_LIMITS) disagreed with
+    # config/reduced.toml in all four ways; the check is now the configuration's quantizer
+    (dict(T=32.0), True),            # s12.6 holds at most 31.98: was accepted
+    (dict(T=2.0 ** -5), False),      # 2^-5 = 2 ulps of s12.6, a shift: was flagged
+    (dict(Q0=62.5), False),          # |Q| in [60, 64): s15.8 holds it: was flagged
+    (dict(s_scale=120.0), False),    # |s| in [100, 128): s19.11 holds it: was flagged
+    (dict(Q0=64.0), True),
+    (dict(s_scale=140.0), True),  # 140 * 7.5 / 8 = 131
+])
+def test_fixed_point_violations_agree_with_reduced_config(case, violates):
+    from model.hw.quantize import FormatError
+    from model.scene.passes import prepare_passes
+
+    cfg = load_config("reduced")
+    sc, passes = _lim_scene(**case)
+    v = fixed_point_violations(sc, cfg, passes)
+    assert bool(v) == violates, v
+    try:  # the same answer as quantizing the frame for the hardware
+        prepare_passes(cfg, passes)
+        rejected = False
+    except FormatError:
+        rejected = True
+    assert rejected == violates
 
 
 def test_passes_order_and_occlusion():

@@ -395,6 +395,48 @@ def random_config(seed: int, name: str | None = None, tries: int = 1000) -> Conf
     raise ConfigError(f"random_config({seed}): no valid configuration in {tries} draws")
 
 
+# ---------------------------------------------------------------------------
+# Input limits of a configuration: what a scene may hold (the one copy of the limits; the
+# scene parser takes the widest over the configuration files, model.hw.quantize enforces a
+# configuration's own, model.scene.frontend.fixed_point_violations reports them)
+
+
+def fixed_range(w: int, frac: int, signed: bool = True) -> tuple[float, float]:
+    """The closed range of values a format sN.F / uN.F holds."""
+    lo, hi = (-(1 << (w - 1)), (1 << (w - 1)) - 1) if signed else (0, (1 << w) - 1)
+    return lo / (1 << frac), hi / (1 << frac)
+
+
+def input_limits(cfg: Config) -> dict:
+    """{quantity: (lo, hi, format)} of the scene values cfg takes, plus the counts
+    (noise_terms, clut_max) and the modes that restrict values (quadric, transform, amplitude)."""
+    return {
+        "s": (*fixed_range(cfg.s_w, cfg.s_frac), f"s{cfg.s_w}.{cfg.s_frac}"),
+        "quadric": (*fixed_range(cfg.q_w, cfg.q_frac), f"s{cfg.q_w}.{cfg.q_frac}"),
+        "T": (*fixed_range(cfg.t_w, cfg.t_frac), f"s{cfg.t_w}.{cfg.t_frac}"),
+        "a": (*fixed_range(cfg.a_w, cfg.a_frac), f"s{cfg.a_w}.{cfg.a_frac}"),
+        "noise_terms": cfg.noise_terms,
+        "clut_max": 1 << cfg.n_log2_max,
+        "quadric_mode": cfg.quadric, "transform": cfg.transform, "amplitude": cfg.amplitude,
+    }
+
+
+def widest_input_limits(names=CONFIG_NAMES) -> dict:
+    """The widest limits over the configuration files: {quantity: (lo, hi, 'config format')}
+    for s, quadric, T, a; noise_terms and clut_max the largest (with the configuration)."""
+    out = {}
+    for name in names:
+        lim = input_limits(load_config(name))
+        for k in ("s", "quadric", "T", "a"):
+            lo, hi, fmt = lim[k]
+            if k not in out or hi - lo > out[k][1] - out[k][0]:
+                out[k] = (lo, hi, f"{name} {fmt}")
+        for k in ("noise_terms", "clut_max"):
+            if k not in out or lim[k] > out[k][0]:
+                out[k] = (lim[k], name)
+    return out
+
+
 def main(argv=None) -> int:
     """python -m model.hw.config NAME|PATH: the configuration's keys and derived widths (JSON)."""
     import json

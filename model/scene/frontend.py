@@ -51,7 +51,7 @@ tested only on the pixels inside the screen rectangle of its bounding box.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -497,50 +497,36 @@ def composite_over(rgba_layers, masks, background) -> np.ndarray:
 
 # ---------------------------------------------------------------------------- fixed-point limits
 
-# The input limits of the smallest configuration (reduced hardware), for scene authors.
-REDUCED_LIMITS = dict(s_max=100.0, q_max=60.0, q_diagonal=True, t_max=100.0, t_pow2=(-4, 6), a_max=4.0,
-                      max_terms=8, clut_max=256)
 
+def fixed_point_violations(scene: Scene, cfg, passes=None) -> list:
+    """Every way the scene (and, if given, its passes) leaves configuration cfg's input ranges.
 
-def _pow2_ok(x, kmin, kmax):
-    if x == 0:
-        return True
-    k = math.log2(abs(x)) if x > 0 else None
-    return k is not None and k == int(k) and kmin <= k <= kmax
-
-
-def fixed_point_violations(scene: Scene, passes=None, limits=REDUCED_LIMITS) -> list:
-    """Every way the scene (and, if given, its passes) leaves the reduced hardware's input ranges.
-
-    Checks: |quadric coefficients| < q_max, and B = C = F = 0 if q_diagonal; at most max_terms noise terms; |a| < a_max; T diagonal
-    with entries 0 or 2^k, k in t_pow2, |T| < t_max; colour table N a power of two <= clut_max;
-    and for passes, |s|, |t|, |r| < s_max on every covered pixel. Returns a list of messages.
+    The limits are the configuration's own (config/<name>.toml), applied by the code that
+    quantizes for the hardware (model.hw.quantize): no copy of a limit lives here. Checks each
+    texture's quadric and colour table, each noise term the configuration keeps (the first
+    cfg.noise_terms; the rest are dropped, an approximation, not a violation: see
+    model.scene.passes.approximations), and, for passes, s and J on every covered pixel.
+    Returns one message per violation, "texture.NAME: ..." or "pass NAME: ...".
     """
+    from model.hw.quantize import FormatError, quantize_pixels, quantize_texture
+    from model.texture import NoiseTerm
+
     out = []
-    L = limits
+
+    def check(prefix, fn):
+        try:
+            fn()
+        except FormatError as e:
+            out.append(f"{prefix}: {e}")
+
+    zero = NoiseTerm(0.0, np.zeros((3, 3)), np.zeros(3))
     for name, t in scene.textures.items():
-        if np.any(np.abs(t.Q) >= L["q_max"]):
-            out.append(f"texture.{name}.quadric: |coefficient| >= {L['q_max']}")
-        if L.get("q_diagonal") and np.any(np.asarray(t.Q)[[1, 2, 5]] != 0):
-            out.append(f"texture.{name}.quadric: cross terms B, C, F not 0 (diagonal quadric)")
-        if len(t.terms) > L["max_terms"]:
-            out.append(f"texture.{name}.noise: more than {L['max_terms']} terms")
-        for i, nt in enumerate(t.terms):
-            key = f"texture.{name}.noise[{i}]"
-            if abs(nt.a) >= L["a_max"]:
-                out.append(f"{key}.a: |a| >= {L['a_max']}")
-            if np.any(np.abs(nt.T) >= L["t_max"]):
-                out.append(f"{key}.T: |T| >= {L['t_max']}")
-            if np.any(nt.T - np.diag(np.diag(nt.T)) != 0):
-                out.append(f"{key}.T: not diagonal")
-            if not all(_pow2_ok(float(x), *L["t_pow2"]) for x in np.diag(nt.T)):
-                out.append(f"{key}.T: diagonal entries not 0 or 2^k, k in {L['t_pow2']}")
-        n = len(t.clut)
-        if n > L["clut_max"] or n & (n - 1):
-            out.append(f"texture.{name}: colour table of {n} entries")
+        check(f"texture.{name}", lambda t=t: quantize_texture(cfg, replace(t, terms=[])))
+        for i, nt in enumerate(t.terms[:cfg.noise_terms]):
+            # the term alone (zero quadric, one-entry table): each violation reported once
+            alone = replace(t, Q=np.zeros(10), clut=np.zeros((1, 4), np.uint8), terms=[zero] * i + [nt])
+            check(f"texture.{name}", lambda alone=alone: quantize_texture(cfg, alone))
     for p in passes or []:
         if p.mask.any():
-            m = np.max(np.abs(p.s[p.mask]))
-            if m >= L["s_max"]:
-                out.append(f"pass {p.name}: max |s| = {m:.3f} >= {L['s_max']}")
+            check(f"pass {p.name}", lambda p=p: quantize_pixels(cfg, p.s[p.mask], p.J[p.mask]))
     return out

@@ -13,7 +13,7 @@ Schema (every key not listed is an error; [] = optional, with its default)
 [scene]                       optional table
   [name]          str         default: the file's stem
   [description]   str
-  [background]    [r,g,b,a]   0..255 each, default [0,0,0,255]; what shows where no pass covers
+  [background]    [r,g,b,a]   integers 0..255, default [0,0,0,255]; what shows where no pass covers
 
 [camera]                      required
   width, height   int         default image size, 1..16384 (render_passes may override)
@@ -49,7 +49,7 @@ Schema (every key not listed is an error; [] = optional, with its default)
               [transform] 3x4  object -> world affine map applied to the vertices, default [I|0]
 
 [texture.NAME]                one table per texture
-  quadric         10 numbers  A..J of eq. (3): q = A s^2 + 2B st + 2C sr + 2D s + E t^2
+  quadric         10 numbers  (inside the widest quadric format, full s24.16) A..J of eq. (3): q = A s^2 + 2B st + 2C sr + 2D s + E t^2
                               + 2F tr + 2G t + H r^2 + 2I r + J (note the factors 2)
   [blend]         str         "cubic" (default) or "linear" noise blend (whole texture)
   [mode]          str         "mod" (default) or "clamp"
@@ -60,15 +60,20 @@ Schema (every key not listed is an error; [] = optional, with its default)
                               positions make a hard step), colours 0..255; sampled at the
                               entry centres (k + 0.5)/N by linear interpolation, rounded;
                               [size] = N entries, a power of two 1..256, default 256
-    entries = [[r, g, b, a], ...]         explicit table, length a power of two 1..256
+    entries = [[r, g, b, a], ...]         explicit table of integers 0..255, length a power of two 1..256
   [[texture.NAME.noise]]      0..8 terms a * n(T s + o), listed most significant first
-    a             number      amplitude, |a| < 8
-    T             number | 3-vector | 3x3   uniform scale, diagonal, or full matrix; |T_ij| < 128
+    a             number      amplitude, inside the widest a format (full s16.12: [-8, 7.99976])
+    T             number | 3-vector | 3x3   uniform scale, diagonal, or full matrix; every entry
+                              inside the widest T format (full s17.10: [-64, 63.999])
     [o]           3-vector    offset in lattice units (the phase), default [0, 0, 0]
 
-The limits enforced here are those every configuration shares (the widest formats).
-The tighter limits of the reduced hardware are checked by
-`model.scene.frontend.fixed_point_violations`.
+The value limits enforced here (quadric coefficients, a, T, the number of noise terms, the
+colour-table size) are the widest over the configuration files (config/*.toml, read through
+model.hw.config.widest_input_limits: no copy of a limit lives here). A configuration's own,
+tighter limits are checked when the scene is quantized for it (model.hw.quantize) and listed
+by `model.scene.frontend.fixed_point_violations`. Colour values of `entries` and `background`
+are integers 0..255 (nothing is rounded); colour stops may be fractional (the table is
+sampled and rounded, see colormap_to_clut).
 """
 from __future__ import annotations
 
@@ -82,8 +87,20 @@ import numpy as np
 
 from model.texture import NoiseTerm, TextureParams
 
+def _limits():
+    """The widest input limits over the configuration files (model.hw.config), read once."""
+    global _LIMITS
+    if _LIMITS is None:
+        from model.hw.config import widest_input_limits
+
+        _LIMITS = widest_input_limits()
+    return _LIMITS
+
+
+_LIMITS = None
+
 OBJECT_TYPES = ("screen", "quad", "polygon", "triangle", "plane", "sphere", "box", "torus", "mesh")
-MAX_NOISE_TERMS = 8
+MAX_NOISE_TERMS = 8  # fallbacks only: the limits are read from the configurations (_limits)
 MAX_CLUT = 256
 
 
@@ -302,6 +319,18 @@ def _check_mat(v, rows, cols, key, file, desc):
     return np.asarray(out, dtype=np.float64)
 
 
+def _check_ints4(v, keyf, file):
+    """[r, g, b, a]: four integers 0..255 (a fractional colour is an error, not rounded)."""
+    desc = "[r, g, b, a], each an integer 0..255"
+    if not isinstance(v, list) or len(v) != 4:
+        raise SceneError(file, keyf(), desc, v)
+    for i, x in enumerate(v):
+        ok_int = (isinstance(x, int) and not isinstance(x, bool)) or (isinstance(x, float) and x.is_integer())
+        if not ok_int or not 0 <= x <= 255:
+            raise SceneError(file, keyf(i), "an integer 0..255 (colour values are not rounded)", x)
+    return [int(x) for x in v]
+
+
 def _is_pow2(n):
     return n >= 1 and (n & (n - 1)) == 0
 
@@ -348,13 +377,13 @@ def _parse_colormap(file, tv):
             tv.err("size", "no size with explicit entries (the table length is the size)", tv.t["size"])
         ent = tv.t["entries"]
         desc = "a list of [r, g, b, a] entries, its length a power of two 1..256"
-        if not isinstance(ent, list) or not _is_pow2(len(ent)) or len(ent) > MAX_CLUT:
+        if not isinstance(ent, list) or not _is_pow2(len(ent)) or len(ent) > _limits()["clut_max"][0]:
             tv.err("entries", desc, _Text(f"a list of {len(ent)}") if isinstance(ent, list) else ent)
-        rows = [_check_vec(e, 4, lambda i=None, k=k: tv.key("entries") + f"[{k}]" + ("" if i is None else f"[{i}]"),
-                           file, "[r, g, b, a], each 0..255", 0, 255) for k, e in enumerate(ent)]
-        return np.floor(np.asarray(rows) + 0.5).astype(np.uint8)
+        rows = [_check_ints4(e, lambda i=None, k=k: tv.key("entries") + f"[{k}]" + ("" if i is None else f"[{i}]"),
+                             file) for k, e in enumerate(ent)]
+        return np.asarray(rows, dtype=np.uint8)
     n = tv.int("size", 256, what="a power of two 1..256")
-    if not _is_pow2(n) or n > MAX_CLUT:
+    if not _is_pow2(n) or n > _limits()["clut_max"][0]:
         tv.err("size", "a power of two 1..256", n)
     stops = tv.t["colormap"]
     desc = "a list of colour stops [pos, r, g, b, a]"
@@ -397,9 +426,11 @@ def colormap_to_clut(stops: np.ndarray, n: int) -> np.ndarray:
 
 
 def _parse_T(file, key, v):
-    desc = "a number, a list of 3 numbers (diagonal) or a 3x3 matrix, entries |T| < 128"
+    lo, hi, fmt = _limits()["T"]
+    desc = (f"a number, a list of 3 numbers (diagonal) or a 3x3 matrix, entries in [{lo:.8g}, {hi:.8g}] "
+            f"(the widest configuration, {fmt})")
     if _is_num(v):
-        x = _check_num(v, lambda: key, file, -128, 128, True, True, desc)
+        x = _check_num(v, lambda: key, file, lo, hi, False, False, desc)
         return np.eye(3) * x
     if isinstance(v, list) and len(v) == 3 and all(not isinstance(e, list) for e in v):
         d = _check_vec(v, 3, lambda i=None: key + ("" if i is None else f"[{i}]"), file, desc)
@@ -408,17 +439,20 @@ def _parse_T(file, key, v):
         M = _check_mat(v, 3, 3, key, file, desc)
     else:
         raise SceneError(file, key, desc, v)
-    if np.any(np.abs(M) >= 128):
+    if np.any((M < lo) | (M > hi)):
         raise SceneError(file, key, desc, v)
     return M
 
 
 def _parse_texture(file, name, tv):
     tv.check_keys({"quadric", "blend", "mode", "filter", "noise_gradient", "colormap", "size", "entries", "noise"})
-    Q = tv.vec("quadric", 10, what="a list of 10 quadric coefficients A..J, each |x| < 128")
-    if np.any(np.abs(Q) >= 128):
-        k = int(np.argmax(np.abs(Q) >= 128))
-        raise SceneError(file, tv.key("quadric") + f"[{k}]", "a coefficient with |x| < 128", float(Q[k]))
+    L = _limits()
+    qlo, qhi, qfmt = L["quadric"]
+    qdesc = f"in [{qlo:.8g}, {qhi:.8g}] (the widest configuration, {qfmt})"
+    Q = tv.vec("quadric", 10, what=f"a list of 10 quadric coefficients A..J, each {qdesc}")
+    if np.any((Q < qlo) | (Q > qhi)):
+        k = int(np.argmax((Q < qlo) | (Q > qhi)))
+        raise SceneError(file, tv.key("quadric") + f"[{k}]", f"a coefficient {qdesc}", float(Q[k]))
     blend = tv.str("blend", "cubic", ("cubic", "linear"))
     mode = tv.str("mode", "mod", ("mod", "clamp"))
     filt = tv.bool("filter", True)
@@ -428,12 +462,15 @@ def _parse_texture(file, name, tv):
     noise = tv.get("noise", "", [])
     if not isinstance(noise, list) or not all(isinstance(x, dict) for x in noise):
         tv.err("noise", "an array of tables [[texture.NAME.noise]]", noise)
-    if len(noise) > MAX_NOISE_TERMS:
-        tv.err("noise", f"at most {MAX_NOISE_TERMS} noise terms", _Text(f"{len(noise)} terms"))
+    kmax, kcfg = L["noise_terms"]
+    if len(noise) > kmax:
+        tv.err("noise", f"at most {kmax} noise terms (the most of any configuration, {kcfg})",
+               _Text(f"{len(noise)} terms"))
     for i, nt in enumerate(noise):
         nv = _V(file, nt, tv.key("noise") + f"[{i}]")
         nv.check_keys({"a", "T", "o"})
-        a = nv.num("a", lo=-8, hi=8, lo_open=True, hi_open=True)
+        alo, ahi, afmt = L["a"]
+        a = nv.num("a", lo=alo, hi=ahi, what=f"a number in [{alo:.8g}, {ahi:.8g}] (the widest configuration, {afmt})")
         T = _parse_T(file, nv.key("T"), nv.get("T", "a number, a list of 3 numbers or a 3x3 matrix"))
         o = nv.vec("o", 3, [0.0, 0.0, 0.0])
         terms.append(NoiseTerm(a, T, o))
@@ -577,7 +614,8 @@ def parse_scene(text: str, source: str = "<string>") -> Scene:
     sc.check_keys({"name", "description", "background"})
     name = sc.str("name", Path(source).stem)
     desc = sc.str("description", "")
-    bg = sc.vec("background", 4, [0, 0, 0, 255], lo=0, hi=255, what="[r, g, b, a], each 0..255")
+    bg = (np.asarray(_check_ints4(sc.t["background"], lambda i=None: "scene.background" + ("" if i is None else f"[{i}]"),
+                                  file)) if sc.has("background") else np.array([0, 0, 0, 255]))
     width, height, cam = _parse_camera(file, root)
 
     textures = {}
@@ -608,7 +646,7 @@ def parse_scene(text: str, source: str = "<string>") -> Scene:
             raise SceneError(file, f"object[{ob.index}].layer",
                              f"objects of layer {ob.layer!r} to share texture {layer_tex[ob.layer]!r}", ob.texture)
     return Scene(path=str(source), name=name, width=width, height=height,
-                 background=np.floor(bg + 0.5).astype(np.uint8), camera=cam, objects=objects,
+                 background=bg.astype(np.uint8), camera=cam, objects=objects,
                  textures=textures, description=desc, layers=layers)
 
 
