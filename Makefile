@@ -14,6 +14,15 @@ CONFIG ?= full
 SIM    ?= verilator
 SCENE  ?= zone_plate
 SIZE   ?= 256
+# optional: OUT= output root (instead of out/render, out/frames; renders/frames: their docs too),
+# STRICT=1 (any approximation of the scene by the configuration is an error), TRUTH_SS= (render),
+# GAPS= / STALLS= (frame: percent of input gaps / output stalls), RENDERS_SIZE=, FRAMES_SIZE=,
+# BENCH_SIZE= (bench-model frame side), PERF_PIXELS= (icarus-perf)
+RENDERS_SIZE ?= 256
+FRAMES_SIZE  ?= 512
+BENCH_SIZE   ?= 512
+PERF_PIXELS  ?= 8192
+COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 
 .PHONY: help setup gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
         synth synth-check synth-blocks clean
@@ -24,13 +33,14 @@ help:
 	@echo "make test-long       100,000 random vectors per block, configuration and simulator"
 	@echo "make lint            verilator --lint-only -Wall over rtl/ for both configurations"
 	@echo "make bench-model     golden model and float reference throughput (JSON)"
-	@echo "make render SCENE=zone_plate CONFIG=full SIZE=256     model-only render"
+	@echo "make render SCENE=zone_plate CONFIG=full SIZE=256     model-only render (SCENE: a name or a .toml path)"
 	@echo "make renders         all scenes, both configurations, contact sheet"
 	@echo "make frame SCENE=zone_plate CONFIG=full SIM=verilator SIZE=256   RTL frame vs golden"
 	@echo "make frames          all scenes, both configurations, 512x512, docs/conformance.md"
 	@echo "make bench-sim       RTL simulation throughput"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
+	@echo "  render/frame also take OUT= STRICT=1 (TRUTH_SS=; GAPS= STALLS=); renders/frames OUT= RENDERS_SIZE= FRAMES_SIZE="
 
 setup:
 	@if command -v apt-get >/dev/null; then \
@@ -67,26 +77,28 @@ test-long: gen
 	$(VENV_ENV) VECTORS=100000 $(PY) -m pytest -n $(JOBS) -q tb
 
 bench-model:
-	@$(PY) -m model.hw.bench
+	@$(PY) -m model.hw.bench --size $(BENCH_SIZE)
 
 render:
-	$(PY) -m model.scene.render --scene $(SCENE) --config $(CONFIG) --size $(SIZE)
+	$(PY) -m model.scene.render --scene $(SCENE) --config $(CONFIG) --size $(SIZE) $(COMMON_FLAGS) \
+	  $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS))
 
 renders:
-	$(PY) -m model.scene.render --all --size 256
+	$(PY) -m model.scene.render --all --size $(RENDERS_SIZE) $(COMMON_FLAGS)
 
 frame: gen
-	$(VENV_ENV) $(PY) -m sim.frame --scene $(SCENE) --config $(CONFIG) --sim $(SIM) --size $(SIZE)
+	$(VENV_ENV) $(PY) -m sim.frame --scene $(SCENE) --config $(CONFIG) --sim $(SIM) --size $(SIZE) $(COMMON_FLAGS) \
+	  $(if $(GAPS),--gaps $(GAPS)) $(if $(STALLS),--stalls $(STALLS))
 
 frames: gen
-	$(VENV_ENV) $(PY) -m sim.frame --all --sim verilator --size 512
+	$(VENV_ENV) $(PY) -m sim.frame --all --sim verilator --size $(FRAMES_SIZE) $(COMMON_FLAGS)
 
 bench-sim: gen
 	$(VENV_ENV) $(PY) -m sim.bench
 
 icarus-perf: gen
-	$(PY) -m sim.icarus_perf --config $(CONFIG)
-	$(PY) -m sim.icarus_perf census --config $(CONFIG)
+	$(PY) -m sim.icarus_perf --config $(CONFIG) --pixels $(PERF_PIXELS)
+	$(PY) -m sim.icarus_perf census --config $(CONFIG) --pixels $(PERF_PIXELS)
 	$(PY) -m sim.icarus_perf opcost
 
 synth: gen

@@ -21,10 +21,10 @@ import numpy as np
 
 from model import reference
 from model.hw import golden
-from model.hw.config import CONFIG_NAMES, ROOT, ConfigError, load_config
+from model.hw.config import CONFIG_NAMES, ROOT, load_config
 from model.imageio import compare, contact_sheet, read_image, write_image
-from model.hw.quantize import FormatError
-from model.scene.passes import SCENES, composite, frame_size, prepare_passes, scene_path, to8
+from model.scene.cli import Parser, UserError, check_config, check_range, need_tool, resolve_scene, run_main, staged
+from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, to8
 
 SIMS = ("verilator", "icarus")
 
@@ -40,24 +40,53 @@ def heat(d: np.ndarray) -> np.ndarray:
     return img.astype(np.uint8)
 
 
+def check_args(config_name: str, sim: str, size: int, gaps: int, stalls: int) -> None:
+    """Every argument of a frame run, before anything is built or simulated (UserError)."""
+    check_config(config_name)
+    if sim not in SIMS:
+        raise UserError(f"--sim {sim}: expected one of {', '.join(SIMS)}")
+    check_range("--size", size, 1, 1024)
+    check_range("--gaps", gaps, 0, 99, "percent of clocks without an input pixel")
+    check_range("--stalls", stalls, 0, 99, "percent of clocks with the output stalled")
+    need_tool(sim)
+
+
 def run_frame(scene_name: str, config_name: str, sim: str, size: int, out_root: Path | None = None,
-              progress: bool = True, gaps: int = 0, stalls: int = 0) -> dict:
+              progress: bool = True, gaps: int = 0, stalls: int = 0, strict: bool = False) -> dict:
+    """One scene (a name or a .toml path) through the RTL into
+    <out_root>/<scene>/<config>/<sim>-<size>/ (staged: only a completed run is moved into place;
+    a failed one leaves a failure report there). strict: any approximation the configuration
+    makes to the scene is an error, raised before the simulation."""
+    check_args(config_name, sim, size, gaps, stalls)
+    scene_name, path = resolve_scene(scene_name)
+    target = (out_root or ROOT / "out" / "frames") / scene_name / config_name / f"{sim}-{size}"
+    command = f"make frame SCENE={scene_name} CONFIG={config_name} SIM={sim} SIZE={size}"
+    with staged(target, command) as out:
+        rep = _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, stalls, strict)
+        (out / "report.json").write_text(json.dumps(rep, indent=2) + "\n")
+    return rep
+
+
+def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, stalls, strict) -> dict:
     from model.scene.frontend import render_passes
     from model.scene.scene import load_scene
     from sim.frame_rtl import run_frame_rtl
 
     t0 = time.perf_counter()
     cfg = load_config(config_name)
-    scene = load_scene(scene_path(scene_name))
+    scene = load_scene(path)
     W, H = frame_size(scene, size)
     pds = prepare_passes(cfg, render_passes(scene, W, H))
+    approx = scene_approximations(pds)
+    if strict and approx:
+        raise UserError(f"--strict: {approx[0]}" + (f" (and {len(approx) - 1} more)" if len(approx) > 1 else ""))
     bar = None
     if progress:
         from tqdm import tqdm
 
         bar = tqdm(total=len(pds), desc=f"{scene_name} {config_name} {sim} {W}x{H}", unit="pass", leave=False,
                    file=sys.stderr)
-    rtl_l, gold_l, ref_l = [], [], []
+    rtl_l, gold_l, ref_l, cref_l = [], [], [], []
     cycles = 0
     sim_s = 0.0
     stream_s = 0.0
@@ -82,17 +111,20 @@ def run_frame(scene_name: str, config_name: str, sim: str, size: int, out_root: 
             mismatches.append({"pass": pd.name, "count": int(len(bad))})
         rtl_l.append((pd.mask, r))
         gold_l.append((pd.mask, g))
-        ref_l.append((pd.mask, reference.shade(pd.tex, pd.s, pd.J, cfg.perm, cfg.hash_bits)))
+        rf = reference.shade(pd.tex, pd.s, pd.J, cfg.perm, cfg.hash_bits)
+        ref_l.append((pd.mask, rf))
+        # the reference of the texture as the configuration computes it: the arithmetic error alone
+        cref_l.append((pd.mask, reference.shade(configured_texture(cfg, pd.tex), pd.s, pd.J, cfg.perm, cfg.hash_bits)
+                       if pd.info["approximations"] else rf))
         if bar:
             bar.update()
     if bar:
         bar.close()
     bg = scene.background
-    img_rtl, img_gold, img_ref = (composite(L, (H, W), bg) for L in (rtl_l, gold_l, ref_l))
+    img_rtl, img_gold, img_ref, img_cref = (composite(L, (H, W), bg) for L in (rtl_l, gold_l, ref_l, cref_l))
     textured = np.zeros((H, W), bool)
     for pd in pds:
         textured |= pd.mask
-    out = (out_root or ROOT / "out" / "frames") / scene_name / config_name / f"{sim}-{size}"
     write_image(out / "rtl.png", to8(img_rtl))
     write_image(out / "golden.png", to8(img_gold))
     write_image(out / "reference.png", to8(img_ref))
@@ -103,11 +135,17 @@ def run_frame(scene_name: str, config_name: str, sim: str, size: int, out_root: 
     n_bad = sum(m.get("count", 0) for m in mismatches)
     px = int(sum(len(pd.si) for pd in pds))
     cr = compare(img_rtl[textured], img_ref[textured])
+    cc = compare(img_rtl[textured], img_cref[textured])
     rep = {
+        "status": "ok" if n_bad == 0 else "mismatch",
         "scene": scene_name, "config": config_name, "simulator": sim, "width": W, "height": H,
         "pixels_textured": int(textured.sum()), "pixels_streamed": px, "passes": len(pds),
         "mismatched_pixels": n_bad, "bit_exact": n_bad == 0,
+        # the scene's texture as written; what the configuration changed is in approximations,
+        # and the configured reference (those approximations made) leaves the arithmetic error alone
+        "approximations": approx,
         "psnr_vs_reference_db": cr["psnr_db"], "max_abs_error_lsb": cr["max_abs_error_lsb"],
+        "psnr_vs_configured_reference_db": cc["psnr_db"], "max_abs_error_vs_configured_reference_lsb": cc["max_abs_error_lsb"],
         "cycles": int(cycles), "cycles_per_pixel": round(cycles / px, 4) if px else None,
         "sim_seconds": round(sim_s, 3), "stream_seconds": round(stream_s, 3),
         # streaming only (the HDL harness times its pixel loop); with simulator start-up apart
@@ -117,22 +155,28 @@ def run_frame(scene_name: str, config_name: str, sim: str, size: int, out_root: 
         "first_mismatches": [m for m in mismatches if "count" not in m][:10],
         "seconds": round(time.perf_counter() - t0, 2),
     }
-    (out / "report.json").write_text(json.dumps(rep, indent=2) + "\n")
     return rep
 
 
-def conformance(size: int, sim: str) -> int:
+def conformance(size: int, sim: str, out_root: Path | None = None, strict: bool = False) -> int:
+    """Every scene, both configurations; docs/conformance.md and its contact sheet (with out_root:
+    <out_root>/docs)."""
     reps, rows = [], []
+    root = out_root or ROOT / "out" / "frames"
+    docs = ROOT / "docs" if out_root is None else Path(out_root) / "docs"
+    (docs / "images").mkdir(parents=True, exist_ok=True)
+    for c in CONFIG_NAMES:
+        check_args(c, sim, size, 0, 0)
     for scene in SCENES:
         row = []
         for c in CONFIG_NAMES:
-            rep = run_frame(scene, c, sim, size)
+            rep = run_frame(scene, c, sim, size, out_root=out_root, strict=strict)
             reps.append(rep)
             print(json.dumps({k: rep[k] for k in ("scene", "config", "bit_exact", "psnr_vs_reference_db",
                                                    "cycles_per_pixel", "rtl_pixels_per_second")}), flush=True)
-            row.append((f"{scene} {c}", read_image(ROOT / "out" / "frames" / scene / c / f"{sim}-{size}" / "rtl.png")))
+            row.append((f"{scene} {c}", read_image(root / scene / c / f"{sim}-{size}" / "rtl.png")))
         rows.append(row)
-    contact_sheet(ROOT / "docs" / "images" / "conformance.png", [sum(rows[i:i + 2], []) for i in range(0, 8, 2)],
+    contact_sheet(docs / "images" / "conformance.png", [sum(rows[i:i + 2], []) for i in range(0, 8, 2)],
                   tile=180, title=f"make frames: RTL ({sim}) images, {size} px")
     L = ["# Conformance: RTL against the golden model, whole frames", "",
          f"Written by `make frames` ({size}x{size}, {sim}). Every pixel of every texture pass of the RTL "
@@ -148,42 +192,42 @@ def conformance(size: int, sim: str) -> int:
         L.append(f"| {r['scene']} | {r['config']} | {r['bit_exact']} | {r['mismatched_pixels']} | "
                  f"{r['psnr_vs_reference_db']} | {r['cycles_per_pixel']} | {r['rtl_pixels_per_second']} | "
                  f"{r['rtl_pixels_per_second_with_startup']} |")
-    (ROOT / "docs" / "conformance.md").write_text("\n".join(L) + "\n")
+    (docs / "conformance.md").write_text("\n".join(L) + "\n")
     return 0 if all(r["bit_exact"] for r in reps) else 1
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m sim.frame", description=__doc__.splitlines()[0])
-    ap.add_argument("--scene", default="zone_plate")
-    ap.add_argument("--config", default="full", choices=CONFIG_NAMES)
-    ap.add_argument("--sim", default="verilator", choices=SIMS)
-    ap.add_argument("--size", type=int, default=64)
-    ap.add_argument("--gaps", type=int, default=0, help="percent of cycles with no input pixel")
-    ap.add_argument("--stalls", type=int, default=0, help="percent of cycles with the output stalled")
+    ap = Parser(prog="frame", description=__doc__.splitlines()[0])
+    ap.add_argument("--scene", default="zone_plate", help="a scene name (scenes/NAME.toml) or a path to a .toml file")
+    ap.add_argument("--config", default="full", help=f"one of {', '.join(CONFIG_NAMES)}")
+    ap.add_argument("--sim", default="verilator", help=f"one of {', '.join(SIMS)}")
+    ap.add_argument("--size", type=int, default=64, help="image width, 1..1024")
+    ap.add_argument("--gaps", type=int, default=0, help="percent of cycles with no input pixel, 0..99")
+    ap.add_argument("--stalls", type=int, default=0, help="percent of cycles with the output stalled, 0..99")
+    ap.add_argument("--out", type=Path, help="output root (default out/frames; --all: its docs too)")
+    ap.add_argument("--strict", action="store_true", help="any approximation of the scene by the configuration is an error")
     ap.add_argument("--all", action="store_true")
     ap.add_argument("--quiet", action="store_true")
     a = ap.parse_args(argv)
-    if not 1 <= a.size <= 1024:
-        print(f"frame: --size {a.size}: expected 1..1024", file=sys.stderr)
-        return 2
-    try:
+    from sim.frame_rtl import FrameRunError
+
+    def go():
         if a.all:
-            return conformance(a.size, a.sim)
-        if not scene_path(a.scene).exists():
-            print(f"frame: {scene_path(a.scene)}: no such scene (known: {', '.join(SCENES)})", file=sys.stderr)
-            return 2
-        rep = run_frame(a.scene, a.config, a.sim, a.size, progress=not a.quiet, gaps=a.gaps, stalls=a.stalls)
-    except (FormatError, ConfigError) as e:
-        print(f"frame: {e}", file=sys.stderr)
-        return 2
-    except RuntimeError as e:  # sim.frame_rtl.FrameRunError: a missing simulator, a failed build or run
-        print(f"frame: {e}", file=sys.stderr)
+            return conformance(a.size, a.sim, out_root=a.out, strict=a.strict)
+        rep = run_frame(a.scene, a.config, a.sim, a.size, out_root=a.out, progress=not a.quiet, gaps=a.gaps,
+                        stalls=a.stalls, strict=a.strict)
+        print(json.dumps(rep, indent=2))
+        if not rep["bit_exact"]:
+            print(f"frame: {rep['mismatched_pixels']} pixels differ; first: {rep['first_mismatches'][:3]}",
+                  file=sys.stderr)
+            return 1
+        return 0
+
+    try:
+        return run_main("frame", go)
+    except FrameRunError as e:  # the simulator failed or the harness found a protocol error: not an input error
+        print(f"frame: {' '.join(str(e).split())}", file=sys.stderr)
         return 1
-    print(json.dumps(rep, indent=2))
-    if not rep["bit_exact"]:
-        print(f"frame: {rep['mismatched_pixels']} pixels differ; first: {rep['first_mismatches'][:3]}", file=sys.stderr)
-        return 1
-    return 0
 
 
 if __name__ == "__main__":

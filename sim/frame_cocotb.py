@@ -62,6 +62,8 @@ async def _finish(dut, t0: float):
     assert st["tlast_err"] == 0, f"tlast wrong on {st['tlast_err']} pixels"
     assert st["extra_out"] == 0, f"{st['extra_out']} outputs after the last pixel"
     assert st["x_err"] == 0, f"X on the outputs in {st['x_err']} clocks"
+    assert st["hold_err"] == 0, (f"AXI-Stream: the output changed while the sink stalled on {st['hold_err']} clocks "
+                                 "(tvalid, tdata, tlast must hold until taken)")
     n_out = sum(1 for line in Path(os.environ["FRAME_OUT"]).read_text().splitlines()
                 if line.split("//", 1)[0].strip())
     assert n_out == npix, f"{n_out} colours in the output file, expected {npix}"

@@ -147,6 +147,21 @@ def _failure(results_xml) -> str:
     return "?"
 
 
+def _reason(rdir: Path) -> str:
+    """Why a run failed, in one line: the harness's own first "frame_tb: ERROR" line, else the
+    cocotb test's failure message, else the simulator log's last line."""
+    log = rdir / "sim.log"
+    lines = log.read_text(errors="replace").splitlines() if log.is_file() else []
+    for line in lines:
+        if "frame_tb: ERROR" in line:
+            return line[line.index("frame_tb: ERROR"):].strip()
+    why = _failure(rdir / "results.xml")
+    if why != "?":
+        return why
+    tail = [x.strip() for x in lines if x.strip()]
+    return tail[-1] if tail else "no simulator log"
+
+
 def read_stats(path) -> dict:
     """A statistics file of the harness (or of the cocotb test): one `name value` pair a line."""
     out = {}
@@ -158,12 +173,13 @@ def read_stats(path) -> dict:
 
 
 def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 0, seed: int = 1,
-             reset_at: int | None = None, keep: bool = False):
+             reset_at: int | None = None, keep: bool = False, fault_hold: bool = False):
     """One simulator run: the writes, then the pixel words (<= MAX_PIX). -> (out words, stats).
 
     Files go to a private run directory under the build directory (hex files, statistics, the
     simulator log sim.log); it is removed after a successful run unless keep or FRAME_KEEP=1,
-    and kept after a failure (the error names it)."""
+    and kept after a failure (the error names it and gives the harness's own reason).
+    fault_hold: plant a fault in the harness's AXI-Stream hold check (tests of the check)."""
     from cocotb_tools.runner import get_results
 
     if not 1 <= len(words) <= MAX_PIX:
@@ -188,6 +204,7 @@ def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 
         f"+PARAMS={files['params']}", f"+PIXELS={files['pixels']}",
         f"+OUT={files['out']}", f"+STATS={files['stats']}",
         f"+NPIX={n}", f"+NWR={len(writes)}", f"+GAPS={int(gaps)}", f"+STALLS={int(stalls)}", f"+SEED={int(seed)}",
+        f"+FAULT_HOLD={int(bool(fault_hold))}",
     ]
     env = {
         "CONFIG": config_ref(cfg),
@@ -217,12 +234,13 @@ def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 
             timescale=("1ns", "1ps"),
             log_file=rdir / "sim.log",
         )
-    except SystemExit as e:  # the runner exits when the simulator fails
-        raise FrameRunError(f"frame_tb [{config} {sim}]: simulator exited with {e.code} (log {rdir / 'sim.log'})") from None
+    except SystemExit as e:  # the runner exits when the simulator fails, or (under pytest) a test failed
+        raise FrameRunError(f"frame_tb [{config} {sim}]: {_reason(rdir)} (simulator exit {e.code}; "
+                            f"log {rdir / 'sim.log'})") from None
     seconds = time.perf_counter() - t0
     n_tests, n_fail = get_results(results)
     if n_tests == 0 or n_fail:
-        raise FrameRunError(f"frame_tb [{config} {sim}]: cocotb test failed: {_failure(results)} (log {rdir / 'sim.log'})")
+        raise FrameRunError(f"frame_tb [{config} {sim}]: {_reason(rdir)} (log {rdir / 'sim.log'})")
     stats = read_stats(files["stats"])
     stats.update(read_stats(files["pystats"]))
     stats["run_seconds"] = seconds
@@ -238,7 +256,7 @@ def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 
 
 def run_frame_rtl(cfg_name: str, sim: str, texint, s_int, Jm, je, gaps: int = 0, stalls: int = 0,
                   seed: int = 1, reset_at: int | None = None, return_stats: bool = False,
-                  extra_writes=()):
+                  extra_writes=(), fault_hold: bool = False):
     """RGBA8 of one texture pass through the RTL: (rgba uint8 [P, 4], cycles, sim_seconds).
 
     s_int [..., 3], Jm [..., 3, 2], je [...]: the quantized pixel stream (model.hw.quantize);
@@ -248,6 +266,7 @@ def run_frame_rtl(cfg_name: str, sim: str, texint, s_int, Jm, je, gaps: int = 0,
     sim_seconds: wall-clock seconds of the simulator runs (including simulator start-up).
     return_stats: also return the list of per-run statistics dicts.
     extra_writes: (address, data) writes issued after the texture's (tests: unmapped addresses).
+    fault_hold: plant a fault in the harness's AXI-Stream hold check (tests of the check).
     """
     cfg = config_of(cfg_name)
     writes = write_sequence(cfg, texint) + [(int(a), int(d)) for a, d in extra_writes]
@@ -255,7 +274,8 @@ def run_frame_rtl(cfg_name: str, sim: str, texint, s_int, Jm, je, gaps: int = 0,
     words = pack_pixels(cfg, s_int, np.asarray(Jm).reshape(-1, 3, 2), np.asarray(je).reshape(-1))
     out, cycles, seconds, all_stats = [], 0, 0.0, []
     for k in range(0, len(words), MAX_PIX):
-        o, st = run_pass(cfg, sim, writes, words[k:k + MAX_PIX], gaps, stalls, seed + k, reset_at)
+        o, st = run_pass(cfg, sim, writes, words[k:k + MAX_PIX], gaps, stalls, seed + k, reset_at,
+                         fault_hold=fault_hold)
         out += o
         cycles += st["stream_cycles"]
         seconds += st["run_seconds"]

@@ -12,7 +12,12 @@
 //      (+STALLS=<percent>: m_axis_tready low on that share of the clocks); two xorshift32
 //      generators seeded by +SEED=<n>;
 //   4. check tlast (set on the last pixel and on no other), count outputs beyond NPIX during a
-//      DRAIN-clock watch after the last one, count X on the outputs (4-state simulators);
+//      DRAIN-clock watch after the last one, count X on the outputs (4-state simulators), and
+//      check the AXI-Stream rule on the output: once m_axis_tvalid is high, tvalid, tdata and
+//      tlast hold until the sink takes the word (hold_err: clocks where they changed during a
+//      stall; +FAULT_HOLD=1 plants a fault in this check's own copy, to test the check);
+//      every error also prints a line "frame_tb: ERROR: ..." (the first of each kind) that
+//      sim/frame_rtl.py shows in its failure message;
 //   5. $writememh the NPIX colours (+OUT=<file>, one 8-hex-digit RGBA8 word a line) and a
 //      statistics file (+STATS=<file>, "key value" lines), then raise `done`.
 // A rst at any time restarts the whole sequence from step 2 (done falls).
@@ -43,11 +48,11 @@ reg [47:0]      wr_mem  [0:MAX_WR-1];
 reg [31:0]      out_mem [0:MAX_PIX-1];
 
 reg [8*1024-1:0] params_file, pixels_file, out_file, stats_file;
-integer npix, nwr, gaps, stalls, seed;
+integer npix, nwr, gaps, stalls, seed, fault_hold;
 
 initial begin
     done = 1'b0;
-    npix = 0; nwr = 0; gaps = 0; stalls = 0; seed = 1;
+    npix = 0; nwr = 0; gaps = 0; stalls = 0; seed = 1; fault_hold = 0;
     if (!$value$plusargs("PARAMS=%s", params_file)) params_file = "params.hex";
     if (!$value$plusargs("PIXELS=%s", pixels_file)) pixels_file = "pixels.hex";
     if (!$value$plusargs("OUT=%s", out_file))       out_file    = "out.hex";
@@ -57,12 +62,13 @@ initial begin
     if (!$value$plusargs("GAPS=%d", gaps))   gaps   = 0;
     if (!$value$plusargs("STALLS=%d", stalls)) stalls = 0;
     if (!$value$plusargs("SEED=%d", seed))   seed   = 1;
+    if (!$value$plusargs("FAULT_HOLD=%d", fault_hold)) fault_hold = 0;
     if (npix < 1 || npix > MAX_PIX) begin
-        $display("frame_tb: +NPIX=%0d outside 1..%0d", npix, MAX_PIX);
+        $display("frame_tb: ERROR: +NPIX=%0d outside 1..%0d", npix, MAX_PIX);
         $finish;
     end
     if (nwr < 0 || nwr > MAX_WR) begin
-        $display("frame_tb: +NWR=%0d outside 0..%0d", nwr, MAX_WR);
+        $display("frame_tb: ERROR: +NWR=%0d outside 0..%0d", nwr, MAX_WR);
         $finish;
     end
     if (nwr > 0) $readmemh(params_file, wr_mem, 0, nwr - 1);
@@ -129,7 +135,11 @@ reg [1:0] state_reg /* verilator public_flat_rw */;
 integer   out_idx   /* verilator public_flat_rw */;
 integer   wr_idx, in_idx, drain_cnt;
 integer   load_cycles, stream_cycles, total_cycles;
-integer   tlast_err, extra_out, x_err, in_count;
+integer   tlast_err, extra_out, x_err, in_count, hold_err;
+// AXI-Stream hold check: the output word seen on a clock where it was offered and not taken
+reg         hold_pending_reg;
+reg  [31:0] hold_data_reg;
+reg         hold_last_reg;
 integer   fd;
 reg       streaming_reg;  // a pixel has been offered: stream_cycles counts
 
@@ -149,7 +159,10 @@ always @(posedge clk) begin
         stall_rng_reg   <= 32'h7f4a7c15 ^ (seed * 3 + 1);
         wr_idx <= 0; in_idx <= 0; out_idx <= 0; drain_cnt <= 0; in_count <= 0;
         load_cycles <= 0; stream_cycles <= 0; total_cycles <= 0;
-        tlast_err <= 0; extra_out <= 0; x_err <= 0;
+        tlast_err <= 0; extra_out <= 0; x_err <= 0; hold_err <= 0;
+        hold_pending_reg <= 1'b0;
+        hold_data_reg    <= 32'd0;
+        hold_last_reg    <= 1'b0;
     end else begin
         gap_rng_reg   <= xorshift32(gap_rng_reg);
         stall_rng_reg <= xorshift32(stall_rng_reg);
@@ -159,6 +172,17 @@ always @(posedge clk) begin
         // outputs of the DUT must never be X (4-state simulators; always 0 in Verilator)
         if ((^{s_tready, m_tvalid}) === 1'bx || (m_tvalid && (^{m_tdata, m_tlast}) === 1'bx))
             x_err <= x_err + 1;
+
+        // AXI-Stream: a word offered and not taken stays, unchanged, until it is taken
+        if (hold_pending_reg && (m_tvalid !== 1'b1 || m_tdata !== hold_data_reg || m_tlast !== hold_last_reg)) begin
+            if (hold_err == 0)
+                $display("frame_tb: ERROR: output %0d changed while the sink stalled: tvalid %b, tdata %h -> %h, tlast %b -> %b",
+                         out_idx, m_tvalid, hold_data_reg, m_tdata, hold_last_reg, m_tlast);
+            hold_err <= hold_err + 1;
+        end
+        hold_pending_reg <= m_tvalid && !m_tready_reg;
+        hold_data_reg    <= m_tdata ^ {31'd0, fault_hold[0]};
+        hold_last_reg    <= m_tlast;
 
         // parameter writes
         cfg_wr_en_reg <= 1'b0;
@@ -199,8 +223,11 @@ always @(posedge clk) begin
             m_tready_reg <= !stall_now;
             if (m_tvalid && m_tready_reg) begin
                 out_mem[out_idx] <= m_tdata;
-                if (m_tlast != (out_idx == npix - 1))
+                if (m_tlast != (out_idx == npix - 1)) begin
+                    if (tlast_err == 0)
+                        $display("frame_tb: ERROR: tlast %b on output %0d of %0d", m_tlast, out_idx, npix);
                     tlast_err <= tlast_err + 1;
+                end
                 out_idx <= out_idx + 1;
                 if (out_idx == npix - 1) begin
                     state_reg    <= ST_DRAIN;
@@ -209,8 +236,11 @@ always @(posedge clk) begin
             end
         end else if (state_reg == ST_DRAIN) begin
             m_tready_reg <= 1'b1;
-            if (m_tvalid && m_tready_reg)
+            if (m_tvalid && m_tready_reg) begin
+                if (extra_out == 0)
+                    $display("frame_tb: ERROR: an output after the last of %0d pixels", npix);
                 extra_out <= extra_out + 1;
+            end
             drain_cnt <= drain_cnt + 1;
             if (drain_cnt == DRAIN - 1)
                 state_reg <= ST_DONE;
@@ -229,6 +259,7 @@ always @(posedge clk) begin
             $fdisplay(fd, "tlast_err %0d", tlast_err);
             $fdisplay(fd, "extra_out %0d", extra_out);
             $fdisplay(fd, "x_err %0d", x_err);
+            $fdisplay(fd, "hold_err %0d", hold_err);
             $fdisplay(fd, "gaps %0d", gaps);
             $fdisplay(fd, "stalls %0d", stalls);
             $fclose(fd);

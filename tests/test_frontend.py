@@ -140,13 +140,21 @@ def test_jacobian_matches_finite_differences(prim, size):
 
 def test_jacobian_error_is_third_order():
     """Halving the pixel size divides the trapezoid error by ~8 (so J is not merely close)."""
-    med = []
+    med, q90, worst = [], [], []
     for size in (48, 96):
         sc = parse_scene(scene_text(size=size, **PRIMS["sphere"]), "<sphere>")
         (p,) = render_passes(sc)
         # compare the same world region: the error per pixel step, relative to |delta s| (~1/size)
-        med.append(np.median(fd_errors(p)[1]))
+        rel = fd_errors(p)[1]
+        med.append(np.median(rel))
+        q90.append(np.quantile(rel, 0.9))
+        worst.append(rel.max())
     assert med[1] < med[0] / 2.5  # relative error ~ h^2: ideal ratio 4
+    # not the median alone (issue 16): the upper decile shrinks too (measured 2.25x; the limb,
+    # where the sphere is seen edge-on, converges slower), and the largest error stays small
+    # and does not grow with the resolution (measured 0.032 at both sizes)
+    assert q90[1] < q90[0] / 1.8, q90
+    assert max(worst) < 0.05 and worst[1] <= worst[0] * 1.05, worst
 
 
 def test_wrong_jacobian_is_caught():

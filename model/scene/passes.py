@@ -30,15 +30,45 @@ class PassData:
     s: np.ndarray  # float [P, 3]
     J: np.ndarray  # float [P, 3, 2]
     ti: golden.TexInt
-    info: dict
+    info: dict  # terms_used, dropped_terms, texture, approximations (one line each)
     si: np.ndarray
     Jm: np.ndarray
     je: np.ndarray
 
 
 def scene_path(name: str) -> Path:
+    """A scene name's file (scenes/<name>.toml), or the path itself (model.scene.cli.resolve_scene
+    checks a command's --scene)."""
     p = Path(name)
     return p if p.suffix == ".toml" else SCENE_DIR / f"{name}.toml"
+
+
+def configured_texture(cfg, tex):
+    """The texture as configuration cfg computes it: its first cfg.noise_terms terms, the
+    configuration's blend and noise-gradient choice, and no box filter where cfg has none."""
+    from dataclasses import replace
+
+    return replace(tex, terms=list(tex.terms[:cfg.noise_terms]), blend=cfg.blend,
+                   noise_gradient=bool(cfg.noise_gradient), filter=bool(tex.filter and cfg.filter != "none"))
+
+
+def approximations(cfg, tex, name: str) -> list[str]:
+    """Every way configuration cfg departs from the scene's texture `name` (one line each):
+    noise terms dropped, blend replaced, noise gradient omitted or added, filter replaced."""
+    out = []
+    k = len(tex.terms)
+    if k > cfg.noise_terms:
+        out.append(f"texture {name}: noise terms {cfg.noise_terms}..{k - 1} dropped "
+                   f"(configuration {cfg.name} keeps {cfg.noise_terms} of {k})")
+    if k and tex.blend != cfg.blend:  # the blend only matters with noise
+        out.append(f"texture {name}: blend {tex.blend} replaced by {cfg.blend} (configuration {cfg.name})")
+    if min(k, cfg.noise_terms) and tex.noise_gradient != cfg.noise_gradient and tex.filter:
+        out.append(f"texture {name}: noise gradient {'omitted from' if tex.noise_gradient else 'added to'} "
+                   f"the filter width (configuration {cfg.name}: noise_gradient = {str(cfg.noise_gradient).lower()})")
+    if tex.filter and cfg.filter != "sat":
+        out.append(f"texture {name}: box filter replaced by {'a MIP map' if cfg.filter == 'mip' else 'point lookup'} "
+                   f"(configuration {cfg.name}: filter = {cfg.filter})")
+    return out
 
 
 def prepare_passes(cfg, passes) -> list[PassData]:
@@ -52,6 +82,8 @@ def prepare_passes(cfg, passes) -> list[PassData]:
             si, Jm, je = quantize_pixels(cfg, s, J)
         except FormatError as e:
             raise FormatError(f"pass '{ps.name}': {e}") from None
+        info = {**info, "texture": ps.texture_name,
+                "approximations": approximations(cfg, ps.texture, ps.texture_name or ps.name)}
         out.append(PassData(ps.name, ps.texture, ps.mask, s, J, ti, info, si, Jm, je))
     return out
 
@@ -87,3 +119,11 @@ def to8(img: np.ndarray) -> np.ndarray:
 def frame_size(scene, size: int) -> tuple[int, int]:
     w0, h0 = scene.width, scene.height
     return size, max(1, round(size * h0 / w0))
+
+
+def scene_approximations(pds) -> list[str]:
+    """Every approximation of the passes' textures, each texture once, in pass order."""
+    out = []
+    for pd in pds:
+        out += [a for a in pd.info["approximations"] if a not in out]
+    return out

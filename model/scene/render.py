@@ -21,10 +21,11 @@ import numpy as np
 
 from model import reference
 from model.hw import golden
-from model.hw.config import CONFIG_NAMES, ROOT, ConfigError, load_config
-from model.hw.quantize import FormatError
+from model.hw.config import CONFIG_NAMES, ROOT, load_config
 from model.imageio import compare, contact_sheet, write_image
-from model.scene.passes import SCENES, composite, frame_size, prepare_passes, scene_path, to8
+from model.scene.cli import (Parser, UserError, check_config, check_range, memory_available, resolve_scene,
+                             run_main, staged)
+from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, to8
 
 
 def git_describe() -> str:
@@ -35,19 +36,53 @@ def git_describe() -> str:
         return "unknown"
 
 
+# memory of a render, measured (moonrise, full): ~1.1 KB a pixel, ~0.7 KB a truth sample
+_BYTES_BASE, _BYTES_PIXEL, _BYTES_SAMPLE = 150 << 20, 1100, 700
+
+
+def memory_needed(W: int, H: int, truth: bool, truth_ss: int) -> int:
+    return _BYTES_BASE + _BYTES_PIXEL * W * H + (_BYTES_SAMPLE * W * H * truth_ss**2 if truth else 0)
+
+
 def render(scene_name: str, config_name: str, size: int, truth: bool = True, truth_ss: int = 8,
-           out_root: Path | None = None, progress: bool = True) -> dict:
+           out_root: Path | None = None, progress: bool = True, strict: bool = False) -> dict:
+    """Render one scene (a name or a .toml path) for one configuration into
+    <out_root>/<scene>/<config>-<size>/ (staged: only a completed render is moved into place).
+    strict: any approximation the configuration makes to the scene is an error (UserError)."""
     from model.scene.frontend import render_passes
     from model.scene.scene import load_scene
 
     t0 = time.perf_counter()
-    cfg = load_config(config_name)
-    scene = load_scene(scene_path(scene_name))
-    W, H = frame_size(scene, size)
-    passes = render_passes(scene, W, H)
-    pds = prepare_passes(cfg, passes)
+    check_range("--size", size, 1, 4096)
+    check_range("--truth-ss", truth_ss, 1, 16)
+    check_config(config_name)
+    scene_name, path = resolve_scene(scene_name)
+    target = (out_root or ROOT / "out" / "render") / scene_name / f"{config_name}-{size}"
+    command = f"make render SCENE={scene_name} CONFIG={config_name} SIZE={size}"
+    with staged(target, command) as out:
+        cfg = load_config(config_name)
+        scene = load_scene(path)
+        W, H = frame_size(scene, size)
+        need, avail = memory_needed(W, H, truth, truth_ss), memory_available()
+        if avail is not None and need > avail:
+            raise UserError(f"--size {size}: a {W}x{H} render" + (f" with {truth_ss}x{truth_ss} truth" if truth else "")
+                            + f" needs about {need / 2**30:.1f} GiB of memory, {avail / 2**30:.1f} GiB available "
+                            "(a smaller --size or --truth-ss, or --no-truth)")
+        passes = render_passes(scene, W, H)
+        pds = prepare_passes(cfg, passes)
+        approx = scene_approximations(pds)
+        if strict and approx:
+            raise UserError(f"--strict: {approx[0]}" + (f" (and {len(approx) - 1} more)" if len(approx) > 1 else ""))
+        rep = _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, truth, truth_ss, progress)
+        rep["approximations"] = approx
+        rep["seconds"] = round(time.perf_counter() - t0, 2)
+        (out / "report.json").write_text(json.dumps(rep, indent=2) + "\n")
+    return rep
+
+
+def _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, truth, truth_ss, progress) -> dict:
     bar = _bar(progress, total=len(pds) * 3 + (1 if truth else 0), desc=f"{scene_name} {config_name} {W}x{H}")
-    gold, unf, ref, widths = [], [], [], np.zeros((H, W))
+    gold, unf, ref, cref, widths = [], [], [], [], np.zeros((H, W))
     for pd in pds:
         st = golden.texture_stages(cfg, pd.ti, pd.si, pd.Jm, pd.je)
         gold.append((pd.mask, st["rgba"]))
@@ -57,12 +92,18 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
         ti_off = golden.TexInt(**{**pd.ti.__dict__, "filter": False})
         unf.append((pd.mask, golden.texture_pipeline(cfg, ti_off, pd.si, pd.Jm, pd.je)))
         bar.update()
-        ref.append((pd.mask, reference.shade(pd.tex, pd.s, pd.J, cfg.perm, cfg.hash_bits)))
+        r = reference.shade(pd.tex, pd.s, pd.J, cfg.perm, cfg.hash_bits)
+        ref.append((pd.mask, r))
+        # the reference of the texture as the configuration computes it (its approximations
+        # made): the golden model's distance from it is the arithmetic error alone
+        cref.append((pd.mask, reference.shade(configured_texture(cfg, pd.tex), pd.s, pd.J, cfg.perm, cfg.hash_bits)
+                     if pd.info["approximations"] else r))
         bar.update()
     bg = scene.background
     img_gold = composite(gold, (H, W), bg)
     img_unf = composite(unf, (H, W), bg)
     img_ref = composite(ref, (H, W), bg)
+    img_cref = composite(cref, (H, W), bg)
     textured = np.zeros((H, W), bool)
     for pd in pds:
         textured |= pd.mask
@@ -71,7 +112,6 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
         img_truth = supersampled_truth(scene, cfg, W, H, truth_ss)
         bar.update()
     bar.close()
-    out = (out_root or ROOT / "out" / "render") / scene_name / f"{config_name}-{size}"
     prov = {"scene": scene_name, "config": config_name, "size": f"{W}x{H}", "git": git_describe(),
             "command": f"make render SCENE={scene_name} CONFIG={config_name} SIZE={size}",
             "generator": "model/reference.py (float64 reference)"}
@@ -84,7 +124,7 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
     grey = np.clip((widths * n_max - 1) / max(n_max - 1, 1), 0, 1) * 255
     write_image(out / "filter_width.png", to8(np.where(textured, grey, 0)))
     rep = {
-        "scene": scene_name, "config": config_name, "width": W, "height": H,
+        "status": "ok", "scene": scene_name, "config": config_name, "width": W, "height": H,
         "pixels_textured": int(textured.sum()),
         "passes": [{"name": pd.name, "pixels": int(pd.mask.sum()), **pd.info} for pd in pds],
     }
@@ -92,6 +132,9 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
     rep["psnr_golden_vs_reference_db"] = cg["psnr_db"]
     rep["max_abs_error_lsb"] = cg["max_abs_error_lsb"]
     rep["mean_abs_error_lsb"] = cg["mean_abs_error_lsb"]
+    cc = compare(img_gold[textured], img_cref[textured])
+    rep["psnr_golden_vs_configured_reference_db"] = cc["psnr_db"]
+    rep["max_abs_error_vs_configured_reference_lsb"] = cc["max_abs_error_lsb"]
     if img_truth is not None:
         write_image(out / "truth.png", to8(img_truth))
         rep["psnr_filtered_vs_truth_db"] = compare(img_gold[textured], img_truth[textured])["psnr_db"]
@@ -100,8 +143,6 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
         rep["truth_supersampling"] = f"{truth_ss}x{truth_ss}"
     else:
         rep["psnr_filtered_vs_truth_db"] = rep["psnr_unfiltered_vs_truth_db"] = None
-    rep["seconds"] = round(time.perf_counter() - t0, 2)
-    (out / "report.json").write_text(json.dumps(rep, indent=2) + "\n")
     return rep
 
 
@@ -140,20 +181,26 @@ def _bar(progress: bool, total: int, desc: str):
     return tqdm(total=total, desc=desc, unit="step", leave=False, file=sys.stderr)
 
 
-def render_all(size: int, truth: bool, progress: bool = True) -> list[dict]:
+def render_all(size: int, truth: bool, progress: bool = True, out_root: Path | None = None,
+               strict: bool = False) -> list[dict]:
+    """Every scene, both configurations; the contact sheet, renders.json and scenes.md go to
+    docs/ (or, with out_root, to <out_root>/docs)."""
     reps = []
     rows = []
+    root = out_root or ROOT / "out" / "render"
+    docs = ROOT / "docs" if out_root is None else Path(out_root) / "docs"
+    docs.mkdir(parents=True, exist_ok=True)
     for scene in SCENES:
         row = []
         for c in CONFIG_NAMES:
-            rep = render(scene, c, size, truth=truth, progress=progress)
+            rep = render(scene, c, size, truth=truth, progress=progress, out_root=out_root, strict=strict)
             reps.append(rep)
             print(json.dumps({k: rep[k] for k in ("scene", "config", "psnr_golden_vs_reference_db",
                                                    "psnr_filtered_vs_truth_db", "psnr_unfiltered_vs_truth_db",
                                                    "seconds")}), flush=True)
         from model.imageio import read_image
 
-        base = ROOT / "out" / "render" / scene
+        base = root / scene
         row.append((f"{scene}: reference", read_image(base / f"full-{size}" / "reference.png")))
         row.append(("golden full", read_image(base / f"full-{size}" / "golden.png")))
         row.append(("golden reduced", read_image(base / f"reduced-{size}" / "golden.png")))
@@ -162,10 +209,10 @@ def render_all(size: int, truth: bool, progress: bool = True) -> list[dict]:
             row.append(("truth 8x8", read_image(base / f"full-{size}" / "truth.png")))
         row.append(("filter width", read_image(base / f"full-{size}" / "filter_width.png")))
         rows.append(row)
-    contact_sheet(ROOT / "docs" / "images" / "renders.png", rows, tile=160,
+    contact_sheet(docs / "images" / "renders.png", rows, tile=160,
                   title=f"make renders: the eight scenes, {size} px (golden model and float reference)")
-    (ROOT / "docs" / "images" / "renders.json").write_text(json.dumps(reps, indent=1) + "\n")
-    write_scenes_md(reps, size)
+    (docs / "images" / "renders.json").write_text(json.dumps(reps, indent=1) + "\n")
+    write_scenes_md(reps, size, docs)
     return reps
 
 
@@ -181,7 +228,7 @@ PAPER = {
 }
 
 
-def write_scenes_md(reps: list[dict], size: int) -> None:
+def write_scenes_md(reps: list[dict], size: int, docs: Path = ROOT / "docs") -> None:
     """docs/scenes.md: each scene beside the paper's description, with its report figures."""
     L = ["# The paper's scenes", "",
          f"Written by `make renders` ({size} px per side, both configurations). Images: "
@@ -201,40 +248,34 @@ def write_scenes_md(reps: list[dict], size: int) -> None:
                      f"{r['max_abs_error_lsb']} | {r['psnr_filtered_vs_truth_db']} | "
                      f"{r['psnr_unfiltered_vs_truth_db']} | {used} | {r['seconds']} |")
         L.append("")
-    (ROOT / "docs" / "scenes.md").write_text("\n".join(L))
+    (docs / "scenes.md").write_text("\n".join(L))
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m model.scene.render", description=__doc__.splitlines()[0])
-    ap.add_argument("--scene", default="zone_plate")
-    ap.add_argument("--config", default="full", choices=CONFIG_NAMES)
-    ap.add_argument("--size", type=int, default=256)
+    ap = Parser(prog="render", description=__doc__.splitlines()[0])
+    ap.add_argument("--scene", default="zone_plate", help="a scene name (scenes/NAME.toml) or a path to a .toml file")
+    ap.add_argument("--config", default="full", help=f"one of {', '.join(CONFIG_NAMES)}")
+    ap.add_argument("--size", type=int, default=256, help="image width, 1..4096 (and what memory allows)")
     ap.add_argument("--all", action="store_true", help="all scenes, both configurations, contact sheet")
     ap.add_argument("--no-truth", action="store_true", help="skip the 8x8 supersampled ground truth")
-    ap.add_argument("--truth-ss", type=int, default=8)
+    ap.add_argument("--truth-ss", type=int, default=8, help="truth supersampling per axis, 1..16")
+    ap.add_argument("--out", type=Path, help="output root (default out/render; --all: its docs too)")
+    ap.add_argument("--strict", action="store_true", help="any approximation of the scene by the configuration is an error")
     ap.add_argument("--quiet", action="store_true")
     a = ap.parse_args(argv)
-    if a.size < 1 or a.size > 4096:
-        print(f"render: --size {a.size}: expected 1..4096", file=sys.stderr)
-        return 2
-    try:
+
+    def go():
+        check_range("--size", a.size, 1, 4096)
+        check_range("--truth-ss", a.truth_ss, 1, 16)
         if a.all:
-            render_all(a.size, truth=not a.no_truth, progress=not a.quiet)
+            render_all(a.size, truth=not a.no_truth, progress=not a.quiet, out_root=a.out, strict=a.strict)
         else:
-            if not scene_path(a.scene).exists():
-                print(f"render: {scene_path(a.scene)}: no such scene (known: {', '.join(SCENES)})", file=sys.stderr)
-                return 2
-            rep = render(a.scene, a.config, a.size, truth=not a.no_truth, truth_ss=a.truth_ss, progress=not a.quiet)
+            rep = render(a.scene, a.config, a.size, truth=not a.no_truth, truth_ss=a.truth_ss, out_root=a.out,
+                         progress=not a.quiet, strict=a.strict)
             print(json.dumps(rep, indent=2))
-    except (FormatError, ConfigError) as e:
-        print(f"render: {e}", file=sys.stderr)
-        return 2
-    except Exception as e:  # scene errors carry their own one-line message
-        if type(e).__name__ == "SceneError":
-            print(str(e), file=sys.stderr)
-            return 2
-        raise
-    return 0
+        return 0
+
+    return run_main("render", go)
 
 
 if __name__ == "__main__":

@@ -106,19 +106,27 @@ def random_pixels(cfg, r, n: int, kind: str):
 
 
 def junk_writes(cfg, r) -> list[tuple[int, int]]:
-    """Writes the register map must ignore: unmapped registers, terms k >= K, fields 13..15,
+    """Writes the register map must ignore (addresses from model/hw/regmap.py REGMAP_TABLE):
+    unmapped registers, terms k >= K, term fields past o_k,
     table indices past the end of clut / csat / mip, unmapped regions."""
-    from model.hw.regmap import ADDR_CLUT, ADDR_CSAT, ADDR_MIP, ADDR_Q, ADDR_TERM, TERM_STRIDE
+    from model.hw import regmap as RM
 
     K, nmax = cfg.noise_terms, cfg.n_log2_max
-    addrs = [0x0001, 0x000F, ADDR_Q + 10, ADDR_Q + 15, 0x0020, 0x00FF]
-    addrs += [ADDR_TERM + TERM_STRIDE * k + f for k in range(K) for f in (13, 14, 15)]
-    addrs += [ADDR_TERM + TERM_STRIDE * k for k in range(K, 16)] + [0x0200, 0x0FFF]
-    addrs += [ADDR_CLUT + (1 << nmax), ADDR_CLUT + (2 << nmax), ADDR_CLUT + 0xFFF]
-    addrs += [ADDR_CSAT + 4 * (1 << nmax) + c for c in range(4)] + [ADDR_CSAT + 0xFFF]
-    addrs += [ADDR_MIP + (2 << nmax), ADDR_MIP + 0xFFF]
-    addrs += [0x4000, 0x5000, 0x8000, 0xF000, 0xFFFF]
-    return [(a, int(r.integers(0, 1 << 32))) for a in addrs if a < 0x10000]
+    region = 1 << RM.REGION_LSB  # words per region
+    q_end, term_end = RM.ADDR_Q + RM.Q_COUNT, RM.ADDR_TERM + RM.TERM_STRIDE * RM.TERM_SLOTS
+    addrs = [RM.ADDR_CTRL + 1, RM.ADDR_Q - 1, q_end, q_end + 5, q_end + 6, RM.ADDR_TERM - 1]
+    addrs += [RM.ADDR_TERM + RM.TERM_STRIDE * k + f for k in range(K) for f in range(RM.TERM_O + 3, RM.TERM_STRIDE)]
+    addrs += [RM.ADDR_TERM + RM.TERM_STRIDE * k for k in range(K, RM.TERM_SLOTS)] + [term_end, region - 1]
+    addrs += [RM.ADDR_CLUT + (1 << nmax), RM.ADDR_CLUT + (2 << nmax), RM.ADDR_CLUT + region - 1]
+    addrs += [RM.ADDR_CSAT + RM.CSAT_CHANNELS * (1 << nmax) + c for c in range(RM.CSAT_CHANNELS)]
+    addrs += [RM.ADDR_CSAT + region - 1]
+    addrs += [RM.ADDR_MIP + (2 << nmax), RM.ADDR_MIP + region - 1]
+    used = {RM.ADDR_CTRL >> RM.REGION_LSB, RM.ADDR_CLUT >> RM.REGION_LSB, RM.ADDR_CSAT >> RM.REGION_LSB,
+            RM.ADDR_MIP >> RM.REGION_LSB}
+    free = [g for g in range(RM.ADDR_SPACE // region) if g not in used]  # unmapped regions
+    addrs += [free[0] * region, free[1] * region, free[len(free) // 2] * region, free[-1] * region,
+              RM.ADDR_SPACE - 1]
+    return [(a, int(r.integers(0, 1 << 32))) for a in addrs if a < RM.ADDR_SPACE]
 
 
 def _compare(cfg, tex, s, Jm, je, got, what: str):
@@ -160,23 +168,44 @@ def test_frame_random(sim, config):
         ("full", "full", dict()),
         ("real", "real", dict(n_log2=0)),
     )
+    # every pass of this multi-texture frame runs with random input gaps and output stalls
+    # (the harness checks the AXI-Stream hold rule on every stalled clock); the first also
+    # without, for the one-pixel-per-clock check and the same-pixels check
     for t, (tkind, pkind, over) in enumerate(cases):
         tex = random_texture(cfg, r, tkind, **over)
         s, Jm, je = random_pixels(cfg, r, n, pkind)
-        got, cycles, secs = run_frame_rtl(config, sim, tex, s, Jm, je, seed=seed + t, extra_writes=junk_writes(cfg, r))
-        exp = _compare(cfg, tex, s, Jm, je, got, f"texture {t} ({tkind}/{pkind})")
+        got, cycles, secs = run_frame_rtl(config, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed + t,
+                                          extra_writes=junk_writes(cfg, r))
+        exp = _compare(cfg, tex, s, Jm, je, got, f"texture {t} ({tkind}/{pkind}), gaps 30% / stalls 40%")
         w = exp["w"]
         print(f"  texture {t}: mode {tex.mode} n_log2 {tex.n_log2} filter {int(tex.filter)} "
-              f"terms {int(np.count_nonzero(tex.a))}: {n} px, {cycles} cycles ({n / cycles:.3f} px/clk), "
+              f"terms {int(np.count_nonzero(tex.a))}: {n} px, gaps 30% / stalls 40%: {cycles} cycles, "
               f"{secs:.2f} s; w=0: {np.mean(w == 0):.2f}, w saturated: {np.mean(w == cfg.d['w_cap']):.2f}")
-        assert cycles < n + 100, f"not one pixel per clock without stalls: {cycles} cycles for {n} pixels"
+        assert cycles > n, f"gaps/stalls had no effect: {cycles} cycles for {n} pixels"
         if t == 0:
-            first = (tex, s, Jm, je, got)
-    tex, s, Jm, je, got0 = first
-    got, cycles, _ = run_frame_rtl(config, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed + 99)
-    assert np.array_equal(got, got0), "gaps/stalls changed the pixels"
-    _compare(cfg, tex, s, Jm, je, got, "gaps 30% / stalls 40%")
-    print(f"  gaps 30% / stalls 40%: {cycles} cycles for {n} px")
+            got0, cycles, _ = run_frame_rtl(config, sim, tex, s, Jm, je, seed=seed + 99)
+            assert np.array_equal(got, got0), "gaps/stalls changed the pixels"
+            print(f"  texture 0 without gaps or stalls: {cycles} cycles ({n / cycles:.3f} px/clk)")
+            assert cycles < n + 100, f"not one pixel per clock without stalls: {cycles} cycles for {n} pixels"
+
+
+@pytest.mark.parametrize("sim", sorted({sim for sim, _ in hdlbuild.sim_params()}))
+def test_frame_harness_checks_hold_and_reports_its_reason(sim):
+    """Issue 16: the harness checks that tvalid/tdata/tlast hold while the sink stalls, and its
+    own reason reaches the pytest failure message (not "simulator exited with 1"). A fault
+    planted in the check's copy of the held word (+FAULT_HOLD) must fail the run with that reason."""
+    from sim.frame_rtl import FrameRunError
+
+    config = "reduced"
+    cfg = load_config(config)
+    r = np.random.default_rng(_seed())
+    tex = random_texture(cfg, r, "real")
+    s, Jm, je = random_pixels(cfg, r, 200, "real")
+    with pytest.raises(FrameRunError) as ei:
+        _frame_rtl()(config, sim, tex, s, Jm, je, stalls=50, fault_hold=True)
+    msg = str(ei.value)
+    assert "frame_tb: ERROR: output" in msg and "changed while the sink stalled" in msg, msg
+    assert "simulator exited" not in msg and "\n" not in msg, msg
 
 
 @pytest.mark.parametrize("sim,config", hdlbuild.sim_params())

@@ -1,0 +1,151 @@
+"""The one error path and the one output discipline of the scene commands
+(`python -m model.scene.render`, `python -m sim.frame`; make render / renders / frame / frames).
+
+Errors: every input problem -- a bad scene file (SceneError), configuration (ConfigError), a
+value that does not fit the hardware (FormatError), a bad argument, path or missing tool
+(UserError), a file that cannot be read or written (OSError) -- is printed as ONE line on
+stderr, ``<command>: <file or flag>: <key>: <what was expected>, got <what was found>``, and
+the command exits with status 2, no traceback (`run_main`). Everything that can be known
+before a simulation starts is checked before it starts.
+
+Outputs: a run writes into a fresh temporary directory beside its target
+(``<target>.tmp-<pid>-...``, `staged`), and only a run that has completed is moved into place
+(the earlier target removed first). A failed run leaves no partial output, and the target's
+earlier contents are replaced by a report.json ``{"status": "failed", "error": ...}`` so that
+nothing stale looks current.
+"""
+from __future__ import annotations
+
+import argparse
+import contextlib
+import json
+import os
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+from model.hw.config import CONFIG_NAMES, ConfigError
+from model.hw.quantize import FormatError
+
+
+class UserError(ValueError):
+    """A bad argument, path or missing tool (one-line message)."""
+
+
+def input_errors():
+    """The exception classes that are the user's input, not a bug (exit status 2)."""
+    from model.scene.scene import SceneError
+
+    return (SceneError, ConfigError, FormatError, UserError, OSError)
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with one-line errors (prog: message), exit status 2."""
+
+    def error(self, message):
+        print(f"{self.prog}: {' '.join(message.split())}", file=sys.stderr)
+        sys.exit(2)
+
+
+def run_main(prog: str, fn) -> int:
+    """fn() -> exit status, with every input error as one line on stderr and status 2."""
+    try:
+        return fn()
+    except input_errors() as e:
+        msg = " ".join(str(e).split())
+        print(msg if msg.startswith(prog + ":") else f"{prog}: {msg}", file=sys.stderr)
+        return 2
+
+
+def check_range(flag: str, value: int, lo: int, hi: int, why: str = "") -> int:
+    if not lo <= value <= hi:
+        raise UserError(f"{flag} {value}: expected {lo}..{hi}{' (' + why + ')' if why else ''}")
+    return value
+
+
+def check_config(name: str) -> str:
+    if name not in CONFIG_NAMES:
+        raise UserError(f"--config {name}: no such configuration (known: {', '.join(CONFIG_NAMES)})")
+    return name
+
+
+def resolve_scene(arg: str) -> tuple[str, Path]:
+    """--scene: a built-in scene name (scenes/<name>.toml) or a path to a .toml file.
+    -> (name used for the output directory: the file's stem, path)."""
+    from model.scene.passes import SCENE_DIR, SCENES
+
+    p = Path(arg)
+    if p.suffix == ".toml" or os.sep in arg:
+        if p.suffix != ".toml":
+            raise UserError(f"--scene {arg}: expected a scene name ({', '.join(SCENES)}) or a path to a .toml file")
+        if not p.is_file():
+            raise UserError(f"--scene {arg}: no such scene file")
+        return p.stem, p
+    p = SCENE_DIR / f"{arg}.toml"
+    if not p.is_file():
+        raise UserError(f"--scene {arg}: no such scene (known: {', '.join(SCENES)}; or a path to a .toml file)")
+    return arg, p
+
+
+def need_tool(sim: str) -> None:
+    """The simulator is on PATH (checked before anything is built or run)."""
+    from hdlbuild import need_simulator
+
+    try:
+        need_simulator(sim)
+    except RuntimeError as e:
+        raise UserError(f"--sim {sim}: {e}") from None
+
+
+def _failed_report(target: Path, error: str, command: str) -> None:
+    """Replace the target's earlier contents by a failure report (nothing stale stays)."""
+    try:
+        if target.is_dir():
+            shutil.rmtree(target)
+        elif target.exists():
+            return  # not ours (a file where the directory should be): leave it
+        target.mkdir(parents=True)
+        (target / "report.json").write_text(json.dumps({"status": "failed", "error": error, "command": command},
+                                                       indent=2) + "\n")
+    except OSError:
+        pass
+
+
+@contextlib.contextmanager
+def staged(target: Path, command: str = ""):
+    """Yield a fresh temporary directory beside `target`; on success it becomes `target`.
+
+    The temporary directory is made first, so an output directory that cannot be written is
+    found before any work (UserError). On any exception the temporary directory is removed,
+    the target marked failed (_failed_report) and the exception passes on."""
+    target = Path(target)
+    try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-{os.getpid()}-", dir=target.parent))
+    except OSError as e:
+        raise UserError(f"{target}: cannot write the output directory: {e.strerror or e}") from None
+    try:
+        yield tmp
+        if target.is_dir():
+            old = Path(tempfile.mkdtemp(prefix=f".{target.name}.old-", dir=target.parent))
+            target.rename(old / "x")
+            shutil.rmtree(old)
+        elif target.exists():
+            raise UserError(f"{target}: exists and is not a directory")
+        tmp.rename(target)
+    except BaseException as e:
+        shutil.rmtree(tmp, ignore_errors=True)
+        _failed_report(target, " ".join(str(e).split()) or type(e).__name__, command)
+        raise
+
+
+def memory_available() -> int | None:
+    """MemAvailable in bytes (Linux), or None."""
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
