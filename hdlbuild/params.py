@@ -14,7 +14,7 @@ from __future__ import annotations
 import re
 
 from model.hw.config import ROOT, Config, _rel
-from model.hw.regmap import pix_width
+from model.hw.regmap import REGMAP, pix_width
 
 # config/<name>.toml enum values as the RTL's integer parameters
 ENUMS = {
@@ -32,7 +32,8 @@ TOP_KEYS = ("quadric", "noise_terms", "blend", "transform", "amplitude", "filter
 
 # texture_pipeline's ports: (direction, width or None for the pixel word, name)
 PORTS = (("input", 1, "clk"), ("input", 1, "rst"),
-         ("input", 1, "cfg_wr_en"), ("input", 16, "cfg_wr_addr"), ("input", 32, "cfg_wr_data"),
+         ("input", 1, "cfg_wr_en"), ("input", REGMAP["ADDR_W"], "cfg_wr_addr"),
+         ("input", REGMAP["DATA_W"], "cfg_wr_data"),
          ("input", None, "s_axis_tdata"), ("input", 1, "s_axis_tvalid"), ("output", 1, "s_axis_tready"),
          ("input", 1, "s_axis_tlast"),
          ("output", 32, "m_axis_tdata"), ("output", 1, "m_axis_tvalid"), ("input", 1, "m_axis_tready"),
@@ -91,6 +92,10 @@ def block_params(cfg: Config, module: str) -> dict:
             sat = 1 if b <= 9 else 0
             return {"NUM_W": b + 8 + sat, "DEN_W": b, "Q_W": 8, "LANES": 4, "SAT": sat}
         return {"NUM_W": cfg.d_w - 1, "DEN_W": cfg.w_w, "Q_W": 8, "LANES": 4, "SAT": 0}
+    if module == "tex_regs":
+        return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "q_w", "a_w", "t_w", "hash_bits", "p_frac", "n_log2_max")}
+    if module == "axis_skid":
+        return {"DATA_W": 32}
     if module == "isqrt":
         return {"L_W": cfg.l_w, "R_W": cfg.r_w, "LATENCY": latency("filter_width") - 5}
     raise KeyError(f"block_params: no parameter set for module '{module}'")

@@ -22,24 +22,16 @@
 //   [3*S_W+6*J_W-1 : 3*S_W]           jm = Jm[k][col] at element 2*k+col (J_W bits each)
 //   [PIX_W-1 : 3*S_W+6*J_W]           je
 //
-// Register map (cfg_wr_addr is a 32-bit-word address; writes to unmapped addresses and past
-// the end of a table are ignored; values are taken from the LSBs of cfg_wr_data, two's complement for signed
-// fields; model/hw/regmap.py write_sequence is the Python twin):
-//   0x0000            CTRL: [0] mode (0 mod, 1 clamp), [1] filter_en,
-//                     [8 +: N_LOG2_W] n_log2 (N = 2^n_log2 colour-table entries)
-//   0x0010 + i        Q coefficient i = 0..9 (A..J), s{Q_W}.{Q_FRAC}
-//   0x0100 + 16*k     noise term k = 0..K-1:  +0 a_k s{A_W}.{A_FRAC};
-//                     +1+3*j+m T_k[j][m] s{T_W}.{T_FRAC}; +10+j o_k[j] u{O_W}.{P_FRAC}
-//   0x1000 + n        clut[n], RGBA8 (R at [7:0]), n < 2^N_LOG2_MAX
-//   0x2000 + 4*n + ch csat[n] channel ch (u{CSAT_W}); channels 0..2 go to a staging
-//                     register, the write of channel 3 commits the whole entry n (write the
-//                     four words of an entry in order, channel 3 last; the last csat entry
-//                     committed must be entry N - 1, the whole-table sum: write csat in
-//                     ascending order)
-//   0x3000 + m        mip[m], RGBA8, m < 2^(N_LOG2_MAX+1) - 1 (levels one after another)
-//   Table writes are forwarded to colour_map's write port one clock later. After rst every
-//   parameter register is 0 (the tables are not reset). Write the parameters while no pixel
-//   is in flight; they are held, unchanged, during a pass.
+// Register map (cfg_wr_addr is a 32-bit-word address): decoded by tex_regs (rtl/tex_regs.v
+// documents it) from the constants of rtl/tex_regmap.vh, generated from the one table of the
+// register map, model/hw/regmap.py REGMAP_TABLE (python -m model.hw.regmap prints it; its
+// write_sequence is what a host writes). CTRL (mode, filter_en, n_log2), the quadric
+// coefficients, K noise terms (a_k, T_k, o_k), and the colour tables clut, csat (channels
+// 0..2 staged, channel 3 commits an entry; write csat in ascending order, the last entry
+// committed, N - 1, is the whole-table sum) and mip. Writes to unmapped addresses and past
+// the end of a table are ignored. Table writes reach colour_map's write port one clock
+// later. After rst every parameter register is 0 (the tables are not reset). Write the
+// parameters while no pixel is in flight; they are held, unchanged, during a pass.
 //
 // Pipeline: quadric_mac and K noise_term instances in parallel on s, a registered adder tree
 // of arity 4 for f (TREE_LEVELS = ceil(log4(K+1)) stages), filter_width, then colour_map.
@@ -50,10 +42,10 @@
 // f (in fewer bits, see below) or w waits for the other before colour_map; Jm, je and tlast
 // travel in delay lines (delay_line) beside the data. Every
 // register of the datapath shares one clock enable
-//   ce = rst | !cm_valid | skid_ready_reg
+//   ce = rst | !cm_valid | skid_ready
 // (the colour_map output is the last pipeline stage; it may advance whenever it is empty or
-// the output skid buffer can take it). The output skid buffer (two registers, the pattern of
-// alexforencich/verilog-axis axis_register, REG_TYPE = 2) has a registered input ready, so
+// the output skid buffer can take it). The output skid buffer (axis_skid: two registers, the
+// pattern of alexforencich/verilog-axis axis_register, REG_TYPE = 2) has a registered input ready, so
 // no combinational path runs from m_axis_tready to s_axis_tready or ce, and a stall on
 // m_axis_tready never loses, duplicates or reorders a pixel. s_axis_tready = ce (& !rst):
 // a pixel enters whenever the pipeline advances.
@@ -107,6 +99,7 @@ module texture_pipeline #(
    m_axis_tdata, m_axis_tvalid, m_axis_tready, m_axis_tlast);
 
 `include "tex_widths.vh"
+`include "tex_regmap.vh"  // RM_ADDR_W, RM_DATA_W: the write port (the decoder is tex_regs)
 
 // ---------------------------------------------------------------------------
 // Derived widths (the same functions as the blocks': each block derives its own internal
@@ -134,8 +127,8 @@ input  wire             rst;
 
 // parameter write port (32-bit words, register map above)
 input  wire             cfg_wr_en;
-input  wire [15:0]      cfg_wr_addr;
-input  wire [31:0]      cfg_wr_data;
+input  wire [RM_ADDR_W-1:0] cfg_wr_addr;
+input  wire [RM_DATA_W-1:0] cfg_wr_data;
 
 // pixel input stream: {je, jm, s}
 input  wire [PIX_W-1:0] s_axis_tdata;
@@ -206,152 +199,49 @@ localparam LATENCY     = T_CM + LAT_CM;
 
 localparam JM_W = 6*J_W;
 
-// register map
-localparam [3:0] REGION_REGS = 4'h0;
-localparam [3:0] REGION_CLUT = 4'h1;
-localparam [3:0] REGION_CSAT = 4'h2;
-localparam [3:0] REGION_MIP  = 4'h3;
-localparam [1:0] TABLE_CLUT  = 2'd0;
-localparam [1:0] TABLE_CSAT  = 2'd1;
-localparam [1:0] TABLE_MIP   = 2'd2;
-
 // ---------------------------------------------------------------------------
 // Flow control
 
 wire cm_valid;          // colour_map output (last pipeline stage) holds a pixel
-reg  skid_ready_reg;    // the output skid buffer can take a pixel this clock
-wire advance = !cm_valid || skid_ready_reg;
+wire skid_ready;        // the output skid buffer can take a pixel this clock (a register)
+wire advance = !cm_valid || skid_ready;
 wire ce      = rst || advance;  // rst: every block's reset sees an enabled clock
 
 assign s_axis_tready = advance && !rst;
 wire in_valid = s_axis_tvalid && !rst;
 
 // ---------------------------------------------------------------------------
-// Parameter registers
+// Parameter registers and colour-table write staging (tex_regs: the register map, decoded
+// from rtl/tex_regmap.vh; written while no pixel is in flight)
 
-wire [3:0] wr_region = cfg_wr_addr[15:12];
-wire       wr_regs   = cfg_wr_en && wr_region == REGION_REGS;
-
-reg                 mode_reg;
-reg                 filter_en_reg;
-reg [NL_W-1:0]      n_log2_reg;
+wire                mode_reg;
+wire                filter_en_reg;
+wire [NL_W-1:0]     n_log2_reg;
 localparam KV = (K > 0) ? K : 1;  // K = 0 still declares (unused) vectors
-reg [10*Q_W-1:0]    q_coef_reg;   // coefficient i at [i*Q_W +: Q_W]
+wire [10*Q_W-1:0]   q_coef;       // coefficient i at [i*Q_W +: Q_W]
 /* verilator lint_off UNUSEDSIGNAL */  // read by no noise term when K = 0
-reg [KV*A_W-1:0]    a_all_reg;    // a_k at [k*A_W +: A_W]
-reg [KV*9*T_W-1:0]  t_all_reg;    // T_k[j][m] at [(9*k + 3*j + m)*T_W +: T_W]
-reg [KV*3*O_W-1:0]  o_all_reg;    // o_k[j] at [(3*k + j)*O_W +: O_W]
+wire [KV*A_W-1:0]   a_all_reg;    // a_k at [k*A_W +: A_W]
+wire [KV*9*T_W-1:0] t_all_reg;    // T_k[j][m] at [(9*k + 3*j + m)*T_W +: T_W]
+wire [KV*3*O_W-1:0] o_all_reg;    // o_k[j] at [(3*k + j)*O_W +: O_W]
 /* verilator lint_on UNUSEDSIGNAL */
+wire                tbl_wr_en_reg;
+wire [1:0]          tbl_wr_table_reg;
+wire [NLMAX:0]      tbl_wr_addr_reg;
+wire [4*CSAT_W-1:0] tbl_wr_data_reg;
 
-// One process loads every parameter register (one wake-up a clock for an event-driven
-// simulator, whatever K is); the loops unroll into one write enable per register.
-wire [11:0] reg_addr   = cfg_wr_addr[11:0];
-wire        term_space = reg_addr[11:8] == 4'h1;  // 0x100 + 16*k + field
-wire [3:0]  term_sel   = reg_addr[7:4];
-wire [3:0]  term_field = reg_addr[3:0];
-integer     pi, pj;
-
-always @(posedge clk) begin
-    if (rst) begin
-        mode_reg      <= 1'b0;
-        filter_en_reg <= 1'b0;
-        n_log2_reg    <= {NL_W{1'b0}};
-        q_coef_reg    <= {10*Q_W{1'b0}};
-        a_all_reg     <= {KV*A_W{1'b0}};
-        t_all_reg     <= {KV*9*T_W{1'b0}};
-        o_all_reg     <= {KV*3*O_W{1'b0}};
-    end else if (wr_regs) begin
-        if (reg_addr == 12'h000) begin
-            mode_reg      <= cfg_wr_data[0];
-            filter_en_reg <= cfg_wr_data[1];
-            n_log2_reg    <= cfg_wr_data[8 +: NL_W];
-        end
-        for (pi = 0; pi < 10; pi = pi + 1) begin
-            if (reg_addr == 12'h010 + pi[11:0])
-                q_coef_reg[pi*Q_W +: Q_W] <= cfg_wr_data[Q_W-1:0];
-        end
-        for (pi = 0; pi < K; pi = pi + 1) begin
-            if (term_space && term_sel == pi[3:0]) begin
-                if (term_field == 4'd0)
-                    a_all_reg[pi*A_W +: A_W] <= cfg_wr_data[A_W-1:0];
-                for (pj = 0; pj < 9; pj = pj + 1) begin
-                    if (term_field == 4'd1 + pj[3:0])
-                        t_all_reg[(9*pi + pj)*T_W +: T_W] <= cfg_wr_data[T_W-1:0];
-                end
-                for (pj = 0; pj < 3; pj = pj + 1) begin
-                    if (term_field == 4'd10 + pj[3:0])
-                        o_all_reg[(3*pi + pj)*O_W +: O_W] <= cfg_wr_data[O_W-1:0];
-                end
-            end
-        end
-    end
-end
-
-wire [10*Q_W-1:0] q_coef = q_coef_reg;
+tex_regs #(
+    .NOISE_TERMS(K), .Q_W(Q_W), .A_W(A_W), .T_W(T_W), .HASH_BITS(HASH_BITS), .P_FRAC(P_FRAC),
+    .N_LOG2_MAX(N_LOG2_MAX)
+) u_regs (
+    .clk(clk), .rst(rst),
+    .cfg_wr_en(cfg_wr_en), .cfg_wr_addr(cfg_wr_addr), .cfg_wr_data(cfg_wr_data),
+    .mode(mode_reg), .filter_en(filter_en_reg), .n_log2(n_log2_reg),
+    .q_coef(q_coef), .a_all(a_all_reg), .t_all(t_all_reg), .o_all(o_all_reg),
+    .tbl_wr_en(tbl_wr_en_reg), .tbl_wr_table(tbl_wr_table_reg), .tbl_wr_addr(tbl_wr_addr_reg),
+    .tbl_wr_data(tbl_wr_data_reg)
+);
 
 genvar gi;
-
-// colour tables: forwarded to colour_map one clock later; csat entries are staged
-reg [3*CSAT_W-1:0] csat_stage_reg;
-reg                tbl_wr_en_reg;
-reg [1:0]          tbl_wr_table_reg;
-reg [NLMAX:0]      tbl_wr_addr_reg;
-reg [4*CSAT_W-1:0] tbl_wr_data_reg;
-
-wire [1:0] csat_ch = cfg_wr_addr[1:0];
-// table index in range: clut n < 2^NLMAX, csat 4n + ch < 2^(NLMAX+2), mip m < 2^(NLMAX+1)
-// (a write past the end of a table is ignored, never aliased)
-wire clut_in_range = (cfg_wr_addr[11:0] >> NLMAX) == 12'd0;
-wire csat_in_range = (cfg_wr_addr[11:0] >> (NLMAX + 2)) == 12'd0;
-wire mip_in_range  = (cfg_wr_addr[11:0] >> (NLMAX + 1)) == 12'd0;
-
-// an RGBA8 word spread over the four CSAT_W channel fields of the table write data
-reg [4*CSAT_W-1:0] rgba_wide;
-integer            ri;
-always @* begin
-    rgba_wide = {4*CSAT_W{1'b0}};
-    for (ri = 0; ri < 4; ri = ri + 1)
-        rgba_wide[ri*CSAT_W +: 8] = cfg_wr_data[ri*8 +: 8];
-end
-
-always @(posedge clk) begin
-    if (rst) begin
-        csat_stage_reg   <= {3*CSAT_W{1'b0}};
-        tbl_wr_en_reg    <= 1'b0;
-        tbl_wr_table_reg <= TABLE_CLUT;
-        tbl_wr_addr_reg  <= {(NLMAX+1){1'b0}};
-        tbl_wr_data_reg  <= {4*CSAT_W{1'b0}};
-    end else begin
-        tbl_wr_en_reg <= 1'b0;
-        if (cfg_wr_en) begin
-            case (wr_region)
-                REGION_CLUT: begin
-                    tbl_wr_en_reg    <= clut_in_range;
-                    tbl_wr_table_reg <= TABLE_CLUT;
-                    tbl_wr_addr_reg  <= cfg_wr_addr[NLMAX:0];
-                    tbl_wr_data_reg  <= rgba_wide;
-                end
-                REGION_CSAT: begin
-                    if (csat_ch == 2'd3) begin
-                        tbl_wr_en_reg    <= csat_in_range;
-                        tbl_wr_table_reg <= TABLE_CSAT;
-                        tbl_wr_addr_reg  <= cfg_wr_addr[NLMAX+2:2];
-                        tbl_wr_data_reg  <= {cfg_wr_data[CSAT_W-1:0], csat_stage_reg};
-                    end else begin
-                        csat_stage_reg[csat_ch*CSAT_W +: CSAT_W] <= cfg_wr_data[CSAT_W-1:0];
-                    end
-                end
-                REGION_MIP: begin
-                    tbl_wr_en_reg    <= mip_in_range;
-                    tbl_wr_table_reg <= TABLE_MIP;
-                    tbl_wr_addr_reg  <= cfg_wr_addr[NLMAX:0];
-                    tbl_wr_data_reg  <= rgba_wide;
-                end
-                default: ;
-            endcase
-        end
-    end
-end
 
 // ---------------------------------------------------------------------------
 // Input fields
@@ -684,75 +574,14 @@ colour_map #(
 );
 
 // ---------------------------------------------------------------------------
-// Output skid buffer (alexforencich/verilog-axis axis_register, REG_TYPE = 2)
+// Output skid buffer (axis_skid: registered input ready, one clock)
 
-reg [31:0] m_data_reg;
-reg        m_valid_reg, m_valid_next;
-reg        m_last_reg;
-reg [31:0] temp_data_reg;
-reg        temp_valid_reg, temp_valid_next;
-reg        temp_last_reg;
-reg        store_in_to_out, store_in_to_temp, store_temp_to_out;
-
-// ready next clock if the output is taken now, or the temporary register stays empty
-wire skid_ready_early = m_axis_tready || (!temp_valid_reg && (!m_valid_reg || !cm_valid));
-
-always @* begin
-    m_valid_next      = m_valid_reg;
-    temp_valid_next   = temp_valid_reg;
-    store_in_to_out   = 1'b0;
-    store_in_to_temp  = 1'b0;
-    store_temp_to_out = 1'b0;
-    if (skid_ready_reg) begin
-        // input is ready
-        if (m_axis_tready || !m_valid_reg) begin
-            // output is ready or empty: input to output
-            m_valid_next    = cm_valid;
-            store_in_to_out = 1'b1;
-        end else begin
-            // output is stalled: input to the temporary register
-            temp_valid_next  = cm_valid;
-            store_in_to_temp = 1'b1;
-        end
-    end else if (m_axis_tready) begin
-        // input is not ready, output is ready: temporary register to output
-        m_valid_next      = temp_valid_reg;
-        temp_valid_next   = 1'b0;
-        store_temp_to_out = 1'b1;
-    end
-end
-
-always @(posedge clk) begin
-    if (rst) begin
-        skid_ready_reg <= 1'b0;
-        m_valid_reg    <= 1'b0;
-        m_data_reg     <= 32'd0;
-        m_last_reg     <= 1'b0;
-        temp_valid_reg <= 1'b0;
-        temp_data_reg  <= 32'd0;
-        temp_last_reg  <= 1'b0;
-    end else begin
-        skid_ready_reg <= skid_ready_early;
-        m_valid_reg    <= m_valid_next;
-        temp_valid_reg <= temp_valid_next;
-        // data registers load only real pixels (never the X of an empty pipeline stage)
-        if (store_in_to_out && cm_valid) begin
-            m_data_reg <= cm_rgba;
-            m_last_reg <= cm_last;
-        end else if (store_temp_to_out) begin
-            m_data_reg <= temp_data_reg;
-            m_last_reg <= temp_last_reg;
-        end
-        if (store_in_to_temp && cm_valid) begin
-            temp_data_reg <= cm_rgba;
-            temp_last_reg <= cm_last;
-        end
-    end
-end
-
-assign m_axis_tdata  = m_data_reg;
-assign m_axis_tvalid = m_valid_reg;
-assign m_axis_tlast  = m_last_reg;
+axis_skid #(.DATA_W(32)) u_skid (
+    .clk(clk), .rst(rst),
+    .s_axis_tdata(cm_rgba), .s_axis_tvalid(cm_valid), .s_axis_tready(skid_ready), .s_axis_tlast(cm_last),
+    .m_axis_tdata(m_axis_tdata), .m_axis_tvalid(m_axis_tvalid), .m_axis_tready(m_axis_tready),
+    .m_axis_tlast(m_axis_tlast)
+);
 
 endmodule
 

@@ -34,7 +34,7 @@ BUDGET = {"reduced": 100_000, "full": 1_250_000}
 BLOCKS = {"quadric": "quadric_mac", "noise_term": "noise_term", "filter_width": "filter_width",
           "colour_map": "colour_map"}
 TOP = "texture_pipeline"
-GLUE = ("delay_line",)  # small modules counted with the top's glue (control), not as blocks
+GLUE = ("delay_line", "tex_regs", "axis_skid")  # small modules counted with the top's glue (control), not as blocks
 
 
 def rtl_files():

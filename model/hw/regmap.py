@@ -1,22 +1,15 @@
 """The texture_pipeline register map and pixel stream formats, in Python.
 
-The twin of the header of rtl/texture_pipeline.v: what the parameter write port
-expects (`write_sequence`) and how a pixel is packed into s_axis_tdata
-(`pack_pixels`) and the colour is unpacked from m_axis_tdata (`unpack_rgba`).
+The twin of the ports of rtl/texture_pipeline.v: what the parameter write port expects
+(`write_sequence`), how rtl/tex_regs.v decodes it (`tex_regs`), how a pixel is packed into
+s_axis_tdata (`pack_pixels`) and the colour unpacked from m_axis_tdata (`unpack_rgba`).
 All widths come from the configuration (model/hw/config.py).
 
-Register map (word addresses, 32-bit data; signed values two's complement in the
-LSBs of the word):
-
-    0x0000            CTRL: [0] mode (0 mod, 1 clamp), [1] filter_en,
-                      [8 +: n_log2_w] n_log2
-    0x0010 + i        quadric coefficient i = 0..9 (A..J)
-    0x0100 + 16*k     noise term k < K:  +0 a_k; +1+3*j+m T_k[j][m]; +10+j o_k[j]
-    0x1000 + n        clut[n]  RGBA8, R at [7:0]
-    0x2000 + 4*n + ch csat[n] channel ch; channels 0..2 are staged, channel 3 commits
-                      (entries in ascending order: the last one, N - 1, is the whole-table sum
-                      the colour map keeps)
-    0x3000 + m        mip[m]   RGBA8 (level l at offset 2N - (2N >> l))
+Register map: REGMAP_TABLE below, its one definition (word addresses, 32-bit data; signed
+values two's complement in the LSBs of the word). rtl/tex_regmap.vh is generated from it
+(`python -m model.hw.regmap --write`; --check, and tb/tex_regs, fail on a stale copy), the
+decoder rtl/tex_regs.v reads that, `tex_regs` here is the decoder's twin, and
+`write_sequence`'s writes round-trip through it.
 
 Pixel word: {je, Jm, s} with s at the LSBs:
 
@@ -31,15 +24,132 @@ import numpy as np
 from model.hw.config import Config
 from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt
 
-ADDR_CTRL = 0x0000
-ADDR_Q = 0x0010
-ADDR_TERM = 0x0100
-TERM_STRIDE = 16
-TERM_A, TERM_T, TERM_O = 0, 1, 10
-ADDR_CLUT = 0x1000
-ADDR_CSAT = 0x2000
-ADDR_MIP = 0x3000
-CTRL_MODE_BIT, CTRL_FILTER_BIT, CTRL_NLOG2_LSB = 0, 1, 8
+# ---------------------------------------------------------------------------
+# The register map, written once: every other copy is generated from this table or reads it.
+#   - rtl/tex_regmap.vh: RM_<name> localparams for the RTL decoder rtl/tex_regs.v
+#     (regmap_vh() writes it, `python -m model.hw.regmap --write` regenerates the committed
+#     file, tb/tex_regs/test_tex_regs.py fails when it is stale);
+#   - the Python constants below (ADDR_*, TERM_*, CTRL_*), read by write_sequence, the decoder's
+#     twin tex_regs and the tests' writes (tb/frame/test_frame.py junk_writes).
+# Each row: (name, value, meaning). Addresses are 32-bit-word addresses on cfg_wr_addr.
+REGMAP_TABLE = (
+    ("ADDR_W", 16, "bits of cfg_wr_addr"),
+    ("DATA_W", 32, "bits of cfg_wr_data; a value sits in the LSBs, signed ones two's complement"),
+    ("REGION_LSB", 12, "cfg_wr_addr[ADDR_W-1:REGION_LSB] selects a region (a base address >> REGION_LSB), "
+                       "the bits below are the offset in it"),
+    ("ADDR_CTRL", 0x0000, "CTRL register"),
+    ("CTRL_MODE_BIT", 0, "CTRL bit: colour-table index mode (0 mod, 1 clamp)"),
+    ("CTRL_FILTER_BIT", 1, "CTRL bit: filter_en"),
+    ("CTRL_NLOG2_LSB", 8, "CTRL field [CTRL_NLOG2_LSB +: n_log2_w]: n_log2 (N = 2^n_log2 colour-table entries)"),
+    ("ADDR_Q", 0x0010, "quadric coefficient i (A..J) at ADDR_Q + i, s{q_w}.{q_frac}"),
+    ("Q_COUNT", 10, "quadric coefficients"),
+    ("ADDR_TERM", 0x0100, "noise term k at ADDR_TERM + TERM_STRIDE*k + field (terms k >= K are ignored)"),
+    ("TERM_STRIDE", 16, "words per noise term (a power of two)"),
+    ("TERM_SLOTS", 16, "noise-term slots in the address space (a power of two, >= 8)"),
+    ("TERM_A", 0, "term field: a_k, s{a_w}.{a_frac}"),
+    ("TERM_T", 1, "term fields TERM_T + 3*j + m: T_k[j][m], s{t_w}.{t_frac}"),
+    ("TERM_O", 10, "term fields TERM_O + j: o_k[j], u{o_w}.{p_frac}"),
+    ("ADDR_CLUT", 0x1000, "clut[n], RGBA8 (R at [7:0]), at ADDR_CLUT + n"),
+    ("CLUT_LOG2", 0, "clut words accepted: 2^(n_log2_max + CLUT_LOG2)"),
+    ("ADDR_CSAT", 0x2000, "csat[n] channel ch (u{csat_w}) at ADDR_CSAT + CSAT_CHANNELS*n + ch: channels "
+                          "0..2 are staged, channel 3 commits entry n (write entries in ascending order)"),
+    ("CSAT_CHANNELS", 4, "words per csat entry"),
+    ("CSAT_LOG2", 2, "csat words accepted: 2^(n_log2_max + CSAT_LOG2) (= CSAT_CHANNELS entries' words)"),
+    ("ADDR_MIP", 0x3000, "mip[m], RGBA8, at ADDR_MIP + m (level l at offset 2N - (2N >> l))"),
+    ("MIP_LOG2", 1, "mip words accepted: 2^(n_log2_max + MIP_LOG2)"),
+    ("TABLE_CLUT", 0, "colour_map wr_table code of clut"),
+    ("TABLE_CSAT", 1, "colour_map wr_table code of csat"),
+    ("TABLE_MIP", 2, "colour_map wr_table code of mip"),
+)
+REGMAP = {name: value for name, value, _ in REGMAP_TABLE}
+
+
+def _log2_exact(name: str, v: int) -> int:
+    if v <= 0 or v & (v - 1):
+        raise AssertionError(f"register map: {name} = {v} must be a power of two")
+    return v.bit_length() - 1
+
+
+def _derived(rm: dict) -> dict:
+    """Constants the decoder derives from the table (also emitted into rtl/tex_regmap.vh), with
+    the table's consistency checked: no two registers share an address, every field fits."""
+    lsb, aw = rm["REGION_LSB"], rm["ADDR_W"]
+    d = {"TERM_STRIDE_LOG2": _log2_exact("TERM_STRIDE", rm["TERM_STRIDE"]),
+         "TERM_SLOTS_LOG2": _log2_exact("TERM_SLOTS", rm["TERM_SLOTS"])}
+    for name in ("REGS", "CLUT", "CSAT", "MIP"):
+        base = rm["ADDR_CTRL" if name == "REGS" else f"ADDR_{name}"]
+        if name != "REGS" and base & ((1 << lsb) - 1):
+            raise AssertionError(f"register map: ADDR_{name} must start a region")
+        d[f"REGION_{name}"] = base >> lsb
+    regions = [d[f"REGION_{n}"] for n in ("REGS", "CLUT", "CSAT", "MIP")]
+    assert len(set(regions)) == 4 and max(regions) < (1 << (aw - lsb)), "register map: regions overlap"
+    assert _log2_exact("CSAT_CHANNELS", rm["CSAT_CHANNELS"]) == rm["CSAT_LOG2"], \
+        "register map: CSAT_LOG2 != log2(CSAT_CHANNELS)"
+    # region 0: CTRL, Q and the term window (aligned: the decoder selects term and field by bit slices)
+    win = rm["TERM_STRIDE"] * rm["TERM_SLOTS"]
+    assert rm["ADDR_TERM"] % win == 0, "register map: ADDR_TERM must be aligned to TERM_STRIDE * TERM_SLOTS"
+    assert rm["TERM_SLOTS"] >= 8, "register map: fewer term slots than noise terms"
+    regs = [rm["ADDR_CTRL"]] + [rm["ADDR_Q"] + i for i in range(rm["Q_COUNT"])]
+    assert all(a >> lsb == d["REGION_REGS"] for a in regs + [rm["ADDR_TERM"], rm["ADDR_TERM"] + win - 1])
+    assert not any(rm["ADDR_TERM"] <= a < rm["ADDR_TERM"] + win for a in regs), "register map: Q/CTRL in the term window"
+    assert len(set(regs)) == len(regs), "register map: two registers share an address"
+    fields = [rm["TERM_A"]] + [rm["TERM_T"] + i for i in range(9)] + [rm["TERM_O"] + j for j in range(3)]
+    assert len(set(fields)) == len(fields) and max(fields) < rm["TERM_STRIDE"], "register map: term fields"
+    ctrl = (rm["CTRL_MODE_BIT"], rm["CTRL_FILTER_BIT"])
+    assert len(set(ctrl)) == 2 and max(ctrl) < rm["CTRL_NLOG2_LSB"] < rm["DATA_W"] - 4, "register map: CTRL fields"
+    return d
+
+
+REGMAP_DERIVED = _derived(REGMAP)
+
+ADDR_CTRL = REGMAP["ADDR_CTRL"]
+ADDR_Q = REGMAP["ADDR_Q"]
+Q_COUNT = REGMAP["Q_COUNT"]
+ADDR_TERM = REGMAP["ADDR_TERM"]
+TERM_STRIDE = REGMAP["TERM_STRIDE"]
+TERM_SLOTS = REGMAP["TERM_SLOTS"]
+TERM_A, TERM_T, TERM_O = REGMAP["TERM_A"], REGMAP["TERM_T"], REGMAP["TERM_O"]
+ADDR_CLUT = REGMAP["ADDR_CLUT"]
+ADDR_CSAT = REGMAP["ADDR_CSAT"]
+CSAT_CHANNELS = REGMAP["CSAT_CHANNELS"]
+ADDR_MIP = REGMAP["ADDR_MIP"]
+CTRL_MODE_BIT, CTRL_FILTER_BIT, CTRL_NLOG2_LSB = (REGMAP["CTRL_MODE_BIT"], REGMAP["CTRL_FILTER_BIT"],
+                                                  REGMAP["CTRL_NLOG2_LSB"])
+REGION_LSB = REGMAP["REGION_LSB"]
+ADDR_SPACE = 1 << REGMAP["ADDR_W"]
+TABLE_CLUT, TABLE_CSAT, TABLE_MIP = REGMAP["TABLE_CLUT"], REGMAP["TABLE_CSAT"], REGMAP["TABLE_MIP"]
+REGMAP_VH = "rtl/tex_regmap.vh"
+
+
+def regmap_vh() -> str:
+    """The text of rtl/tex_regmap.vh: the table as RM_<name> localparams (addresses sized to
+    ADDR_W bits, region codes to ADDR_W - REGION_LSB bits, table codes to 2 bits)."""
+    aw, rw = REGMAP["ADDR_W"], REGMAP["ADDR_W"] - REGMAP["REGION_LSB"]
+    out = ["// tex_regmap.vh: the register map of texture_pipeline, as localparams.",
+           "// Generated from model/hw/regmap.py REGMAP_TABLE by `python -m model.hw.regmap --write`. Do not edit:",
+           "// tb/tex_regs/test_tex_regs.py fails when this file is not what the table generates.",
+           "// Included inside the body of rtl/tex_regs.v (the decoder); addresses are 32-bit-word addresses.",
+           "", "/* verilator lint_off UNUSEDPARAM */"]
+
+    def line(name, value, what):
+        if name.startswith("ADDR_") and name != "ADDR_W":
+            decl = f"localparam [{aw - 1}:0] RM_{name} = {aw}'h{value:0{(aw + 3) // 4}x};"
+        elif name.startswith("REGION_") and name != "REGION_LSB":
+            decl = f"localparam [{rw - 1}:0] RM_{name} = {rw}'h{value:x};"
+        elif name.startswith("TABLE_"):
+            decl = f"localparam [1:0] RM_{name} = 2'd{value};"
+        else:
+            decl = f"localparam integer RM_{name} = {value};"
+        out.append(f"{decl:<50} // {what}")
+
+    for name, value, what in REGMAP_TABLE:
+        line(name, value, what)
+    out.append("// derived")
+    for name, value in REGMAP_DERIVED.items():
+        line(name, value, f"region code: ADDR_{'CTRL' if name == 'REGION_REGS' else name[7:]} >> REGION_LSB"
+             if name.startswith("REGION_") else f"log2({name[:-5]})")
+    out += ["/* verilator lint_on UNUSEDPARAM */", ""]
+    return "\n".join(out)
 
 
 class RegmapError(ValueError):
@@ -82,8 +192,8 @@ def write_sequence(cfg: Config, tex: TexInt) -> list[tuple[int, int]]:
     w: list[tuple[int, int]] = []
     ctrl = (int(tex.mode) << CTRL_MODE_BIT) | (int(bool(tex.filter)) << CTRL_FILTER_BIT) | (n_log2 << CTRL_NLOG2_LSB)
     w.append((ADDR_CTRL, ctrl))
-    Q = np.asarray(tex.Q, dtype=np.int64).reshape(10)
-    for i in range(10):
+    Q = np.asarray(tex.Q, dtype=np.int64).reshape(Q_COUNT)
+    for i in range(Q_COUNT):
         w.append((ADDR_Q + i, _fit(f"Q[{i}]", Q[i], cfg.q_w, True)))
     a = np.asarray(tex.a, dtype=np.int64).reshape(-1)
     T = np.asarray(tex.T, dtype=np.int64).reshape(-1, 3, 3)
@@ -110,12 +220,141 @@ def write_sequence(cfg: Config, tex: TexInt) -> list[tuple[int, int]]:
         csat = np.asarray(tex.csat, dtype=np.int64)
         for i in range(n):
             for c in range(4):
-                w.append((ADDR_CSAT + 4 * i + c, _fit(f"csat[{i}][{c}]", csat[i, c], cfg.csat_w, False)))
+                w.append((ADDR_CSAT + CSAT_CHANNELS * i + c, _fit(f"csat[{i}][{c}]", csat[i, c], cfg.csat_w, False)))
     elif cfg.filter == "mip":
         mip = np.asarray(tex.mip, dtype=np.int64)
         for i in range(2 * n - 1):
             w.append((ADDR_MIP + i, _rgba_word(mip[i])))
     return w
+
+
+# ---------------------------------------------------------------------------
+# The decoder's twin (rtl/tex_regs.v)
+
+
+def _mask(w: int) -> int:
+    return (1 << w) - 1
+
+
+class TexRegs:
+    """The register state of rtl/tex_regs.v, as the RTL holds it (unsigned bit patterns).
+
+    Fields after each write, one clock of the RTL per write (a clock without a write: `idle`):
+    mode, filter_en, n_log2; q[Q_COUNT] (q_w bits), a[K], T[K][9], o[K][3]; csat_stage[3];
+    the table-write port registers tbl_wr_en, tbl_wr_table, tbl_wr_addr, tbl_wr_data (the
+    four csat_w-bit channel fields packed, channel 0 at the LSBs), as forwarded to colour_map.
+    """
+
+    def __init__(self, cfg: Config):
+        self.cfg = cfg
+        self.K = cfg.noise_terms
+        self.nmax = cfg.n_log2_max
+        self.reset()
+
+    def reset(self):
+        K = self.K
+        self.mode = self.filter_en = self.n_log2 = 0
+        self.q = [0] * Q_COUNT
+        self.a = [0] * K
+        self.T = [[0] * 9 for _ in range(K)]
+        self.o = [[0] * 3 for _ in range(K)]
+        self.csat_stage = [0] * (CSAT_CHANNELS - 1)
+        self.tbl_wr_en = 0
+        self.tbl_wr_table = TABLE_CLUT
+        self.tbl_wr_addr = 0
+        self.tbl_wr_data = 0
+
+    def idle(self):
+        """A clock without a write."""
+        self.tbl_wr_en = 0
+
+    def _rgba_wide(self, data: int) -> int:
+        cw = self.cfg.csat_w
+        return sum(((data >> (8 * c)) & 0xFF) << (c * cw) for c in range(4))
+
+    def write(self, addr: int, data: int):
+        """A clock with a write of `data` to `addr`; returns (table, index, data) when it writes
+        a colour-table entry (what colour_map receives one clock later), else None."""
+        cfg, lsb = self.cfg, REGION_LSB
+        addr &= ADDR_SPACE - 1
+        data &= 0xFFFFFFFF
+        region, off = addr >> lsb, addr & _mask(lsb)
+        self.tbl_wr_en = 0
+        nmax, cw = self.nmax, cfg.csat_w
+        if region == REGMAP_DERIVED["REGION_REGS"]:
+            if off == ADDR_CTRL & _mask(lsb):
+                self.mode = (data >> CTRL_MODE_BIT) & 1
+                self.filter_en = (data >> CTRL_FILTER_BIT) & 1
+                self.n_log2 = (data >> CTRL_NLOG2_LSB) & _mask(cfg.n_log2_w)
+            for i in range(Q_COUNT):
+                if off == (ADDR_Q & _mask(lsb)) + i:
+                    self.q[i] = data & _mask(cfg.q_w)
+            t0 = ADDR_TERM & _mask(lsb)
+            if t0 <= off < t0 + TERM_STRIDE * TERM_SLOTS:
+                k, f = divmod(off - t0, TERM_STRIDE)
+                if k < self.K:
+                    if f == TERM_A:
+                        self.a[k] = data & _mask(cfg.a_w)
+                    if TERM_T <= f < TERM_T + 9:
+                        self.T[k][f - TERM_T] = data & _mask(cfg.t_w)
+                    if TERM_O <= f < TERM_O + 3:
+                        self.o[k][f - TERM_O] = data & _mask(cfg.d["o_w"])
+            return None
+        if region in (REGMAP_DERIVED["REGION_CLUT"], REGMAP_DERIVED["REGION_MIP"]):
+            mip = region == REGMAP_DERIVED["REGION_MIP"]
+            self.tbl_wr_en = int(off >> (nmax + REGMAP["MIP_LOG2" if mip else "CLUT_LOG2"]) == 0)
+            self.tbl_wr_table = TABLE_MIP if mip else TABLE_CLUT
+            self.tbl_wr_addr = off & _mask(nmax + 1)
+            self.tbl_wr_data = self._rgba_wide(data)
+        elif region == REGMAP_DERIVED["REGION_CSAT"]:
+            chl = REGMAP["CSAT_LOG2"]
+            ch = off & _mask(chl)
+            if ch == CSAT_CHANNELS - 1:
+                self.tbl_wr_en = int(off >> (nmax + REGMAP["CSAT_LOG2"]) == 0)
+                self.tbl_wr_table = TABLE_CSAT
+                self.tbl_wr_addr = (off >> chl) & _mask(nmax + 1)
+                self.tbl_wr_data = sum(v << (c * cw) for c, v in enumerate(self.csat_stage + [data & _mask(cw)]))
+            else:
+                self.csat_stage[ch] = data & _mask(cw)
+        if self.tbl_wr_en:
+            return self.tbl_wr_table, self.tbl_wr_addr, self.tbl_wr_data
+        return None
+
+
+def _signed(v: int, w: int) -> int:
+    return v - (1 << w) if v >> (w - 1) & 1 else v
+
+
+def tex_regs(cfg: Config, writes, state: TexRegs | None = None):
+    """The twin of rtl/tex_regs.v: apply (address, data) writes (one a clock) to the register
+    state (a fresh, reset one unless given). Returns (state, table), `table` the colour-table
+    entries written: {TABLE_*: {index: [4 channel values]}}, later writes winning."""
+    st = TexRegs(cfg) if state is None else state
+    tables: dict = {TABLE_CLUT: {}, TABLE_CSAT: {}, TABLE_MIP: {}}
+    cw = cfg.csat_w
+    for addr, data in writes:
+        tw = st.write(addr, data)
+        if tw is not None:
+            t, i, d = tw
+            tables[t][i] = [(d >> (c * cw)) & _mask(cw) for c in range(4)]
+    st.idle()
+    return st, tables
+
+
+def texint_of_regs(cfg: Config, st: TexRegs, tables) -> TexInt:
+    """The texture that register state and colour tables hold (signed fields read back as
+    signed): write_sequence(cfg, tex) applied by tex_regs must give back tex."""
+    K, n = cfg.noise_terms, 1 << st.n_log2
+    arr = lambda rows: np.array(rows, dtype=np.int64)  # noqa: E731
+
+    def table(t, size):
+        return arr([tables[t].get(i, [0, 0, 0, 0]) for i in range(size)]).reshape(size, 4)
+
+    return TexInt(Q=arr([_signed(v, cfg.q_w) for v in st.q]),
+                  a=arr([_signed(v, cfg.a_w) for v in st.a]),
+                  T=arr([[_signed(v, cfg.t_w) for v in t] for t in st.T]).reshape(K, 3, 3),
+                  o=arr(st.o).reshape(K, 3), mode=st.mode, n_log2=st.n_log2, filter=bool(st.filter_en),
+                  clut=table(TABLE_CLUT, n), csat=table(TABLE_CSAT, n), mip=table(TABLE_MIP, 2 * n - 1))
 
 
 def pack_pixels(cfg: Config, s, Jm, je) -> list[int]:
@@ -177,3 +416,34 @@ def pixels_hex(cfg: Config, words) -> str:
 def writes_hex(writes) -> str:
     """$readmemh text of (address, data) writes: {addr[15:0], data[31:0]}, 12 hex digits a line."""
     return "".join(f"{a & 0xFFFF:04x}{d & 0xFFFFFFFF:08x}\n" for a, d in writes)
+
+
+def main(argv=None) -> int:
+    """python -m model.hw.regmap [--write | --check]: print rtl/tex_regmap.vh as the table
+    generates it, write it (--write), or exit 1 when the committed file differs (--check)."""
+    import argparse
+
+    from model.hw.config import ROOT
+
+    ap = argparse.ArgumentParser(description=main.__doc__)
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--write", action="store_true")
+    g.add_argument("--check", action="store_true")
+    args = ap.parse_args(argv)
+    path = ROOT / REGMAP_VH
+    text = regmap_vh()
+    if args.write:
+        if not path.exists() or path.read_text() != text:
+            path.write_text(text)
+            print(f"wrote {REGMAP_VH}")
+        return 0
+    if args.check:
+        ok = path.exists() and path.read_text() == text
+        print(f"{REGMAP_VH}: {'current' if ok else 'STALE (python -m model.hw.regmap --write)'}")
+        return 0 if ok else 1
+    print(text, end="")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,208 @@
+// tex_regs: the register decoder of texture_pipeline: the parameter registers and the
+// colour-table write staging, loaded through the 32-bit parameter write port.
+//
+// Register map: rtl/tex_regmap.vh (RM_* localparams, generated from the one table,
+// model/hw/regmap.py REGMAP_TABLE; word addresses on cfg_wr_addr):
+//   ADDR_CTRL          [CTRL_MODE_BIT] mode (0 mod, 1 clamp), [CTRL_FILTER_BIT] filter_en,
+//                      [CTRL_NLOG2_LSB +: NL_W] n_log2
+//   ADDR_Q + i         quadric coefficient i = 0..Q_COUNT-1 (A..J), s{Q_W}.{Q_FRAC}
+//   ADDR_TERM + TERM_STRIDE*k + field, k < NOISE_TERMS: TERM_A a_k s{A_W}.{A_FRAC};
+//                      TERM_T + 3*j + m T_k[j][m] s{T_W}.{T_FRAC}; TERM_O + j o_k[j] u{O_W}.{P_FRAC}
+//   ADDR_CLUT + n      clut[n], RGBA8 (R at [7:0]), n < 2^(N_LOG2_MAX + CLUT_LOG2)
+//   ADDR_CSAT + 4n + ch  csat[n] channel ch, u{CSAT_W}: channels 0..2 go to a staging
+//                      register, channel 3 commits the whole entry n (write entries in order)
+//   ADDR_MIP + m       mip[m], RGBA8, m < 2^(N_LOG2_MAX + MIP_LOG2)
+// Values are taken from the LSBs of cfg_wr_data (two's complement for signed fields). Writes
+// to unmapped addresses, to terms k >= NOISE_TERMS and past the end of a table are ignored
+// (never aliased). model/hw/regmap.py tex_regs is the Python twin (every output, every clock).
+//
+// Outputs (formats as above; the registers hold raw bit patterns):
+//   mode, filter_en, n_log2 (NL_W = bits of N_LOG2_MAX); q_coef: coefficient i at
+//   [i*Q_W +: Q_W]; a_all: a_k at [k*A_W +: A_W]; t_all: T_k[j][m] at
+//   [(9*k + 3*j + m)*T_W +: T_W]; o_all: o_k[j] at [(3*k + j)*O_W +: O_W] (O_W = HASH_BITS +
+//   P_FRAC; with NOISE_TERMS = 0 the three are one unused entry wide);
+//   tbl_wr_*: colour_map's table write port: tbl_wr_table RM_TABLE_CLUT/CSAT/MIP, tbl_wr_addr
+//   the entry, tbl_wr_data four CSAT_W-bit channel fields, channel c at [c*CSAT_W +: CSAT_W]
+//   (an RGBA8 word: each byte in the low 8 bits of its field).
+// Latency: a write is visible on the register outputs one clock later, and a table write on
+// tbl_wr_* one clock later (tbl_wr_en high for that one clock). Throughput: one write per clock.
+// Reset: synchronous, active high: every register output and the staging register 0,
+// tbl_wr_en 0 (no output is X after reset).
+
+`default_nettype none
+
+module tex_regs #(
+    // formats (config/<name>.toml keys in brackets); the widths are derived from them below
+    parameter NOISE_TERMS = 8,   // [noise_terms] K: noise terms with registers, 0..TERM_SLOTS
+    parameter Q_W         = 24,  // [q_w] quadric coefficients s{Q_W}.{Q_FRAC}
+    parameter A_W         = 16,  // [a_w] amplitudes s{A_W}.{A_FRAC}
+    parameter T_W         = 17,  // [t_w] transform entries s{T_W}.{T_FRAC}
+    parameter HASH_BITS   = 8,   // [hash_bits] with P_FRAC: offsets u{HASH_BITS + P_FRAC}.{P_FRAC}
+    parameter P_FRAC      = 12,  // [p_frac]
+    parameter N_LOG2_MAX  = 8    // [n_log2_max] colour tables of up to 2^N_LOG2_MAX entries
+) (clk, rst, cfg_wr_en, cfg_wr_addr, cfg_wr_data, mode, filter_en, n_log2, q_coef, a_all, t_all, o_all,
+   tbl_wr_en, tbl_wr_table, tbl_wr_addr, tbl_wr_data);
+
+`include "tex_widths.vh"
+`include "tex_regmap.vh"
+
+localparam K      = NOISE_TERMS;
+localparam KV     = (K > 0) ? K : 1;                  // K = 0 still declares (unused) vectors
+localparam O_W    = HASH_BITS + P_FRAC;               // noise offset word
+localparam CSAT_W = tw_csat_w(N_LOG2_MAX);            // summed-area channel
+localparam NL_W   = tw_bits_unsigned(N_LOG2_MAX);     // n_log2
+localparam NLMAX  = N_LOG2_MAX;
+localparam AW     = RM_ADDR_W;
+localparam RL     = RM_REGION_LSB;                    // offset bits within a region
+localparam TSL    = RM_TERM_STRIDE_LOG2;              // term field bits
+localparam TNL    = RM_TERM_SLOTS_LOG2;               // term select bits
+localparam CHL    = RM_CSAT_LOG2;                     // csat channel bits
+localparam NCH    = RM_CSAT_CHANNELS;
+// the table's constants at the widths they are compared at
+localparam [RL-1:0]  OFF_CTRL = RM_ADDR_CTRL[RL-1:0];
+localparam [RL-1:0]  OFF_Q    = RM_ADDR_Q[RL-1:0];
+localparam [TSL-1:0] FLD_A    = RM_TERM_A[TSL-1:0];
+localparam [TSL-1:0] FLD_T    = RM_TERM_T[TSL-1:0];
+localparam [TSL-1:0] FLD_O    = RM_TERM_O[TSL-1:0];
+localparam [CHL-1:0] CH_LAST  = NCH[CHL-1:0] - 1'b1;  // the channel that commits an entry
+
+input  wire                     clk;
+input  wire                     rst;
+// parameter write port
+input  wire                     cfg_wr_en;
+input  wire [AW-1:0]            cfg_wr_addr;
+input  wire [RM_DATA_W-1:0]     cfg_wr_data;
+// parameter registers
+output reg                      mode;
+output reg                      filter_en;
+output reg  [NL_W-1:0]          n_log2;
+output reg  [RM_Q_COUNT*Q_W-1:0] q_coef;
+output reg  [KV*A_W-1:0]        a_all;
+output reg  [KV*9*T_W-1:0]      t_all;
+output reg  [KV*3*O_W-1:0]      o_all;
+// colour-table write port (to colour_map)
+output reg                      tbl_wr_en;
+output reg  [1:0]               tbl_wr_table;
+output reg  [NLMAX:0]           tbl_wr_addr;
+output reg  [4*CSAT_W-1:0]      tbl_wr_data;
+
+// address fields
+wire [AW-RL-1:0] wr_region  = cfg_wr_addr[AW-1:RL];
+wire [RL-1:0]    wr_off     = cfg_wr_addr[RL-1:0];
+wire             wr_regs    = cfg_wr_en && wr_region == RM_REGION_REGS;
+// the term window is aligned (the table checks it): term and field are bit slices
+/* verilator lint_off UNUSEDSIGNAL */  // the low bits of the window base are 0
+wire [RL-1:0]    term_base  = RM_ADDR_TERM[RL-1:0];
+/* verilator lint_on UNUSEDSIGNAL */
+wire             term_space = wr_off[RL-1:TSL+TNL] == term_base[RL-1:TSL+TNL];
+wire [TNL-1:0]   term_sel   = wr_off[TSL +: TNL];
+wire [TSL-1:0]   term_field = wr_off[0 +: TSL];
+integer          pi, pj;
+
+// One process loads every parameter register (one wake-up a clock for an event-driven
+// simulator, whatever K is); the loops unroll into one write enable per register.
+always @(posedge clk) begin
+    if (rst) begin
+        mode      <= 1'b0;
+        filter_en <= 1'b0;
+        n_log2    <= {NL_W{1'b0}};
+        q_coef    <= {RM_Q_COUNT*Q_W{1'b0}};
+        a_all     <= {KV*A_W{1'b0}};
+        t_all     <= {KV*9*T_W{1'b0}};
+        o_all     <= {KV*3*O_W{1'b0}};
+    end else if (wr_regs) begin
+        if (wr_off == OFF_CTRL) begin
+            mode      <= cfg_wr_data[RM_CTRL_MODE_BIT];
+            filter_en <= cfg_wr_data[RM_CTRL_FILTER_BIT];
+            n_log2    <= cfg_wr_data[RM_CTRL_NLOG2_LSB +: NL_W];
+        end
+        for (pi = 0; pi < RM_Q_COUNT; pi = pi + 1) begin
+            if (wr_off == OFF_Q + pi[RL-1:0])
+                q_coef[pi*Q_W +: Q_W] <= cfg_wr_data[Q_W-1:0];
+        end
+        for (pi = 0; pi < K; pi = pi + 1) begin
+            if (term_space && term_sel == pi[TNL-1:0]) begin
+                if (term_field == FLD_A)
+                    a_all[pi*A_W +: A_W] <= cfg_wr_data[A_W-1:0];
+                for (pj = 0; pj < 9; pj = pj + 1) begin
+                    if (term_field == FLD_T + pj[TSL-1:0])
+                        t_all[(9*pi + pj)*T_W +: T_W] <= cfg_wr_data[T_W-1:0];
+                end
+                for (pj = 0; pj < 3; pj = pj + 1) begin
+                    if (term_field == FLD_O + pj[TSL-1:0])
+                        o_all[(3*pi + pj)*O_W +: O_W] <= cfg_wr_data[O_W-1:0];
+                end
+            end
+        end
+    end
+end
+
+// colour tables: forwarded to colour_map one clock later; csat entries are staged
+reg [(NCH-1)*CSAT_W-1:0] csat_stage_reg;
+
+wire [CHL-1:0] csat_ch = wr_off[CHL-1:0];
+// table index in range: clut n < 2^(NLMAX + CLUT_LOG2), csat 4n + ch < 2^(NLMAX + CSAT_LOG2),
+// mip m < 2^(NLMAX + MIP_LOG2) (a write past the end of a table is ignored, never aliased)
+wire clut_in_range = (wr_off >> (NLMAX + RM_CLUT_LOG2)) == {RL{1'b0}};
+wire csat_in_range = (wr_off >> (NLMAX + RM_CSAT_LOG2)) == {RL{1'b0}};
+wire mip_in_range  = (wr_off >> (NLMAX + RM_MIP_LOG2)) == {RL{1'b0}};
+
+// an RGBA8 word spread over the four CSAT_W channel fields of the table write data
+reg [4*CSAT_W-1:0] rgba_wide;
+integer            ri;
+always @* begin
+    rgba_wide = {4*CSAT_W{1'b0}};
+    for (ri = 0; ri < 4; ri = ri + 1)
+        rgba_wide[ri*CSAT_W +: 8] = cfg_wr_data[ri*8 +: 8];
+end
+
+always @(posedge clk) begin
+    if (rst) begin
+        csat_stage_reg <= {(NCH-1)*CSAT_W{1'b0}};
+        tbl_wr_en      <= 1'b0;
+        tbl_wr_table   <= RM_TABLE_CLUT;
+        tbl_wr_addr    <= {(NLMAX+1){1'b0}};
+        tbl_wr_data    <= {4*CSAT_W{1'b0}};
+    end else begin
+        tbl_wr_en <= 1'b0;
+        if (cfg_wr_en) begin
+            case (wr_region)
+                RM_REGION_CLUT: begin
+                    tbl_wr_en    <= clut_in_range;
+                    tbl_wr_table <= RM_TABLE_CLUT;
+                    tbl_wr_addr  <= wr_off[NLMAX:0];
+                    tbl_wr_data  <= rgba_wide;
+                end
+                RM_REGION_CSAT: begin
+                    if (csat_ch == CH_LAST) begin
+                        tbl_wr_en    <= csat_in_range;
+                        tbl_wr_table <= RM_TABLE_CSAT;
+                        tbl_wr_addr  <= wr_off[NLMAX+CHL:CHL];
+                        tbl_wr_data  <= {cfg_wr_data[CSAT_W-1:0], csat_stage_reg};
+                    end else begin
+                        csat_stage_reg[csat_ch*CSAT_W +: CSAT_W] <= cfg_wr_data[CSAT_W-1:0];
+                    end
+                end
+                RM_REGION_MIP: begin
+                    tbl_wr_en    <= mip_in_range;
+                    tbl_wr_table <= RM_TABLE_MIP;
+                    tbl_wr_addr  <= wr_off[NLMAX:0];
+                    tbl_wr_data  <= rgba_wide;
+                end
+                default: ;
+            endcase
+        end
+    end
+end
+
+// elaboration checks: the table's shape this decoder assumes
+generate
+    if (NCH != 4 || K > RM_TERM_SLOTS || NLMAX + RM_CSAT_LOG2 >= RL) begin : g_bad_params
+        // a module that does not exist: elaboration fails with this instance name
+        tex_regs_bad_parameters u_bad ();
+    end
+endgenerate
+
+endmodule
+
+`default_nettype wire

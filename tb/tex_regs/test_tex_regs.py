@@ -1,0 +1,256 @@
+"""tex_regs (the register decoder): every output, every clock, against its twin
+model/hw/regmap.py tex_regs / TexRegs; and the register map's one table.
+
+Python side (no simulator):
+- rtl/tex_regmap.vh is what model/hw/regmap.py REGMAP_TABLE generates (regmap_vh()): the
+  test fails on a stale or hand-edited include (`python -m model.hw.regmap --write`).
+- write_sequence round-trips through the decoder's twin: the registers and tables that
+  tex_regs(cfg, write_sequence(cfg, tex)) holds are tex again, for random textures of both
+  configurations and of random valid ones, also with unmapped writes interleaved.
+
+RTL (cocotb, both simulators, the named configurations and random valid parameter sets):
+reset (every output 0, no X); random writes with gaps (cfg_wr_en low) to every register,
+to noise terms k >= K and term fields past o_k, to table entries inside and past the end of
+clut / csat / mip, to unmapped addresses of every region and to random addresses, and
+resets in the middle; after every clock every output equals the twin's state. Then a
+texture's write_sequence, checked the same way.
+"""
+from __future__ import annotations
+
+import os
+import random
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cocotb
+from cocotb.clock import Clock
+from cocotb.triggers import ReadOnly, RisingEdge, Timer
+
+import hdlbuild
+from model.hw import regmap as RM
+from model.hw.config import ROOT, load_config, random_config
+from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt
+
+SOURCES = ["tex_regs.v"]
+N_RANDOM = 3  # random valid configurations besides full and reduced (RANDOM_CONFIGS= overrides)
+
+
+@pytest.mark.parametrize("sim,config", hdlbuild.family_params(N_RANDOM))
+def test_tex_regs_rtl(sim, config):
+    hdlbuild.run("tex_regs", sources=SOURCES, test_module="test_tex_regs", sim=sim, config=config,
+                 test_dir=Path(__file__).parent)
+
+
+def test_regmap_vh_is_generated():
+    """The committed rtl/tex_regmap.vh is exactly what the table generates."""
+    path = ROOT / RM.REGMAP_VH
+    assert path.exists(), f"{RM.REGMAP_VH} missing: python -m model.hw.regmap --write"
+    assert path.read_text() == RM.regmap_vh(), (
+        f"{RM.REGMAP_VH} is not what model/hw/regmap.py REGMAP_TABLE generates: "
+        "python -m model.hw.regmap --write")
+
+
+def test_regmap_table_names_unique():
+    names = [n for n, _, _ in RM.REGMAP_TABLE]
+    assert len(names) == len(set(names))
+    assert not set(names) & set(RM.REGMAP_DERIVED)
+
+
+# ---------------------------------------------------------------------------
+# Stimulus (shared by the Python round trip and the cocotb test)
+
+
+def random_texture(cfg, r) -> TexInt:
+    """Every parameter over its whole format, random n_log2, mode, filter."""
+    K = cfg.noise_terms
+
+    def s(w, size):
+        return r.integers(-(1 << (w - 1)), 1 << (w - 1), size=size, dtype=np.int64)
+
+    Q = s(cfg.q_w, 10)
+    n_log2 = int(r.integers(0, cfg.n_log2_max + 1))
+    return TexInt(Q=Q, a=s(cfg.a_w, K), T=s(cfg.t_w, (K, 3, 3)),
+                  o=r.integers(0, 1 << cfg.d["o_w"], size=(K, 3), dtype=np.int64),
+                  mode=int(r.choice([MODE_MOD, MODE_CLAMP])), n_log2=n_log2, filter=bool(r.random() < 0.5),
+                  clut=r.integers(0, 256, size=(1 << n_log2, 4), dtype=np.int64))
+
+
+def ignored_addresses(cfg) -> list[int]:
+    """Addresses the decoder must ignore (no register changes, no table write)."""
+    K, nmax = cfg.noise_terms, cfg.n_log2_max
+    ctrl, q, term = RM.ADDR_CTRL, RM.ADDR_Q, RM.ADDR_TERM
+    used_fields = {RM.TERM_A, *range(RM.TERM_T, RM.TERM_T + 9), *range(RM.TERM_O, RM.TERM_O + 3)}
+    regs = {ctrl, *range(q, q + RM.Q_COUNT)}
+    out = [ctrl + 1, q - 1, q + RM.Q_COUNT, q + RM.Q_COUNT + 5, term - 1]
+    out += [term + RM.TERM_STRIDE * k + f for k in range(K) for f in range(RM.TERM_STRIDE) if f not in used_fields]
+    out += [term + RM.TERM_STRIDE * k + f for k in range(K, RM.TERM_SLOTS) for f in (0, 1, 10)]
+    out += [term + RM.TERM_STRIDE * RM.TERM_SLOTS, (1 << RM.REGION_LSB) - 1]
+    out += [RM.ADDR_CLUT + (1 << nmax), RM.ADDR_CLUT + (1 << RM.REGION_LSB) - 1]
+    out += [RM.ADDR_CSAT + RM.CSAT_CHANNELS * (1 << nmax) + 3, RM.ADDR_CSAT + (1 << RM.REGION_LSB) - 1]
+    out += [RM.ADDR_MIP + (2 << nmax), RM.ADDR_MIP + (1 << RM.REGION_LSB) - 1]
+    out += [0x4000, 0x7ABC, 0x8000, 0xF000, 0xFFFF]
+    return [a for a in out if a not in regs and 0 <= a < RM.ADDR_SPACE]
+
+
+def random_writes(cfg, rr: random.Random, n: int) -> list[tuple[int, int]]:
+    """n writes: registers, terms (also k >= K), tables (inside and past the end), unmapped."""
+    K, nmax = cfg.noise_terms, cfg.n_log2_max
+    ign = ignored_addresses(cfg)
+    out = []
+    for _ in range(n):
+        c = rr.random()
+        if c < 0.08:
+            a = RM.ADDR_CTRL
+        elif c < 0.2:
+            a = RM.ADDR_Q + rr.randrange(RM.Q_COUNT)
+        elif c < 0.4:
+            a = RM.ADDR_TERM + RM.TERM_STRIDE * rr.randrange(max(K, 1) + 1) + rr.randrange(RM.TERM_STRIDE)
+        elif c < 0.5:
+            a = RM.ADDR_CLUT + rr.randrange(2 << nmax)
+        elif c < 0.7:
+            a = RM.ADDR_CSAT + rr.randrange(RM.CSAT_CHANNELS << (nmax + 1))
+        elif c < 0.8:
+            a = RM.ADDR_MIP + rr.randrange(4 << nmax)
+        elif c < 0.9:
+            a = rr.choice(ign)
+        else:
+            a = rr.randrange(RM.ADDR_SPACE)
+        d = rr.choice([rr.getrandbits(32), 0, 0xFFFFFFFF, rr.getrandbits(8), 1 << rr.randrange(32)])
+        out.append((a, d))
+    return out
+
+
+def _configs():
+    return [load_config("full"), load_config("reduced")] + [random_config(1200 + i, name=f"random{1200 + i}")
+                                                            for i in range(4)]
+
+
+@pytest.mark.parametrize("cfg", _configs(), ids=lambda c: c.name)
+def test_write_sequence_round_trip(cfg):
+    """tex_regs(cfg, write_sequence(cfg, tex)) holds tex: every register and the tables the
+    configuration's filter reads; unmapped writes interleaved change nothing."""
+    r = np.random.default_rng(7)
+    rr = random.Random(7)
+    ign = ignored_addresses(cfg)
+    for trial in range(20):
+        tex = random_texture(cfg, r)
+        seq = RM.write_sequence(cfg, tex)
+        if trial % 2:
+            mixed = []
+            for w in seq:
+                if rr.random() < 0.3:
+                    mixed.append((rr.choice(ign), rr.getrandbits(32)))
+                mixed.append(w)
+            seq = mixed
+        st, tables = RM.tex_regs(cfg, seq)
+        back = RM.texint_of_regs(cfg, st, tables)
+        n = 1 << tex.n_log2
+        assert np.array_equal(back.Q, tex.Q) and np.array_equal(back.a, tex.a)
+        assert np.array_equal(back.T, tex.T) and np.array_equal(back.o, tex.o)
+        assert (back.mode, back.n_log2, back.filter) == (tex.mode, tex.n_log2, tex.filter)
+        assert np.array_equal(back.clut, tex.clut)
+        assert set(tables[RM.TABLE_CLUT]) == set(range(n))
+        if cfg.filter == "sat":
+            assert np.array_equal(back.csat, tex.csat) and set(tables[RM.TABLE_CSAT]) == set(range(n))
+        if cfg.filter == "mip":
+            assert np.array_equal(back.mip, tex.mip) and set(tables[RM.TABLE_MIP]) == set(range(2 * n - 1))
+
+
+@pytest.mark.parametrize("cfg", _configs()[:2], ids=lambda c: c.name)
+def test_ignored_writes_change_nothing(cfg):
+    st0, _ = RM.tex_regs(cfg, RM.write_sequence(cfg, random_texture(cfg, np.random.default_rng(3))))
+    before = _state(st0)
+    for a in ignored_addresses(cfg):
+        for d in (0, 0xFFFFFFFF, 0x5A5A5A5A):
+            assert st0.write(a, d) is None, f"write to {a:#06x} wrote a table entry"
+            assert _state(st0, tables=False) == before[:-1], f"write to {a:#06x} changed a register"
+
+
+def _state(st, tables=True):
+    regs = (st.mode, st.filter_en, st.n_log2, tuple(st.q), tuple(st.a), tuple(map(tuple, st.T)),
+            tuple(map(tuple, st.o)))
+    return regs + ((st.tbl_wr_en,) if tables else ())
+
+
+# ---------------------------------------------------------------------------
+# cocotb
+
+
+def _pack(values, w):
+    out = 0
+    for i, v in enumerate(values):
+        out |= (int(v) & ((1 << w) - 1)) << (i * w)
+    return out
+
+
+def expected_outputs(cfg, st: RM.TexRegs) -> dict:
+    return {
+        "mode": st.mode, "filter_en": st.filter_en, "n_log2": st.n_log2,
+        "q_coef": _pack(st.q, cfg.q_w), "a_all": _pack(st.a, cfg.a_w),
+        "t_all": _pack([v for t in st.T for v in t], cfg.t_w), "o_all": _pack([v for o in st.o for v in o], cfg.d["o_w"]),
+        "tbl_wr_en": st.tbl_wr_en, "tbl_wr_table": st.tbl_wr_table, "tbl_wr_addr": st.tbl_wr_addr,
+        "tbl_wr_data": st.tbl_wr_data,
+    }
+
+
+def _check(dut, cfg, st, what):
+    exp = expected_outputs(cfg, st)
+    for name, v in exp.items():
+        got = getattr(dut, name).value
+        assert got.is_resolvable, f"{what}: {name} = {got} (X or Z)"
+        assert int(got) == v, f"{what}: {name} = {int(got):#x}, expected {v:#x}"
+
+
+@cocotb.test()
+async def writes_against_twin(dut):
+    from model.hw.config import load_config as _load
+
+    cfg = _load(os.environ["CONFIG"])
+    seed = int(os.environ.get("SEED", "1"))
+    rr = random.Random(seed)
+    r = np.random.default_rng(seed)
+    n = int(os.environ.get("VECTORS", "2000"))
+    cocotb.start_soon(Clock(dut.clk, 10, unit="ns").start())
+    st = RM.TexRegs(cfg)
+    dut.rst.value = 1
+    dut.cfg_wr_en.value = 0
+    dut.cfg_wr_addr.value = 0
+    dut.cfg_wr_data.value = 0
+    for _ in range(2):
+        await RisingEdge(dut.clk)
+    await ReadOnly()
+    _check(dut, cfg, st, "after reset")
+    await Timer(1, unit="ns")
+
+    async def clock(en, addr, data, rst=0, what=""):
+        dut.rst.value = rst
+        dut.cfg_wr_en.value = en
+        dut.cfg_wr_addr.value = addr
+        dut.cfg_wr_data.value = data
+        await RisingEdge(dut.clk)
+        if rst:
+            st.reset()
+        elif en:
+            st.write(addr, data)
+        else:
+            st.idle()
+        await ReadOnly()
+        _check(dut, cfg, st, what)
+        await Timer(1, unit="ns")
+
+    # random writes with gaps and a few resets
+    writes = random_writes(cfg, rr, n)
+    for i, (a, d) in enumerate(writes):
+        if rr.random() < 0.002:
+            await clock(0, rr.getrandbits(16), rr.getrandbits(32), rst=1, what=f"reset before write {i}")
+        while rr.random() < 0.2:  # cfg_wr_en low: address and data are junk
+            await clock(0, rr.getrandbits(16), rr.getrandbits(32), what=f"gap before write {i}")
+        await clock(1, a, d, what=f"write {i} ({a:#06x} <- {d:#010x})")
+    # a texture's write sequence, back to back
+    tex = random_texture(cfg, r)
+    for i, (a, d) in enumerate(RM.write_sequence(cfg, tex)):
+        await clock(1, a, d, what=f"write_sequence {i} ({a:#06x} <- {d:#010x})")
+    await clock(0, 0, 0, what="idle")
+    dut._log.info(f"{cfg.name}: {n} random writes and {len(RM.write_sequence(cfg, tex))} sequence writes match the twin")
