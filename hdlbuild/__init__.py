@@ -21,6 +21,7 @@ number of random vectors; WAVES=1 dumps FST waveforms into the build directory.
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import os
 import random
 import shutil
@@ -205,7 +206,10 @@ def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=No
     config = cfg.name
     waves = os.environ.get("WAVES") == "1"
     # a traced build is a different build (dump module, --trace-fst): its own directory
-    build_dir = ROOT / "build" / "sim" / toplevel / f"{build_name or config}-{sim}{'-waves' if waves else ''}"
+    # ... and its own per parameter set: a configuration whose values changed (a random one
+    # drawn differently, an edited file) never reuses a stale build
+    tag = hashlib.sha256(repr(sorted(parameters.items())).encode()).hexdigest()[:8]
+    build_dir = ROOT / "build" / "sim" / toplevel / f"{build_name or config}-{tag}-{sim}{'-waves' if waves else ''}"
     runner = get_runner(sim)
     build_args = []
     if sim == "verilator":

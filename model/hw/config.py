@@ -41,7 +41,7 @@ _SCHEMA = {
     "amplitude": ("features", str, ("any", "pow2")),
     "filter": ("features", str, ("sat", "mip", "none")),
     "noise_gradient": ("features", bool, (False, True)),
-    "pixels_per_clock": ("features", int, (1, 1)),
+    "noise_units": ("features", int, (1, 8)),
     "s_w": ("formats", int, (4, 32)),
     "s_frac": ("formats", int, (0, 24)),
     "q_w": ("formats", int, (4, 32)),
@@ -98,7 +98,7 @@ class Config:
     amplitude: str
     filter: str
     noise_gradient: bool
-    pixels_per_clock: int
+    noise_units: int
     s_w: int
     s_frac: int
     q_w: int
@@ -128,6 +128,13 @@ class Config:
         if d is not None and item in d:
             return d[item]
         raise AttributeError(item)
+
+
+def clocks_per_pixel(cfg: Config, k_used: int | None = None) -> int:
+    """Clocks the pipeline takes a pixel for a texture of k_used terms (default: all K):
+    ceil(k_used / noise_units), at least 1 (noise_units = noise_terms: one pixel a clock)."""
+    k = cfg.noise_terms if k_used is None else k_used
+    return max(1, -(-k // cfg.noise_units))
 
 
 def _derive(c: Config) -> dict:
@@ -290,6 +297,8 @@ def _check(c: Config, p: Path) -> None:
     need(c.s_frac + c.t_frac >= c.p_frac, "formats.p_frac must be <= s_frac + t_frac")
     need(c.n_frac >= c.hash_bits - 1, "formats.n_frac must be >= hash_bits - 1 (lattice values are exact)")
     need(c.w_cap_log2 >= c.n_log2_max, "formats.w_cap_log2 must be >= n_log2_max (w must reach N)")
+    need(c.noise_units <= max(c.noise_terms, 1), f"features.noise_units = {c.noise_units} must be <= noise_terms "
+                                                 f"= {c.noise_terms} (U noise units take the K terms U a clock)")
 
 
 def _check_rtl(c: Config, p: Path) -> None:
@@ -388,6 +397,7 @@ def random_config(seed: int, name: str | None = None, tries: int = 1000) -> Conf
         v["w_cap_log2"] = v["n_log2_max"] + int(r.integers(0, 9))
         v["div_bits"] = int(r.choice([0, int(r.integers(4, 16))]))
         v["seed"] = int(r.integers(0, 2**31 - 1))
+        v["noise_units"] = int(r.integers(1, max(v["noise_terms"], 1) + 1))
         try:
             return variant(base, name or f"random{seed}", **v)
         except ConfigError:
