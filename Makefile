@@ -17,7 +17,8 @@ SIZE   ?= 256
 # optional: OUT= output root (instead of out/render, out/frames; renders/frames: their docs too),
 # STRICT=1 (any approximation of the scene by the configuration is an error), TRUTH_SS= (render),
 # GAPS= / STALLS= (frame: percent of input gaps / output stalls), RENDERS_SIZE=, FRAMES_SIZE=,
-# BENCH_SIZE= (bench-model frame side), PERF_PIXELS= (icarus-perf)
+# FRAMES_SCENES= (frames: a comma-separated subset), BENCH_SIZE= (bench-model frame side),
+# PERF_PIXELS= (icarus-perf)
 RENDERS_SIZE ?= 256
 FRAMES_SIZE  ?= 512
 BENCH_SIZE   ?= 512
@@ -40,7 +41,7 @@ help:
 	@echo "make bench-sim       RTL simulation throughput"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
-	@echo "  render/frame also take OUT= STRICT=1 (TRUTH_SS=; GAPS= STALLS=); renders/frames OUT= RENDERS_SIZE= FRAMES_SIZE="
+	@echo "  render/frame also take OUT= STRICT=1 (TRUTH_SS=; GAPS= STALLS=); renders/frames OUT= RENDERS_SIZE= FRAMES_SIZE= FRAMES_SCENES="
 
 setup:
 	@if command -v apt-get >/dev/null; then \
@@ -91,7 +92,8 @@ frame: gen
 	  $(if $(GAPS),--gaps $(GAPS)) $(if $(STALLS),--stalls $(STALLS))
 
 frames: gen
-	$(VENV_ENV) $(PY) -m sim.frame --all --sim verilator --size $(FRAMES_SIZE) $(COMMON_FLAGS)
+	$(VENV_ENV) $(PY) -m sim.frame --all --sim verilator --size $(FRAMES_SIZE) $(COMMON_FLAGS) \
+	  $(if $(FRAMES_SCENES),--scenes $(FRAMES_SCENES))
 
 bench-sim: gen
 	$(VENV_ENV) $(PY) -m sim.bench
