@@ -13,12 +13,15 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+
+from model.hw.config import CONFIG_NAMES
 
 ROOT = Path(__file__).resolve().parents[1]
 PY = sys.executable
@@ -51,7 +54,8 @@ texture = "t"
 
 def _make(*args, env=None, timeout=600):
     e = {**os.environ, **(env or {})}
-    e.pop("MAKEFLAGS", None)
+    for k in ("MAKEFLAGS", "MAKELEVEL", "MFLAGS"):  # not a sub-make of `make test`
+        e.pop(k, None)
     return subprocess.run(["make", "-s", "--no-print-directory", *args], cwd=ROOT, env=e, capture_output=True,
                           text=True, timeout=timeout)
 
@@ -151,6 +155,8 @@ def _scene_file(tmp_path, old, new):
     return str(p)
 
 
+MAKE_ERR = re.compile(r"^make(\[\d+\])?: \*\*\* ")  # make's own "Error 2" line
+
 # id: (make variables (a callable of tmp_path for scene files), expected in the line, commands)
 BAD = {
     "scene typo'd key": (lambda t: {"SCENE": _scene_file(t, "quadric =", "quadrik =")}, "texture.t.quadrik: unknown key",
@@ -170,7 +176,7 @@ BAD = {
                            "--scene no_such_scene: no such scene (known: wood, marble, seascape, fire, planet, moonrise, "
                            "zone_plate, torus; or a path to a .toml file)", ("render", "frame")),
     "no such scene path": (lambda t: {"SCENE": str(t / "missing.toml")}, "no such scene file", ("render", "frame")),
-    "no such configuration": (lambda t: {"CONFIG": "nope"}, "--config nope: no such configuration (known: full, reduced)",
+    "no such configuration": (lambda t: {"CONFIG": "nope"}, "--config nope: no such configuration (known: " + ", ".join(CONFIG_NAMES) + ")",
                               ("render", "frame")),
     "size 0": (lambda t: {"SIZE": "0"}, "--size 0: expected 1..", ("render", "frame")),
     "size not a number": (lambda t: {"SIZE": "big"}, "--size: invalid int value: 'big'", ("render", "frame")),
@@ -192,7 +198,7 @@ def test_bad_input_one_line_exit_2(case, cmd, tmp_path):
     make_vars, expected, _ = BAD[case]
     v = {"SIZE": "8", "SIM": "verilator", "CONFIG": "full", "OUT": str(tmp_path / "out"), **make_vars(tmp_path)}
     r = _make(cmd, *[f"{k}={x}" for k, x in v.items()], timeout=120)
-    lines = [x for x in r.stderr.splitlines() if x.strip() and not x.startswith("make: ***")]
+    lines = [x for x in r.stderr.splitlines() if x.strip() and not MAKE_ERR.match(x)]
     assert r.returncode != 0 and f"] Error 2" in r.stderr, (r.returncode, r.stderr)
     assert len(lines) == 1 and "Traceback" not in r.stderr, r.stderr
     assert lines[0].startswith(f"{cmd}: ") and expected in lines[0], lines[0]
@@ -208,7 +214,7 @@ def test_missing_simulator_one_line_exit_2(tmp_path):
     r = subprocess.run(["/usr/bin/make", "-s", "--no-print-directory", "frame", "SIM=icarus", "SIZE=8",
                         f"OUT={tmp_path}"], cwd=ROOT, env={"PATH": venv_bin, "HOME": os.environ.get("HOME", "/tmp")},
                        capture_output=True, text=True, timeout=120)
-    lines = [x for x in r.stderr.splitlines() if x.strip() and not x.startswith("make: ***")]
+    lines = [x for x in r.stderr.splitlines() if x.strip() and not MAKE_ERR.match(x)]
     assert "] Error 2" in r.stderr and len(lines) == 1, r.stderr
     assert lines[0].startswith("frame: --sim icarus: iverilog: not found on PATH"), lines[0]
 
