@@ -1,6 +1,6 @@
 // lerp: linear interpolation y = a + floor((b - a) * t / 2^P_FRAC), combinational.
 //
-// The twin of model/hw/golden.py _lerp(pf, a, b, t) = a + (((b - a) * t) >> pf).
+// The twin of model/hw/golden.py lerp(pf, a, b, t) = a + (((b - a) * t) >> pf).
 // Formats: a, b, y sW.F (any F, the same for all three); t sTW.P_FRAC, a blend
 // weight in [0, 1] (0 <= t <= 2^P_FRAC), so y lies between a and b and fits W bits
 // (the top bits of the scaled step are redundant sign bits and are dropped).

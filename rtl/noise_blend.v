@@ -6,7 +6,8 @@
 //                       f2 = floor(fp^2 / 2^P_FRAC), f3 = floor(f2 fp / 2^P_FRAC)
 // Formats: fp u{P_FRAC}.{P_FRAC} in [0, 1); w and dw s{BW}.{P_FRAC}, never negative:
 // w in [0, 1] (3 f2 - 2 f3 reaches exactly 1.0 near fp = 1), dw in [0, 1.5].
-// All sums are taken mod 2^BW, exact because the results fit (BW >= P_FRAC + 2).
+// All sums are taken mod 2^BW, exact because the results fit (BW >= P_FRAC + 2, and
+// P_FRAC >= 2: at P_FRAC = 1 the floored f2 lets the cubic dw reach 3.0).
 // Latency: 0 (combinational; noise_term registers around it).
 // Cost: cubic two P_FRAC x P_FRAC unsigned multipliers in series; linear none.
 // Written for event-driven simulation speed: the body is one always @* with blocking

@@ -1,7 +1,7 @@
 // sat_index: one end x of a box-filter window -> its colour-table addresses and weights.
 //
 // x is s{X_W}.{XF} in colour-table entries (XF = f_frac + 1). With k = floor(x / 2^XF)
-// (s{KW}.0, KW = X_W - XF) and fr = x mod 2^XF (u{XF}.{XF}), as golden _integral does:
+// (s{KW}.0, KW = X_W - XF) and fr = x mod 2^XF (u{XF}.{XF}), as golden sat_index does:
 //   mod   (mode 0): kk = k mod N,          kx = floor(k / N)  (whole tables before x)
 //   clamp (mode 1): kk = clip(k, 0, N-1),  kx = k - kk        (whole entries past an edge)
 // so that the integral of the colour function from 0 to x is

@@ -1,15 +1,25 @@
-"""cocotb helpers shared by the block testbenches.
+"""cocotb helpers shared by the block testbenches, and their pytest side.
 
 Blocks are fixed-latency pipelines with a clock enable `ce` (all registers hold
 while ce = 0), `in_valid` and `out_valid`. `run_vectors` streams vectors into a
 block with random ce stalls (random gaps on the input side too), collects every
 output in order, and checks the latency and the count: a lost, duplicated or
-reordered vector fails the test.
+reordered vector fails the test. `run_stream` does the same for an internal stage
+without valid bits (sat_index, sat_integral, mip_index, colour_table), `run_comb`
+for a combinational block.
+
+Parameter sweeps (the verilog-axis habit): `block_cases(sets, verilator)` is the
+pytest parametrization (sim, set name, parameters) over named HDL parameter sets,
+every set under Icarus and the `verilator` ones under Verilator too; `run_block` builds
+one set in its own build directory and hands it to the cocotb side, where
+`block_params()` reads it back; `block_test` is the whole pytest entry.
 """
 from __future__ import annotations
 
+import json
 import os
 import random
+from pathlib import Path
 
 import numpy as np
 import cocotb
@@ -56,25 +66,127 @@ def to_signed(v: int, width: int) -> int:
     return v - (1 << width) if v >> (width - 1) else v
 
 
-async def start(dut, period_ns: int = 10):
+async def start(dut, period_ns: int = 10, reset: bool = True, valid: bool = True):
+    """Start the clock, ce = 1; reset: pulse rst; valid: in_valid = 0 (blocks without
+    rst or in_valid pass False)."""
     cocotb.start_soon(Clock(dut.clk, period_ns, unit="ns").start())
-    dut.rst.value = 1
+    if reset:
+        dut.rst.value = 1
     dut.ce.value = 1
-    dut.in_valid.value = 0
+    if valid:
+        dut.in_valid.value = 0
     for _ in range(3):
         await RisingEdge(dut.clk)
-    dut.rst.value = 0
+    if reset:
+        dut.rst.value = 0
     await RisingEdge(dut.clk)
 
 
+async def run_comb(dut, apply, sample, n: int):
+    """A combinational block: apply(i), settle, sample(), for i < n; the samples in order."""
+    from cocotb.triggers import Timer
+
+    out = []
+    for i in range(n):
+        apply(i)
+        await Timer(1, unit="ns")
+        out.append(sample())
+    return out
+
+
+async def run_stream(dut, apply, sample, n: int, latency: int, stall_prob: float = 0.2, seed: int = 0):
+    """A pipeline stage without valid bits (registers that advance with ce): vector i is
+    applied for the i-th enabled clock edge and its result read `latency` enabled edges
+    later; ce drops with probability stall_prob, and while it is low the outputs must hold.
+    Returns the n samples in order (a wrong latency misaligns them: the comparison fails)."""
+    r = random.Random(seed)
+    results = []
+    enabled = 0
+    prev = None
+    while len(results) < n:
+        ce = 1 if r.random() >= stall_prob else 0
+        apply(min(enabled, n - 1))
+        dut.ce.value = ce
+        await RisingEdge(dut.clk)
+        await ReadOnly()
+        enabled += ce
+        if enabled >= latency:  # the registers hold a vector (before: X, not read)
+            now = sample()
+            if ce:
+                results.append(now)
+            elif prev is not None:
+                assert now == prev, f"outputs changed while ce = 0 (after vector {enabled - latency})"
+            prev = now
+        await _after_readonly(dut)
+    return results
+
+
+def configs(*seeds, colour_edges: bool = False):
+    """[(name, Config)] to derive block parameter sets from: full, reduced, random_config(seed)
+    for each seed, and with colour_edges the extremes of the colour-map formats: "small"
+    (n_log2_max = 1, w_cap_log2 = 1, f_frac = 8: the smallest tables and words) and "wide"
+    (n_log2_max = 10, w_cap_log2 = 14, f_frac = 20)."""
+    from model.hw.config import random_config, variant
+
+    full = load_config("full")
+    out = [("full", full), ("reduced", load_config("reduced"))]
+    out += [(f"random{s}", random_config(s)) for s in seeds]
+    if colour_edges:
+        out += [("small", variant(full, "small", n_log2_max=1, w_cap_log2=1, f_frac=8, div_bits=0)),
+                ("wide", variant(full, "wide", n_log2_max=10, w_cap_log2=14, f_frac=20, div_bits=0))]
+    return out
+
+
+def block_params() -> dict:
+    """The HDL parameters the block under test was built with (run_block)."""
+    return json.loads(os.environ["BLOCK_PARAMS"])
+
+
+def block_cases(sets: dict, verilator=()):
+    """pytest parameters (sim, name, params): every set of `sets` ({name: {PARAM: value}})
+    under Icarus, the sets named in `verilator` under Verilator too (a Verilator build costs
+    5-20 s, an Icarus one about 1 s); SIM= narrows."""
+    import pytest
+
+    sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["icarus", "verilator"]
+    return [pytest.param(sim, name, params, id=f"{sim}-{name}") for sim in sims for name, params in sets.items()
+            if sim == "icarus" or name in verilator]
+
+
+def block_test(module: str, sets: dict, verilator, test_file: str, **run_kw):
+    """The pytest entry of a block testbench: test_<module>_rtl = block_test(...) runs the
+    cocotb tests of `test_file` on every parameter set (block_cases, run_block)."""
+    import pytest
+
+    @pytest.mark.parametrize("sim,name,params", block_cases(sets, verilator))
+    def test(sim, name, params):
+        run_block(module, sim, name, params, test_file, **run_kw)
+
+    return test
+
+
+def run_block(module: str, sim: str, name: str, params: dict, test_file: str, config="full", sources=None,
+              extra_env=None) -> None:
+    """Build `module` (rtl/<module>.v) with `params` in build/sim/<module>/<name>-<sim> and
+    run the cocotb tests of `test_file` (the testbench's own __file__) on it."""
+    import hdlbuild
+
+    test = Path(test_file)
+    hdlbuild.run(module, sources=sources or [f"{module}.v"], test_module=test.stem, sim=sim, config=config,
+                 parameters=params, build_name=name, test_dir=test.parent,
+                 extra_env={"BLOCK_PARAMS": json.dumps(params), **(extra_env or {})})
+
+
 async def run_vectors(dut, apply, sample, n: int, latency: int, stall_prob: float = 0.2, gap_prob: float = 0.1,
-                      seed: int = 0):
+                      seed: int = 0, spacing: int = 1):
     """Stream n vectors: apply(i) drives vector i's inputs; sample() reads the outputs.
 
     Returns the list of n samples in order. ce drops with probability stall_prob
     per cycle, the input idles with probability gap_prob. Checks that every vector
     comes out after exactly `latency` enabled clock edges (= register stages: a
     vector sampled at enabled edge E is visible at the output after edge E+latency-1).
+    spacing: a vector enters at most every `spacing` enabled clocks (a block that takes
+    several clocks a vector, quadric_mac CLOCKS = 2).
     """
     r = random.Random(seed)
     results = []
@@ -84,7 +196,7 @@ async def run_vectors(dut, apply, sample, n: int, latency: int, stall_prob: floa
     guard = 0
     while len(results) < n:
         ce = 1 if r.random() >= stall_prob else 0
-        valid = 1 if (i < n and r.random() >= gap_prob) else 0
+        valid = 1 if (i < n and r.random() >= gap_prob and (not issued or enabled + 1 - issued[-1] >= spacing)) else 0
         if valid:
             apply(i)
         dut.ce.value = ce
@@ -116,7 +228,8 @@ async def _after_readonly(dut):
     await Timer(1, unit="ns")
 
 
-async def run_batches(dut, batches, params, vectors, sample, latency: int, junk: dict, seed: int):
+async def run_batches(dut, batches, params, vectors, sample, latency: int, junk: dict, seed: int,
+                      spacing: int = 1):
     """Stream vector batches that each hold one parameter set, draining between sets.
 
     batches: [(begin, end)] vector index ranges; params(b) drives the parameter inputs
@@ -141,5 +254,18 @@ async def run_batches(dut, batches, params, vectors, sample, latency: int, junk:
             for name, words in vectors.items():
                 getattr(dut, name).value = words[b + i]
 
-        got += await run_vectors(dut, apply, sample, e - b, latency=latency, seed=seed * 100003 + k)
+        got += await run_vectors(dut, apply, sample, e - b, latency=latency, seed=seed * 100003 + k, spacing=spacing)
     return got
+
+
+def check_equal(dut, got, exp, describe, what: str) -> None:
+    """Assert got == exp element by element (sequences of ints or tuples); log the first
+    ten differences with describe(i), the vector's inputs."""
+    exp = [tuple(e) if np.ndim(e) else int(e) for e in exp]
+    got = [tuple(g) if np.ndim(g) else int(g) for g in got]
+    assert len(got) == len(exp), f"{what}: {len(got)} results for {len(exp)} vectors"
+    bad = [i for i in range(len(exp)) if got[i] != exp[i]]
+    for i in bad[:10]:
+        dut._log.error(f"vector {i}: {describe(i)}: expected {exp[i]}, got {got[i]}")
+    assert not bad, f"{what}: {len(bad)} of {len(exp)} vectors differ (first at {bad[0] if bad else None})"
+    dut._log.info(f"{what}: {len(exp)} vectors bit-exact")

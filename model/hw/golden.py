@@ -148,7 +148,9 @@ def noise_blend(cfg: Config, fp):
     return 3 * f2 - 2 * f3, 6 * (fp - f2)
 
 
-def _lerp(pf, a, b, t):
+def lerp(pf, a, b, t):
+    """a + floor((b - a) t / 2^pf): a, b any signed words of one format, t a blend weight
+    u.{pf} in [0, 2^pf] (rtl/lerp.v, P_FRAC = pf)."""
     return a + (((b - a) * t) >> pf)
 
 
@@ -183,15 +185,15 @@ def noise_term(cfg: Config, a: int, T, o, s):
             for k in range(2):
                 v[i][j][k] = (P[hxy ^ z[k]] - (1 << (cfg.hash_bits - 1))) << (cfg.n_frac - cfg.hash_bits + 1)
     sx, sy, sz = sw
-    e = [[_lerp(pf, v[0][j][k], v[1][j][k], sx) for k in range(2)] for j in range(2)]
-    fz = [_lerp(pf, e[0][k], e[1][k], sy) for k in range(2)]
-    n = _lerp(pf, fz[0], fz[1], sz)
+    e = [[lerp(pf, v[0][j][k], v[1][j][k], sx) for k in range(2)] for j in range(2)]
+    fz = [lerp(pf, e[0][k], e[1][k], sy) for k in range(2)]
+    n = lerp(pf, fz[0], fz[1], sz)
     an = shift(int(a) * n, -d["an_shift"])
     if not cfg.noise_gradient:
         return an, np.zeros(n.shape + (3,), dtype=I64)
     dx = [[v[1][j][k] - v[0][j][k] for k in range(2)] for j in range(2)]
-    gx = (_lerp(pf, _lerp(pf, dx[0][0], dx[1][0], sy), _lerp(pf, dx[0][1], dx[1][1], sy), sz) * ds[0]) >> pf
-    gy = (_lerp(pf, e[1][0] - e[0][0], e[1][1] - e[0][1], sz) * ds[1]) >> pf
+    gx = (lerp(pf, lerp(pf, dx[0][0], dx[1][0], sy), lerp(pf, dx[0][1], dx[1][1], sy), sz) * ds[0]) >> pf
+    gy = (lerp(pf, e[1][0] - e[0][0], e[1][1] - e[0][1], sz) * ds[1]) >> pf
     gz = ((fz[1] - fz[0]) * ds[2]) >> pf
     ag = []
     for k in range(3):
@@ -222,33 +224,151 @@ def filter_width(cfg: Config, c, Jm, je, n_log2: int):
     return np.where(over, I64(1) << cap_bits, w)
 
 
-def _integral(cfg: Config, tex: TexInt, x, xf: int):
-    """I(x) = integral of the colour function from 0 to x, x in units of 2^-xf entries.
-
-    Per channel, in units of (colour value) * 2^-xf entries. Mod: the table repeats
-    (floor(x / N) whole tables plus a partial one); clamp: the edge entries extend.
-    """
-    n = 1 << tex.n_log2
-    clut, csat = tex.clut, tex.csat
-    total = csat[n - 1]
+def sat_index(x, xf: int, mode, n_log2, nmax: int):
+    """One end x (s.{xf} entries) of a box-filter window -> its table addresses and weights
+    (rtl/sat_index.v), with k = floor(x / 2^xf), fr = x mod 2^xf and N = 2^n_log2:
+      mod   (mode 0): kk = k mod N,           kx = floor(k / N)   (whole tables before x)
+      clamp (mode 1): kk = clip(k, 0, N - 1), kx = k - kk         (whole entries past an edge)
+    Returns {kk, km1 = (kk - 1) mod 2^nmax (csat address), first = (kk == 0), fr, kx}."""
+    x = np.asarray(x, dtype=I64)
+    n_log2 = np.asarray(n_log2, dtype=I64)
     k = x >> xf
-    fr = (x & ((1 << xf) - 1))[..., None]
-    if tex.mode == MODE_MOD:
-        wraps = (k >> tex.n_log2)[..., None]
-        kk = k & (n - 1)
-        before = np.where((kk > 0)[..., None], csat[np.maximum(kk - 1, 0)], 0)
-        return ((wraps * total + before) << xf) + fr * clut[kk]
-    kk = np.clip(k, 0, n - 1)
-    before = np.where((kk > 0)[..., None], csat[np.maximum(kk - 1, 0)], 0)
-    inside = (before << xf) + fr * clut[kk]
-    xe = x[..., None]
-    below = xe * clut[0]
-    above = (total << xf) + (xe - (n << xf)) * clut[n - 1]
-    return np.where(xe < 0, below, np.where(xe >= (n << xf), above, inside))
+    fr = x & ((1 << xf) - 1)
+    n = I64(1) << n_log2
+    clamp = np.asarray(mode) == MODE_CLAMP
+    kk = np.where(clamp, np.clip(k, 0, n - 1), k & (n - 1))
+    kx = np.where(clamp, k - kk, k >> n_log2)
+    return {"kk": kk, "km1": (kk - 1) & ((1 << nmax) - 1), "first": (kk == 0).astype(I64), "fr": fr, "kx": kx}
 
 
-def _box_divide(cfg: Config, D, w):
-    """out = the box average D / (2w) rounded, per channel (D [..., 4], w [...] > 0).
+def sat_integral(xf: int, c, before, first, fr, k, q, d_w: int | None = None):
+    """One window end's share of the box-filter integral, per channel (rtl/sat_integral.v):
+    p = (csat[kk-1] << xf) + fr clut[kk] (csat[kk-1] = before, read as 0 when first) and the
+    whole-entry product e = k q. c, before, q [..., 4]; first, fr, k [...].
+    d_w: the RTL's words, p mod 2^d_w and e mod 2^(d_w - xf); None: exact (colour_map: D =
+    I(b) - I(a) is exact either way, and exact words keep its range check meaningful)."""
+    first = np.asarray(first, dtype=I64)[..., None]
+    fr = np.asarray(fr, dtype=I64)[..., None]
+    k = np.asarray(k, dtype=I64)[..., None]
+    p = (np.where(first != 0, 0, np.asarray(before, dtype=I64)) << xf) + fr * np.asarray(c, dtype=I64)
+    e = k * np.asarray(q, dtype=I64)
+    if d_w is not None:
+        p, e = p & ((I64(1) << d_w) - 1), e & ((I64(1) << (d_w - xf)) - 1)
+    return p, e
+
+
+def mip_index(filter_: int, ff: int, nmax: int, u, w, mode, n_log2, filter_en):
+    """Colour-table MIP level and address of a colour index u (s.{ff} entries) for a filter
+    width w (u.{ff} entries) (rtl/mip_index.v; FILTER = filter_, 2 mip, 0 point lookup only):
+      l    = clip(bitlen(floor(w / 2^ff)) - 1, 0, min(n_log2, nmax)) when mip is used, else 0
+      km   = floor(floor(u / 2^ff) / 2^l) mod N_l (mode 0) or clipped to [0, N_l - 1], N_l = N >> l
+      addr = 2N - (2N >> l) + km
+    With l = 0, addr is the point-lookup index floor(u) mod N or clamped (a clut address).
+    Returns (addr, use_mip), use_mip = (filter_ == 2 and filter_en)."""
+    u = np.asarray(u, dtype=I64)
+    n_log2 = np.asarray(n_log2, dtype=I64)
+    use_mip = (np.asarray(filter_en) != 0) & (filter_ == 2)
+    top = np.minimum(n_log2, nmax)
+    lvl = np.where(use_mip, np.clip(bitlen(np.asarray(w, dtype=I64) >> ff) - 1, 0, top), 0)
+    km = (u >> ff) >> lvl
+    nl = (I64(1) << n_log2) >> lvl
+    km = np.where(np.asarray(mode) == MODE_CLAMP, np.clip(km, 0, nl - 1), km & (nl - 1))
+    return mip_offset(I64(1) << n_log2, lvl) + km, use_mip.astype(I64)
+
+
+TABLE_CLUT, TABLE_CSAT, TABLE_MIP = 0, 1, 2
+
+
+def colour_tables(nmax: int, fill: int = -1) -> dict:
+    """The storage of rtl/colour_table.v with every entry `fill` (the RTL does not reset
+    it): clut, csat [2^nmax, 4], mip [2^(nmax+1) - 1, 4], total [4]."""
+    n = 1 << nmax
+    return {"clut": np.full((n, 4), fill, dtype=I64), "csat": np.full((n, 4), fill, dtype=I64),
+            "mip": np.full((2 * n - 1, 4), fill, dtype=I64), "total": np.full(4, fill, dtype=I64)}
+
+
+def colour_table_write(tables: dict, filter_: int, nmax: int, cs_w: int, wr_table: int, wr_addr: int, wr_data):
+    """One write of colour_table's write port into `tables` (colour_tables): wr_data the
+    4 lanes (u{cs_w} each); clut and mip take the low 8 bits of each lane; csat (built for
+    filter_ 1) also loads total (the last csat entry written; contract: ascending order, so
+    total = csat[N - 1]); addresses past a table's end, table 3 and tables not built are
+    ignored."""
+    addr = int(wr_addr) & ((2 << nmax) - 1)
+    lanes = np.asarray(wr_data, dtype=I64) & ((1 << cs_w) - 1)
+    if wr_table == TABLE_CLUT and addr < (1 << nmax):
+        tables["clut"][addr] = lanes & 255
+    elif wr_table == TABLE_CSAT and filter_ == 1 and addr < (1 << nmax):
+        tables["csat"][addr] = lanes
+        tables["total"] = lanes.copy()
+    elif wr_table == TABLE_MIP and filter_ == 2 and addr < (2 << nmax) - 1:
+        tables["mip"][addr] = lanes & 255
+
+
+def host_tables(tex: TexInt) -> dict:
+    """colour_table's contents after the host has loaded tex's tables (csat in ascending
+    order, so total = csat[N - 1])."""
+    return {"clut": tex.clut, "csat": tex.csat, "mip": tex.mip, "total": tex.csat[(1 << tex.n_log2) - 1]}
+
+
+def _read(table, addr):
+    """table[addr], 0 past the entries held (the RTL reads what was last written there)."""
+    addr = np.asarray(addr, dtype=I64)
+    inside = (addr >= 0) & (addr < len(table))
+    return np.where(inside[..., None], table[np.clip(addr, 0, len(table) - 1)], 0)
+
+
+def colour_table(tables: dict, filter_: int, clut_addr_a=0, clut_addr_b=0, csat_addr_a=0, csat_addr_b=0,
+                 mip_addr=0) -> dict:
+    """The read ports of rtl/colour_table.v on `tables` (colour_tables / host_tables):
+    clut_a always; clut_b, csat_a, csat_b, total for filter_ 1 (sat); mip_data for filter_ 2;
+    the ports of tables not built read 0. Each [..., 4] lanes."""
+    z = np.zeros(np.shape(clut_addr_a) + (4,), dtype=I64)
+    sat, mip = filter_ == 1, filter_ == 2
+    return {"clut_a": _read(tables["clut"], clut_addr_a),
+            "clut_b": _read(tables["clut"], clut_addr_b) if sat else z,
+            "csat_a": _read(tables["csat"], csat_addr_a) if sat else z,
+            "csat_b": _read(tables["csat"], csat_addr_b) if sat else z,
+            "total": np.broadcast_to(tables["total"], z.shape) if sat else z,
+            "mip_data": _read(tables["mip"], mip_addr) if mip else z}
+
+
+def delay_line(d, n: int, ce=None, rst=None, clear: bool = False, fill: int = -1):
+    """The output of rtl/delay_line.v (N = n stages) per clock of a stream: d[t] the input
+    word during clock t, ce[t] its clock enable (default all 1), rst[t] its reset. Returns
+    out[t], d_out after the edge of clock t: the input of the n-th latest enabled edge up to
+    t (n = 0: d[t], a wire); before n enabled edges, `fill` (unknown, never reset) or 0 after
+    a reset edge with clear (CLEAR = 1, which clears every stage whatever ce); clear = False
+    ignores rst."""
+    d = np.asarray(d, dtype=I64)
+    t_n = len(d)
+    ce = np.ones(t_n, dtype=bool) if ce is None else np.asarray(ce, dtype=bool)
+    rst = np.zeros(t_n, dtype=bool) if rst is None or not clear else np.asarray(rst, dtype=bool)
+    if n == 0:
+        return d.copy()
+    out = np.empty(t_n, dtype=I64)
+    cuts = [0] + [int(t) for t in np.flatnonzero(rst)] + [t_n]
+    for s, (lo, hi) in enumerate(zip(cuts[:-1], cuts[1:])):
+        en = ce[lo:hi].copy()
+        if s > 0:
+            en[0] = False  # the reset edge clears, it does not shift
+        pos = lo + np.flatnonzero(en)
+        j = np.cumsum(en) - n
+        if len(pos) == 0:
+            pos = np.zeros(1, dtype=I64)
+        out[lo:hi] = np.where(j >= 0, d[pos[np.clip(j, 0, len(pos) - 1)]], fill if s == 0 else 0)
+    return out
+
+
+def box_divide(num, den, q_w: int = 8, sat: bool = False):
+    """floor(num / den) per lane (rtl/box_divide.v; precondition num < den 2^q_w, with sat
+    num < den 2^(q_w+1) and the quotient saturated to 2^q_w - 1). den broadcasts."""
+    q = np.asarray(num, dtype=I64) // np.asarray(den, dtype=I64)
+    return np.minimum(q, (1 << q_w) - 1) if sat else q
+
+
+def colour_divide(cfg: Config, D, w):
+    """out = the box average D / (2w) rounded, per channel (D [..., 4], w [...] > 0), as
+    colour_map forms the operands of its box_divide.
 
     div_bits = 0: exact, floor((D + w) / (2w)) = floor(((D + w) >> 1) / w).
     div_bits = B > 0: w normalised to B significant bits, both operands rounded half up
@@ -262,14 +382,14 @@ def _box_divide(cfg: Config, D, w):
     b = cfg.div_bits
     w = w[..., None]
     if b == 0:
-        return (D + w) // (2 * w)
+        return box_divide((D + w) >> 1, w)
     one = I64(1)
     sh0 = bitlen(w >> b)
     wr = w + ((one << sh0) >> 1)
     sh = bitlen(wr >> b)
     den = wr >> sh
     num = (D + w + (((one << sh) >> 1) << 1)) >> (sh + 1)
-    return np.minimum(num // den, 255)
+    return box_divide(num, den, sat=True)
 
 
 def colour_map(cfg: Config, tex: TexInt, f, w):
@@ -279,7 +399,7 @@ def colour_map(cfg: Config, tex: TexInt, f, w):
     [-W/2, N + W/2] with W = 2^w_cap_log2 (exact: any window beyond it sees only an
     edge entry). Filter "sat": D = I(u + w/2) - I(u - w/2) (eq. 15 and every edge
     case of 3.3.2 as one integral), out = floor(D / w + 1/2) (div_bits = 0) or the
-    normalised division of _box_divide; w = 0 or filter off: the point lookup C(u).
+    normalised division of colour_divide; w = 0 or filter off: the point lookup C(u).
     Filter "mip": level floor(log2 w), point lookup in it.
 
     Contract (as the RTL's): 0 <= w <= 2^(w_cap_log2 + f_frac) (filter_width saturates
@@ -297,25 +417,37 @@ def colour_map(cfg: Config, tex: TexInt, f, w):
     else:
         guard = 1 << (cfg.w_cap_log2 + ff - 1)
         u = np.clip(f << n_log2, -guard, (n << ff) + guard)
-    k = u >> ff
-    k = (k & (n - 1)) if tex.mode == MODE_MOD else np.clip(k, 0, n - 1)
-    point = tex.clut[k]
+    filt = {"none": 0, "sat": 1, "mip": 2}[cfg.filter]
+    nmax = cfg.n_log2_max
+    tables = host_tables(tex)
+    # the point lookup clut[k], k = floor(u) mod N or clamped: mip_index at level 0
+    k, _ = mip_index(0, ff, nmax, u, w, tex.mode, n_log2, 0)
+    point = colour_table(tables, filt, clut_addr_a=k)["clut_a"]
     if not tex.filter or cfg.filter == "none":
         return point.astype(np.uint8)
     if cfg.filter == "mip":
-        we = w >> ff
-        lvl = np.clip(bitlen(we) - 1, 0, n_log2)
-        km = (u >> ff) >> lvl
-        nl = n >> lvl
-        km = np.where(tex.mode == MODE_MOD, km & (nl - 1), np.clip(km, 0, nl - 1))
-        return tex.mip[mip_offset(n, lvl) + km].astype(np.uint8)
+        addr, _ = mip_index(2, ff, nmax, u, w, tex.mode, n_log2, 1)
+        return colour_table(tables, filt, mip_addr=addr)["mip_data"].astype(np.uint8)
+    # D = I(b) - I(a) over the window [a, b] = [2u - w, 2u + w] (units 2^-xf entries):
+    # sat_index at both ends, the table reads, sat_integral at both ends
     xf = ff + 1
-    a2, b2 = 2 * u - w, 2 * u + w
-    D = _integral(cfg, tex, b2, xf) - _integral(cfg, tex, a2, xf)
+    ia = sat_index(2 * u - w, xf, tex.mode, n_log2, nmax)
+    ib = sat_index(2 * u + w, xf, tex.mode, n_log2, nmax)
+    rd = colour_table(tables, filt, clut_addr_a=ia["kk"], clut_addr_b=ib["kk"], csat_addr_a=ia["km1"],
+                      csat_addr_b=ib["km1"])
+    if tex.mode == MODE_MOD:  # whole tables: (kx_b - kx_a) total, as its two bytes
+        dk = ib["kx"] - ia["kx"]
+        ka, qa, kb, qb = dk, rd["total"] >> 8, dk, rd["total"] & 255
+    else:  # whole entries past an edge: kx clut[kk] at each end
+        ka, qa, kb, qb = ia["kx"], rd["clut_a"], ib["kx"], rd["clut_b"]
+    pa, ea = sat_integral(xf, rd["clut_a"], rd["csat_a"], ia["first"], ia["fr"], ka, qa)
+    pb, eb = sat_integral(xf, rd["clut_b"], rd["csat_b"], ib["first"], ib["fr"], kb, qb)
+    whole = (eb + (ea << 8)) if tex.mode == MODE_MOD else (eb - ea)
+    D = (whole << xf) + pb - pa
     # 0 <= D <= 255 * 2w for consistent tables (the average is in 0..255): never wrap silently
     if D.size and ((D < 0).any() or (D > 510 * w[..., None]).any()):
         raise ValueError("colour_map: average outside 0..255 (inconsistent csat/clut tables?)")
-    out = np.where((w > 0)[..., None], _box_divide(cfg, D, np.maximum(w, 1)), point)
+    out = np.where((w > 0)[..., None], colour_divide(cfg, D, np.maximum(w, 1)), point)
     return out.astype(np.uint8)
 
 

@@ -151,6 +151,25 @@ def _narrow_params():
     return out
 
 
+RANDOM_SEEDS = (1291, 1292, 1293, 1294, 1295)  # random valid configurations (Icarus)
+
+
+def _random_sets():
+    out = {}
+    for s in RANDOM_SEEDS:
+        p = hdlbuild.block_params(hdlbuild.config_of(f"random:{s}"), "box_divide")
+        out[f"random{s}"] = {k: p[k] for k in ("NUM_W", "DEN_W", "Q_W", "LANES", "SAT")}
+    out["den2"] = {"NUM_W": 11, "DEN_W": 2, "Q_W": Q_W, "LANES": LANES, "SAT": 1}  # a 2-bit divisor
+    return out
+
+
+@pytest.mark.parametrize("sim,name,params", pipe.block_cases(_random_sets()))
+def test_box_divide_random_rtl(sim, name, params):
+    """colour_map's divider under random valid configurations, and the narrowest divisor."""
+    pipe.run_block("box_divide", sim, name, params, __file__, extra_env={
+        "BD_NUM_W": str(params["NUM_W"]), "BD_DEN_W": str(params["DEN_W"]), "BD_SAT": str(params["SAT"])})
+
+
 @pytest.mark.parametrize("sim,config,b,sat", _narrow_params())
 def test_box_divide_narrow_rtl(sim, config, b, sat):
     """colour_map's normalised division: DEN_W = B, NUM_W = B + 8 (+ 1 with SAT)."""

@@ -29,8 +29,10 @@ from tb import pipe
 SOURCES = ["isqrt.v"]
 
 # (L_W, R_W, LATENCY) of the exhaustive small builds: one result bit per stage; an odd
-# L_W, a result word wider than needed and an uneven split of the iterations over the stages
-SMALL = [(12, 6, 6), (11, 7, 2)]
+# L_W, a result word wider than needed and an uneven split of the iterations over the stages;
+# the smallest legal root (R_W = 3, filter_width needs 3 stages) and one stage for all the
+# iterations
+SMALL = [(12, 6, 6), (11, 7, 2), (6, 3, 1), (9, 5, 1)]
 
 
 def sqrt_latency() -> int:
@@ -46,6 +48,18 @@ def test_isqrt_rtl(sim, config):
                   test_dir=Path(__file__).parent,
                   extra_env={"ISQRT_L_W": str(cfg.l_w), "ISQRT_R_W": str(cfg.r_w), "ISQRT_LAT": str(lat),
                              "ISQRT_EXHAUSTIVE": "0"})
+
+
+RANDOM_SEEDS = (1271, 1272, 1273)  # random valid configurations: filter_width's isqrt (Icarus)
+
+
+@pytest.mark.parametrize("sim,name,params", pipe.block_cases(
+    {f"random{s}": hdlbuild.block_params(hdlbuild.config_of(f"random:{s}"), "isqrt") for s in RANDOM_SEEDS}))
+def test_isqrt_random_rtl(sim, name, params):
+    """filter_width's isqrt under random valid configurations (random vectors and edges)."""
+    pipe.run_block("isqrt", sim, name, params, __file__, extra_env={
+        "ISQRT_L_W": str(params["L_W"]), "ISQRT_R_W": str(params["R_W"]), "ISQRT_LAT": str(params["LATENCY"]),
+        "ISQRT_EXHAUSTIVE": "0"})
 
 
 def small_params():

@@ -5,9 +5,12 @@ Coverage scales with VECTORS (budget 2 * VECTORS cells): every cell when 2^(3 ha
 fits the budget; otherwise every (iy, iz) for fixed ix in
 {0, 2^H - 1} when that fits, else a random sample of them; the rest random cells, plus
 the edges iy, iz in {0, 2^H - 1} (the +1 corners wrap) for every ix.
+Parameter sets: full and reduced (test_noise_hash_rtl), and random valid configurations
+plus the smallest and widest lattice (test_noise_hash_family_rtl: other H, N_FRAC, PERM).
 """
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -18,6 +21,7 @@ from cocotb.triggers import Timer
 
 import hdlbuild
 from model.hw import golden as G
+from model.hw.config import load_config, random_config, variant
 from tb import pipe
 
 
@@ -25,6 +29,24 @@ from tb import pipe
 def test_noise_hash_rtl(sim, config):
     hdlbuild.run("noise_hash", sources=["noise_hash.v"], test_module="test_noise_hash", sim=sim, config=config,
                   test_dir=Path(__file__).parent)
+
+
+def _family():
+    """(sim, Config): random valid configurations (their H, N_FRAC, N_W and PERM), the
+    smallest lattice (H = 2, N_FRAC = 2) and the widest (H = 10, N_FRAC = 16); Verilator
+    builds only the first random one."""
+    full = load_config("full")
+    cfgs = [random_config(s) for s in (1281, 1282, 1283, 1284)]
+    cfgs += [variant(full, "hash_small", hash_bits=2, n_frac=2), variant(full, "hash_wide", hash_bits=10, n_frac=16)]
+    sims = [os.environ["SIM"]] if os.environ.get("SIM") else list(hdlbuild.SIMS)
+    return [pytest.param(sim, c, id=f"{sim}-{c.name}") for sim in sims for i, c in enumerate(cfgs)
+            if sim == "icarus" or i == 0]
+
+
+@pytest.mark.parametrize("sim,cfg", _family())
+def test_noise_hash_family_rtl(sim, cfg):
+    hdlbuild.run("noise_hash", sources=["noise_hash.v"], test_module="test_noise_hash", sim=sim, config=cfg,
+                 test_dir=Path(__file__).parent)
 
 
 def cells(cfg, r, budget):
