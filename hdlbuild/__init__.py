@@ -34,7 +34,7 @@ from hdlbuild.params import block_params, latency, top_params, texture_unit_sour
 from model.hw.config import CONFIG_NAMES, ROOT, Config, config_toml, load_config, random_config
 
 SIMS = ("icarus", "verilator")
-CONFIGS = ("full", "reduced")
+CONFIGS = CONFIG_NAMES  # the named configurations the tests run (SIM= and CONFIG= narrow them)
 DEFAULT_VECTORS = 2000
 RTL_DIR = ROOT / "rtl"
 

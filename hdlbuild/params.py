@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from model.hw.config import ROOT, Config, _rel
+from model.hw.config import ROOT, Config, _rel, folded
 from model.hw.regmap import REGMAP, pix_width
 
 # config/<name>.toml enum values as the RTL's integer parameters
@@ -24,9 +24,9 @@ ENUMS = {
     "amplitude": {"any": 0, "pow2": 1},
     "filter": {"none": 0, "sat": 1, "mip": 2},
 }
-# configuration keys that are parameters of texture_pipeline (pixels_per_clock is not a
-# knob of the RTL yet; seed reaches it as PERM)
-TOP_KEYS = ("quadric", "noise_terms", "blend", "transform", "amplitude", "filter", "noise_gradient",
+# configuration keys that are parameters of texture_pipeline (all of them but hash.seed, which
+# reaches it as the permutation PERM)
+TOP_KEYS = ("quadric", "quadric_clocks", "noise_terms", "noise_units", "blend", "transform", "amplitude", "filter", "noise_gradient",
             "s_w", "s_frac", "q_w", "q_frac", "j_w", "je_w", "t_w", "t_frac", "a_w", "a_frac", "p_frac",
             "hash_bits", "n_frac", "f_frac", "c_frac", "norm_bits", "w_cap_log2", "div_bits", "n_log2_max")
 
@@ -74,10 +74,11 @@ def block_params(cfg: Config, module: str) -> dict:
         return top_params(cfg)
     if module == "quadric_mac":
         p = _pick(cfg, "s_w", "s_frac", "q_w", "q_frac", "f_frac", "c_frac")
-        return {"DIAG": value(cfg, "quadric"), **p, "C_W": cfg.c_w}
+        return {"DIAG": value(cfg, "quadric"), "CLOCKS": cfg.quadric_clocks, **p, "C_W": cfg.c_w}
     if module == "noise_term":
         return {**_pick(cfg, "s_w", "s_frac", "t_w", "t_frac", "a_w", "a_frac", "p_frac", "hash_bits", "n_frac",
                         "f_frac", "c_frac", "transform", "blend", "amplitude", "noise_gradient"),
+                "PARAM_PIPE": 1 if folded(cfg) else 0,  # noise_fold's units take a term a clock
                 "PERM": perm_literal(cfg)}
     if module == "noise_hash":
         return {"H": cfg.hash_bits, "N_FRAC": cfg.n_frac, "N_W": cfg.n_w, "PERM": perm_literal(cfg)}

@@ -1,7 +1,7 @@
 // noise_term: one noise term a n(T s + o) and its texture-space gradient a (dn/dp) T.
 //
 // The bit-exact twin of model/hw/golden.py noise_term(cfg, a, T, o, s) (with noise_hash,
-// noise_blend and _lerp), for one vector per enabled clock:
+// noise_blend and lerp), for one vector per enabled clock:
 //   p_j  = ((sum_k T_jk s_k) >> TS_SHIFT) + o_j  mod 2^P_W     (lattice cell . fraction)
 //   v    = lattice values at the 8 cell corners (noise_hash), w/dw = blend weights (noise_blend)
 //   n    = trilinear blend of v with the weights, x first, then y, then z (lerp)
@@ -51,14 +51,16 @@
 //   7  h = (g T) >> H_SHIFT (pow2: shifts); n delayed
 //   8  an = (a n) >> AN_SHIFT, ag = (a h) >> A_FRAC (pow2: shifts; output registers)
 //
-// Parameters: a_in, t_in, o_in are per-pass parameters, not per-vector data. No
-// register carries them down the pipeline: each is read directly by the stage that
+// Parameters (PARAM_PIPE = 0): a_in, t_in, o_in are per-pass parameters, not per-vector
+// data. No register carries them down the pipeline: each is read directly by the stage that
 // needs it (t_in by stages 1 and 7, o_in by stage 2, a_in by stage 8; pow2 T and a
 // through their combinational decoders, tc_in and ac_in).
 // CONTRACT: a_in, t_in, o_in must be stable from the first vector's entry until the
 // last vector's exit; texture_pipeline guarantees it: parameters are written only
 // when the pipeline is empty (between passes). Changing them with vectors in flight
-// gives those vectors a mixture of old and new parameters.
+// gives those vectors a mixture of old and new parameters. PARAM_PIPE = 1 (noise_fold): the
+// parameters are per-vector data, taken with in_valid and carried down beside the vector
+// (o for 1 stage, T for 6, a for 7; in pow2 modes the decoded shifts, a few bits each).
 // ce = 0 holds every register. rst clears the valid chain and the output registers
 // (the output registers load only with a valid vector, so no X reaches the outputs).
 //
@@ -97,6 +99,10 @@ module noise_term #(
     parameter BLEND          = 1,   // [blend] 0 linear, 1 cubic
     parameter AMPLITUDE      = 0,   // [amplitude] 0 any, 1 pow2 (0 / +-2^k: shifts)
     parameter NOISE_GRADIENT = 1,   // [noise_gradient] 1: compute ag_out; 0: ag_out = 0
+    // 0: a_in, t_in, o_in are per-pass parameters, stable while vectors are in flight, read
+    // directly by the stage that needs them; 1: they belong to the vector entering with
+    // in_valid and travel down the pipeline with it (noise_fold: another term every clock)
+    parameter PARAM_PIPE     = 0,
     // the lattice permutation, entry i at [i*HASH_BITS +: HASH_BITS] (noise_hash)
     parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}
 ) (clk, rst, ce, in_valid, s_in, a_in, t_in, o_in, out_valid, an_out, ag_out);
@@ -224,6 +230,34 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------------------
+// The parameters as each stage sees them: stage 1 reads t_in / tc_in itself; stage 2 reads
+// o_s2, stage 7 tc_s7 and stage 8 ac_s8. PARAM_PIPE = 0: the ports themselves (stable);
+// PARAM_PIPE = 1: delayed with the vector (1, 6 and 7 enabled clocks), so that every stage
+// works with its own vector's term.
+
+wire [3*O_W-1:0] o_s2;
+/* verilator lint_off UNUSEDSIGNAL */  // without the gradient, stage 7 reads no T
+wire [TC_W-1:0]  tc_s7;
+/* verilator lint_on UNUSEDSIGNAL */
+wire [AC_W-1:0]  ac_s8;
+
+generate
+    if (PARAM_PIPE != 0) begin : g_param_pipe
+        delay_line #(.W(3*O_W), .N(1)) u_dly_o  (.clk(clk), .rst(rst), .ce(ce), .d_in(o_in),  .d_out(o_s2));
+        delay_line #(.W(AC_W),  .N(7)) u_dly_ac (.clk(clk), .rst(rst), .ce(ce), .d_in(ac_in), .d_out(ac_s8));
+        if (GRAD) begin : g_t
+            delay_line #(.W(TC_W), .N(6)) u_dly_tc (.clk(clk), .rst(rst), .ce(ce), .d_in(tc_in), .d_out(tc_s7));
+        end else begin : g_no_t
+            assign tc_s7 = {TC_W{1'b0}};
+        end
+    end else begin : g_param_static
+        assign o_s2  = o_in;
+        assign tc_s7 = tc_in;
+        assign ac_s8 = ac_in;
+    end
+endgenerate
+
+// ---------------------------------------------------------------------------
 // Registers (stage numbers as in the header), loaded by the clocked process at the
 // end; the stage logic is one always @* (or instance) per stage.
 
@@ -276,9 +310,9 @@ generate
             ax = prod_reg[0*ACC_W +: ACC_W] + prod_reg[1*ACC_W +: ACC_W] + prod_reg[2*ACC_W +: ACC_W];
             ay = prod_reg[3*ACC_W +: ACC_W] + prod_reg[4*ACC_W +: ACC_W] + prod_reg[5*ACC_W +: ACC_W];
             az = prod_reg[6*ACC_W +: ACC_W] + prod_reg[7*ACC_W +: ACC_W] + prod_reg[8*ACC_W +: ACC_W];
-            {ix_next, fpx_next} = ax[ACC_W-1:TS_SHIFT] + o_in[0*O_W +: P_W];   // p mod 2^P_W
-            {iy_next, fpy_next} = ay[ACC_W-1:TS_SHIFT] + o_in[1*O_W +: P_W];
-            {iz_next, fpz_next} = az[ACC_W-1:TS_SHIFT] + o_in[2*O_W +: P_W];
+            {ix_next, fpx_next} = ax[ACC_W-1:TS_SHIFT] + o_s2[0*O_W +: P_W];   // p mod 2^P_W
+            {iy_next, fpy_next} = ay[ACC_W-1:TS_SHIFT] + o_s2[1*O_W +: P_W];
+            {iz_next, fpz_next} = az[ACC_W-1:TS_SHIFT] + o_s2[2*O_W +: P_W];
         end
     end else begin : g_s12_pow2
         // T_jj s_j = s_j << e_j, or 0: s_j sign-extended to MUL_W + 1 bits (>= ACC_W + 1);
@@ -306,9 +340,9 @@ generate
             ax = prod_reg[0*ACC_W +: ACC_W];
             ay = prod_reg[1*ACC_W +: ACC_W];
             az = prod_reg[2*ACC_W +: ACC_W];
-            {ix_next, fpx_next} = ax[ACC_W-1:TS_SHIFT] + o_in[0*O_W +: P_W];   // p mod 2^P_W
-            {iy_next, fpy_next} = ay[ACC_W-1:TS_SHIFT] + o_in[1*O_W +: P_W];
-            {iz_next, fpz_next} = az[ACC_W-1:TS_SHIFT] + o_in[2*O_W +: P_W];
+            {ix_next, fpx_next} = ax[ACC_W-1:TS_SHIFT] + o_s2[0*O_W +: P_W];   // p mod 2^P_W
+            {iy_next, fpy_next} = ay[ACC_W-1:TS_SHIFT] + o_s2[1*O_W +: P_W];
+            {iz_next, fpz_next} = az[ACC_W-1:TS_SHIFT] + o_s2[2*O_W +: P_W];
         end
     end
 endgenerate
@@ -395,8 +429,8 @@ generate
         /* verilator lint_on UNUSEDSIGNAL */
         always @* begin
             n_ext = {n7_reg[N_W-1], n7_reg};  // sign-extended: even the most negative word negates
-            n_ext = ac_in[EA_W + 1] ? {(N_W+1){1'b0}} : (ac_in[EA_W] ? -n_ext : n_ext);
-            an_w  = (({{(ANX_W-N_W-1){n_ext[N_W]}}, n_ext} <<< ac_in[EA_W-1:0]) <<< AN_L) >>> AN_R;
+            n_ext = ac_s8[EA_W + 1] ? {(N_W+1){1'b0}} : (ac_s8[EA_W] ? -n_ext : n_ext);
+            an_w  = (({{(ANX_W-N_W-1){n_ext[N_W]}}, n_ext} <<< ac_s8[EA_W-1:0]) <<< AN_L) >>> AN_R;
             an_next = an_w[AN_W-1:0];
         end
     end else begin : g_an_any
@@ -404,7 +438,7 @@ generate
         reg signed [ANX_W-1:0]  an_w;
         /* verilator lint_on UNUSEDSIGNAL */
         always @* begin
-            an_w  = (($signed(ac_in) * n7_reg) <<< AN_L) >>> AN_R;
+            an_w  = (($signed(ac_s8) * n7_reg) <<< AN_L) >>> AN_R;
             an_next = an_w[AN_W-1:0];
         end
     end
@@ -532,29 +566,29 @@ generate
         /* verilator lint_on UNUSEDSIGNAL */
         if (AFFINE) begin : g_h_affine
             always @* begin
-                hsum = ((gx_reg * $signed(tc_in[0*T_W +: T_W]) + gy_reg * $signed(tc_in[3*T_W +: T_W])
-                       + gz_reg * $signed(tc_in[6*T_W +: T_W])) <<< H_L) >>> H_R;
+                hsum = ((gx_reg * $signed(tc_s7[0*T_W +: T_W]) + gy_reg * $signed(tc_s7[3*T_W +: T_W])
+                       + gz_reg * $signed(tc_s7[6*T_W +: T_W])) <<< H_L) >>> H_R;
                 h_next[0*H_W +: H_W] = hsum[H_W-1:0];
-                hsum = ((gx_reg * $signed(tc_in[1*T_W +: T_W]) + gy_reg * $signed(tc_in[4*T_W +: T_W])
-                       + gz_reg * $signed(tc_in[7*T_W +: T_W])) <<< H_L) >>> H_R;
+                hsum = ((gx_reg * $signed(tc_s7[1*T_W +: T_W]) + gy_reg * $signed(tc_s7[4*T_W +: T_W])
+                       + gz_reg * $signed(tc_s7[7*T_W +: T_W])) <<< H_L) >>> H_R;
                 h_next[1*H_W +: H_W] = hsum[H_W-1:0];
-                hsum = ((gx_reg * $signed(tc_in[2*T_W +: T_W]) + gy_reg * $signed(tc_in[5*T_W +: T_W])
-                       + gz_reg * $signed(tc_in[8*T_W +: T_W])) <<< H_L) >>> H_R;
+                hsum = ((gx_reg * $signed(tc_s7[2*T_W +: T_W]) + gy_reg * $signed(tc_s7[5*T_W +: T_W])
+                       + gz_reg * $signed(tc_s7[8*T_W +: T_W])) <<< H_L) >>> H_R;
                 h_next[2*H_W +: H_W] = hsum[H_W-1:0];
             end
         end else begin : g_h_pow2
             // g_k T_kk = g_k << e_k, or 0
             always @* begin
                 hsum = {{(HX_W-GN_W){gx_reg[GN_W-1]}}, gx_reg};
-                hsum = tc_in[0*(E_W+1) + E_W] ? {HX_W{1'b0}} : (hsum <<< tc_in[0*(E_W+1) +: E_W]);
+                hsum = tc_s7[0*(E_W+1) + E_W] ? {HX_W{1'b0}} : (hsum <<< tc_s7[0*(E_W+1) +: E_W]);
                 hsum = (hsum <<< H_L) >>> H_R;
                 h_next[0*H_W +: H_W] = hsum[H_W-1:0];
                 hsum = {{(HX_W-GN_W){gy_reg[GN_W-1]}}, gy_reg};
-                hsum = tc_in[1*(E_W+1) + E_W] ? {HX_W{1'b0}} : (hsum <<< tc_in[1*(E_W+1) +: E_W]);
+                hsum = tc_s7[1*(E_W+1) + E_W] ? {HX_W{1'b0}} : (hsum <<< tc_s7[1*(E_W+1) +: E_W]);
                 hsum = (hsum <<< H_L) >>> H_R;
                 h_next[1*H_W +: H_W] = hsum[H_W-1:0];
                 hsum = {{(HX_W-GN_W){gz_reg[GN_W-1]}}, gz_reg};
-                hsum = tc_in[2*(E_W+1) + E_W] ? {HX_W{1'b0}} : (hsum <<< tc_in[2*(E_W+1) +: E_W]);
+                hsum = tc_s7[2*(E_W+1) + E_W] ? {HX_W{1'b0}} : (hsum <<< tc_s7[2*(E_W+1) +: E_W]);
                 hsum = (hsum <<< H_L) >>> H_R;
                 h_next[2*H_W +: H_W] = hsum[H_W-1:0];
             end
@@ -573,27 +607,27 @@ generate
             always @* begin
                 h_k   = h_reg[0*H_W +: H_W];
                 h_ext = {h_k[H_W-1], h_k};    // sign-extended: even the most negative word negates
-                h_ext = ac_in[EA_W + 1] ? {(H_W+1){1'b0}} : (ac_in[EA_W] ? -h_ext : h_ext);
-                agp   = ({{(AGP_W-H_W-1){h_ext[H_W]}}, h_ext} <<< ac_in[EA_W-1:0]) >>> A_FRAC;
+                h_ext = ac_s8[EA_W + 1] ? {(H_W+1){1'b0}} : (ac_s8[EA_W] ? -h_ext : h_ext);
+                agp   = ({{(AGP_W-H_W-1){h_ext[H_W]}}, h_ext} <<< ac_s8[EA_W-1:0]) >>> A_FRAC;
                 ag_next[0*AG_W +: AG_W] = agp[AG_W-1:0];
                 h_k   = h_reg[1*H_W +: H_W];
                 h_ext = {h_k[H_W-1], h_k};
-                h_ext = ac_in[EA_W + 1] ? {(H_W+1){1'b0}} : (ac_in[EA_W] ? -h_ext : h_ext);
-                agp   = ({{(AGP_W-H_W-1){h_ext[H_W]}}, h_ext} <<< ac_in[EA_W-1:0]) >>> A_FRAC;
+                h_ext = ac_s8[EA_W + 1] ? {(H_W+1){1'b0}} : (ac_s8[EA_W] ? -h_ext : h_ext);
+                agp   = ({{(AGP_W-H_W-1){h_ext[H_W]}}, h_ext} <<< ac_s8[EA_W-1:0]) >>> A_FRAC;
                 ag_next[1*AG_W +: AG_W] = agp[AG_W-1:0];
                 h_k   = h_reg[2*H_W +: H_W];
                 h_ext = {h_k[H_W-1], h_k};
-                h_ext = ac_in[EA_W + 1] ? {(H_W+1){1'b0}} : (ac_in[EA_W] ? -h_ext : h_ext);
-                agp   = ({{(AGP_W-H_W-1){h_ext[H_W]}}, h_ext} <<< ac_in[EA_W-1:0]) >>> A_FRAC;
+                h_ext = ac_s8[EA_W + 1] ? {(H_W+1){1'b0}} : (ac_s8[EA_W] ? -h_ext : h_ext);
+                agp   = ({{(AGP_W-H_W-1){h_ext[H_W]}}, h_ext} <<< ac_s8[EA_W-1:0]) >>> A_FRAC;
                 ag_next[2*AG_W +: AG_W] = agp[AG_W-1:0];
             end
         end else begin : g_ag_any
             always @* begin
-                agp   = ($signed(ac_in) * $signed(h_reg[0*H_W +: H_W])) >>> A_FRAC;
+                agp   = ($signed(ac_s8) * $signed(h_reg[0*H_W +: H_W])) >>> A_FRAC;
                 ag_next[0*AG_W +: AG_W] = agp[AG_W-1:0];
-                agp   = ($signed(ac_in) * $signed(h_reg[1*H_W +: H_W])) >>> A_FRAC;
+                agp   = ($signed(ac_s8) * $signed(h_reg[1*H_W +: H_W])) >>> A_FRAC;
                 ag_next[1*AG_W +: AG_W] = agp[AG_W-1:0];
-                agp   = ($signed(ac_in) * $signed(h_reg[2*H_W +: H_W])) >>> A_FRAC;
+                agp   = ($signed(ac_s8) * $signed(h_reg[2*H_W +: H_W])) >>> A_FRAC;
                 ag_next[2*AG_W +: AG_W] = agp[AG_W-1:0];
             end
         end

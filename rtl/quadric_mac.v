@@ -27,7 +27,7 @@
  *   cq_out {cq2, cq1, cq0}, each s{C_W}.{C_FRAC} (sign-extended)
  *
  * Latency `LAT_QUADRIC_MAC (4) register stages; throughput one vector per
- * enabled clock. ce = 0 holds every register. rst (synchronous) clears the
+ * enabled clock (CLOCKS = 2: one every other enabled clock, on half the multipliers). ce = 0 holds every register. rst (synchronous) clears the
  * valid chain and the output registers; the output registers load only valid
  * vectors, so the outputs are never X after reset.
  *
@@ -55,6 +55,10 @@ module quadric_mac #(
     // formats and mode (config/<name>.toml keys in brackets); V_W, QV_W, QF_W are derived
     // from them below (rtl/tex_widths.vh, the twin of model/hw/config.py)
     parameter DIAG   = 0,   // [quadric] 0 full (10 coefficients), 1 diagonal (B = C = F = 0, not read)
+    // [quadric_clocks] 1: a vector every enabled clock; 2 (diagonal only): a vector at most
+    // every other enabled clock, the 6 products on 3 multipliers (stage 1's Q_kk s_k in the
+    // vector's first clock, stage 2's s_k x_k in its second)
+    parameter CLOCKS = 1,
     parameter S_W    = 24,  // [s_w] texture coordinate word width
     parameter S_FRAC = 16,  // [s_frac] texture coordinate fraction bits
     parameter Q_W    = 24,  // [q_w] quadric coefficient word width
@@ -149,7 +153,65 @@ wire signed [V_W-1:0] q23_x = {{(V_W-Q_W){qi[Q_W-1]}}, qi};
 wire signed [V_W-1:0] q33_x = {{(V_W-Q_W){qj[Q_W-1]}}, qj};
 
 generate
-    if (DIAG != 0) begin : g_diag
+    if (CLOCKS != 1 && (CLOCKS != 2 || DIAG == 0)) begin : g_bad_clocks
+        quadric_mac_clocks_must_be_1_or_2_diagonal u_error ();
+    end
+    if (DIAG != 0 && CLOCKS == 2) begin : g_diag_fold
+        // The same arithmetic as g_diag below, stage by stage, with one multiplier per k:
+        // in the clock after a vector enters (valid_reg[0]), the multiplier takes
+        // s_k x_k (x_k from stage 1's product, combinationally) instead of Q_kk s_k; the
+        // contract (a vector at most every other clock) keeps the two uses apart.
+        localparam MA_W = (S_W > Q_W) ? S_W : Q_W;  // multiplier operands
+        localparam MB_W = (V_W > S_W) ? V_W : S_W;
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg signed [MA_W+MB_W-1:0] y0, y1, y2;     // products (each use fits its own word)
+        reg signed [MA_W-1:0]      ma0, ma1, ma2;  // operands
+        reg signed [MB_W-1:0]      mb0, mb1, mb2;
+        reg signed [P1_W+1:0]      m0, m1, m2;
+        /* verilator lint_on UNUSEDSIGNAL */
+        reg signed [P1_W-1:0] p00_reg, p11_reg, p22_reg;  // stage 1: A s, E t, H r
+        reg signed [S_W-1:0]  s0_1_reg, s1_1_reg, s2_1_reg;
+        reg signed [V_W-1:0]  v0, v1, v2, x0, x1, x2;
+        reg signed [P2_W-1:0] r0_2_reg, r1_2_reg, r2_2_reg;  // stage 2: s_k x_k
+        reg signed [V_W-1:0]  v0_reg, v1_reg, v2_reg;
+        wire                  second = valid_reg[0];       // the vector in stage 1: its second clock
+
+        always @* begin
+            m0 = {{2{p00_reg[P1_W-1]}}, p00_reg};
+            m1 = {{2{p11_reg[P1_W-1]}}, p11_reg};
+            m2 = {{2{p22_reg[P1_W-1]}}, p22_reg};
+            v0 = m0[S_FRAC +: V_W] + q03_x;
+            v1 = m1[S_FRAC +: V_W] + q13_x;
+            v2 = m2[S_FRAC +: V_W] + q23_x;
+            x0 = v0 + q03_x;
+            x1 = v1 + q13_x;
+            x2 = v2 + q23_x;
+            // the operands, not the products, are selected: one multiplier per k
+            ma0 = second ? {{(MA_W-S_W){s0_1_reg[S_W-1]}}, s0_1_reg} : {{(MA_W-Q_W){qa[Q_W-1]}}, qa};
+            ma1 = second ? {{(MA_W-S_W){s1_1_reg[S_W-1]}}, s1_1_reg} : {{(MA_W-Q_W){qe[Q_W-1]}}, qe};
+            ma2 = second ? {{(MA_W-S_W){s2_1_reg[S_W-1]}}, s2_1_reg} : {{(MA_W-Q_W){qh[Q_W-1]}}, qh};
+            mb0 = second ? {{(MB_W-V_W){x0[V_W-1]}}, x0} : {{(MB_W-S_W){s0[S_W-1]}}, s0};
+            mb1 = second ? {{(MB_W-V_W){x1[V_W-1]}}, x1} : {{(MB_W-S_W){s1[S_W-1]}}, s1};
+            mb2 = second ? {{(MB_W-V_W){x2[V_W-1]}}, x2} : {{(MB_W-S_W){s2[S_W-1]}}, s2};
+            y0 = ma0 * mb0;
+            y1 = ma1 * mb1;
+            y2 = ma2 * mb2;
+        end
+
+        always @(posedge clk) begin
+            if (ce) begin
+                // stage 1 (the vector's first clock)
+                p00_reg <= y0[P1_W-1:0];  p11_reg <= y1[P1_W-1:0];  p22_reg <= y2[P1_W-1:0];
+                s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
+                // stage 2 (its second clock): v_k and the products s_k x_k
+                v0_reg <= v0;  v1_reg <= v1;  v2_reg <= v2;
+                r0_2_reg <= y0[P2_W-1:0];  r1_2_reg <= y1[P2_W-1:0];  r2_2_reg <= y2[P2_W-1:0];
+                // stage 3
+                r0_reg <= r0_2_reg;  r1_reg <= r1_2_reg;  r2_reg <= r2_2_reg;
+                v0_3_reg <= v0_reg;  v1_3_reg <= v1_reg;  v2_3_reg <= v2_reg;  v3_3_reg <= q33_x;
+            end
+        end
+    end else if (DIAG != 0) begin : g_diag
         // stage 1: Q_kk * s_k
         reg signed [P1_W-1:0] p00_reg, p11_reg, p22_reg;  // A s, E t, H r
         reg signed [S_W-1:0]  s0_1_reg, s1_1_reg, s2_1_reg;

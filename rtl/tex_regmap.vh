@@ -11,6 +11,7 @@ localparam [15:0] RM_ADDR_CTRL = 16'h0000;         // CTRL register
 localparam integer RM_CTRL_MODE_BIT = 0;           // CTRL bit: colour-table index mode (0 mod, 1 clamp)
 localparam integer RM_CTRL_FILTER_BIT = 1;         // CTRL bit: filter_en
 localparam integer RM_CTRL_NLOG2_LSB = 8;          // CTRL field [CTRL_NLOG2_LSB +: n_log2_w]: n_log2 (N = 2^n_log2 colour-table entries)
+localparam integer RM_CTRL_KUSED_LSB = 16;         // CTRL field [CTRL_KUSED_LSB +: bits of K]: k_used, the noise terms the texture uses (terms 0..k_used-1; the others are skipped: a pixel takes ceil(k_used / U) clocks)
 localparam [15:0] RM_ADDR_Q = 16'h0010;            // quadric coefficient i (A..J) at ADDR_Q + i, s{q_w}.{q_frac}
 localparam integer RM_Q_COUNT = 10;                // quadric coefficients
 localparam [15:0] RM_ADDR_TERM = 16'h0100;         // noise term k at ADDR_TERM + TERM_STRIDE*k + field (terms k >= K are ignored)

@@ -40,7 +40,7 @@ module tex_regs #(
     parameter HASH_BITS   = 8,   // [hash_bits] with P_FRAC: offsets u{HASH_BITS + P_FRAC}.{P_FRAC}
     parameter P_FRAC      = 12,  // [p_frac]
     parameter N_LOG2_MAX  = 8    // [n_log2_max] colour tables of up to 2^N_LOG2_MAX entries
-) (clk, rst, cfg_wr_en, cfg_wr_addr, cfg_wr_data, mode, filter_en, n_log2, q_coef, a_all, t_all, o_all,
+) (clk, rst, cfg_wr_en, cfg_wr_addr, cfg_wr_data, mode, filter_en, n_log2, k_used, q_coef, a_all, t_all, o_all,
    tbl_wr_en, tbl_wr_table, tbl_wr_addr, tbl_wr_data);
 
 `include "tex_widths.vh"
@@ -51,6 +51,7 @@ localparam KV     = (K > 0) ? K : 1;                  // K = 0 still declares (u
 localparam O_W    = HASH_BITS + P_FRAC;               // noise offset word
 localparam CSAT_W = tw_csat_w(N_LOG2_MAX);            // summed-area channel
 localparam NL_W   = tw_bits_unsigned(N_LOG2_MAX);     // n_log2
+localparam KU_W   = tw_bits_unsigned(NOISE_TERMS);    // k_used, 0..K
 localparam NLMAX  = N_LOG2_MAX;
 localparam AW     = RM_ADDR_W;
 localparam RL     = RM_REGION_LSB;                    // offset bits within a region
@@ -76,6 +77,7 @@ input  wire [RM_DATA_W-1:0]     cfg_wr_data;
 output reg                      mode;
 output reg                      filter_en;
 output reg  [NL_W-1:0]          n_log2;
+output reg  [KU_W-1:0]          k_used;
 output reg  [RM_Q_COUNT*Q_W-1:0] q_coef;
 output reg  [KV*A_W-1:0]        a_all;
 output reg  [KV*9*T_W-1:0]      t_all;
@@ -106,6 +108,7 @@ always @(posedge clk) begin
         mode      <= 1'b0;
         filter_en <= 1'b0;
         n_log2    <= {NL_W{1'b0}};
+        k_used    <= {KU_W{1'b0}};
         q_coef    <= {RM_Q_COUNT*Q_W{1'b0}};
         a_all     <= {KV*A_W{1'b0}};
         t_all     <= {KV*9*T_W{1'b0}};
@@ -115,6 +118,7 @@ always @(posedge clk) begin
             mode      <= cfg_wr_data[RM_CTRL_MODE_BIT];
             filter_en <= cfg_wr_data[RM_CTRL_FILTER_BIT];
             n_log2    <= cfg_wr_data[RM_CTRL_NLOG2_LSB +: NL_W];
+            k_used    <= cfg_wr_data[RM_CTRL_KUSED_LSB +: KU_W];
         end
         for (pi = 0; pi < RM_Q_COUNT; pi = pi + 1) begin
             if (wr_off == OFF_Q + pi[RL-1:0])

@@ -68,6 +68,10 @@
 module texture_pipeline #(
     parameter QUADRIC        = 0,   // [quadric] 0 full (10 coefficients), 1 diagonal (B = C = F = 0)
     parameter NOISE_TERMS    = 8,   // [noise_terms] K: noise terms a_i n(T_i s + o_i), 0..8
+    parameter NOISE_UNITS    = 8,   // [noise_units] U: noise units, 1..K; U < K: the terms on U units, U a
+                                    // clock (noise_fold), ceil(K_used / U) clocks a pixel
+    parameter QUADRIC_CLOCKS = 1,   // [quadric_clocks] 2: the quadric MAC on half its multipliers, two
+                                    // clocks a pixel (diagonal quadric, folded terms)
     parameter BLEND          = 1,   // [blend] 0 linear, 1 cubic
     parameter TRANSFORM      = 0,   // [transform] 0 affine, 1 pow2
     parameter AMPLITUDE      = 0,   // [amplitude] 0 any, 1 pow2
@@ -106,6 +110,10 @@ module texture_pipeline #(
 // widths, the top derives the words that cross between blocks)
 
 localparam K      = NOISE_TERMS;
+localparam U      = NOISE_UNITS;
+localparam FOLD   = (K > 0) && (U < K);                                        // terms on U units
+localparam NLEAF  = FOLD ? 1 : K;                                              // noise leaves of the tree
+localparam KU_W   = tw_bits_unsigned(K);                                       // k_used, 0..K
 localparam DIAG   = QUADRIC;
 localparam CUBIC  = BLEND;
 localparam POW2T  = TRANSFORM;
@@ -174,10 +182,11 @@ localparam LAT_QM      = `LAT_QUADRIC_MAC;
 localparam LAT_NT      = `LAT_NOISE_TERM;
 localparam LAT_FW      = `LAT_FILTER_WIDTH;
 localparam LAT_CM      = `LAT_COLOUR_MAP;
-localparam LAT_FRONT   = (K > 0 && LAT_NT > LAT_QM) ? LAT_NT : LAT_QM;  // q and the terms meet here
-localparam DLY_N       = LAT_FRONT - LAT_NT;                             // extra stages for an, ag
+localparam LAT_NS      = FOLD ? LAT_NT + 1 : LAT_NT;                     // noise leaves (noise_fold: + 1)
+localparam LAT_FRONT   = (K > 0 && LAT_NS > LAT_QM) ? LAT_NS : LAT_QM;  // q and the terms meet here
+localparam DLY_N       = LAT_FRONT - LAT_NS;                             // extra stages for an, ag
 localparam TREE_ARITY  = 4;                                              // adder tree fan-in
-localparam TREE_LEVELS = tree_levels_of(K + 1, TREE_ARITY);              // adder tree stages
+localparam TREE_LEVELS = tree_levels_of(NLEAF + 1, TREE_ARITY);          // adder tree stages
 localparam T_F         = LAT_FRONT + TREE_LEVELS;                        // f (and c) out of the tree
 // With the noise gradient (NG), grad f = grad q + sum a_i grad n_i comes out of the tree with
 // f, and filter_width follows the tree: the quadric's input waits DLY_Q so that its outputs
@@ -207,7 +216,8 @@ wire skid_ready;        // the output skid buffer can take a pixel this clock (a
 wire advance = !cm_valid || skid_ready;
 wire ce      = rst || advance;  // rst: every block's reset sees an enabled clock
 
-assign s_axis_tready = advance && !rst;
+wire fold_ready;         // the front can take a pixel (always, unless the terms are folded)
+assign s_axis_tready = advance && !rst && fold_ready;
 wire in_valid = s_axis_tvalid && !rst;
 
 // ---------------------------------------------------------------------------
@@ -217,6 +227,9 @@ wire in_valid = s_axis_tvalid && !rst;
 wire                mode_reg;
 wire                filter_en_reg;
 wire [NL_W-1:0]     n_log2_reg;
+/* verilator lint_off UNUSEDSIGNAL */  // K = 0: no term to skip
+wire [KU_W-1:0]     k_used_reg;   // terms the texture uses: 0..k_used-1
+/* verilator lint_on UNUSEDSIGNAL */
 localparam KV = (K > 0) ? K : 1;  // K = 0 still declares (unused) vectors
 wire [10*Q_W-1:0]   q_coef;       // coefficient i at [i*Q_W +: Q_W]
 /* verilator lint_off UNUSEDSIGNAL */  // read by no noise term when K = 0
@@ -235,7 +248,7 @@ tex_regs #(
 ) u_regs (
     .clk(clk), .rst(rst),
     .cfg_wr_en(cfg_wr_en), .cfg_wr_addr(cfg_wr_addr), .cfg_wr_data(cfg_wr_data),
-    .mode(mode_reg), .filter_en(filter_en_reg), .n_log2(n_log2_reg),
+    .mode(mode_reg), .filter_en(filter_en_reg), .n_log2(n_log2_reg), .k_used(k_used_reg),
     .q_coef(q_coef), .a_all(a_all_reg), .t_all(t_all_reg), .o_all(o_all_reg),
     .tbl_wr_en(tbl_wr_en_reg), .tbl_wr_table(tbl_wr_table_reg), .tbl_wr_addr(tbl_wr_addr_reg),
     .tbl_wr_data(tbl_wr_data_reg)
@@ -243,12 +256,83 @@ tex_regs #(
 
 genvar gi;
 
+// What the blocks read of the parameters: with a diagonal quadric B, C, F are 0 (quantize
+// guarantees it) and quadric_mac does not read them; with pow2 transforms the off-diagonal
+// T entries are 0 and noise_term does not read them. Passing 0 makes that visible here, so
+// their registers go (they would in a flat synthesis anyway; the per-block gate count keeps
+// the blocks apart).
+reg [10*Q_W-1:0]    q_use;
+reg [KV*9*T_W-1:0]  t_use;
+integer             ui, uj;
+always @* begin
+    q_use = q_coef;
+    if (DIAG != 0) begin
+        q_use[1*Q_W +: Q_W] = {Q_W{1'b0}};
+        q_use[2*Q_W +: Q_W] = {Q_W{1'b0}};
+        q_use[5*Q_W +: Q_W] = {Q_W{1'b0}};
+    end
+    t_use = t_all_reg;
+    if (POW2T != 0) begin
+        for (ui = 0; ui < KV; ui = ui + 1)
+            for (uj = 0; uj < 9; uj = uj + 1)
+                if (uj % 4 != 0) t_use[(9*ui + uj)*T_W +: T_W] = {T_W{1'b0}};
+    end
+end
+
 // ---------------------------------------------------------------------------
 // Input fields
 
-wire [3*S_W-1:0]  px_s  = s_axis_tdata[0 +: 3*S_W];
-wire [JM_W-1:0]   px_jm = s_axis_tdata[3*S_W +: JM_W];
-wire [JE_W-1:0]   px_je = s_axis_tdata[3*S_W + JM_W +: JE_W];
+wire [3*S_W-1:0]  in_s  = s_axis_tdata[0 +: 3*S_W];
+wire [JM_W-1:0]   in_jm = s_axis_tdata[3*S_W +: JM_W];
+wire [JE_W-1:0]   in_je = s_axis_tdata[3*S_W + JM_W +: JE_W];
+
+// The pixel at the front (px_*): the input itself, or (FOLD) the pixel noise_fold issues,
+// at its last issue clock (px_valid); the quadric, the delay lines of Jm, je and tlast and
+// (unfolded) the noise terms start there. Folded, the noise terms' sum comes out of
+// noise_fold LAT_NT + 1 clocks after px_valid, as one leaf of the adder tree.
+wire              px_valid;
+wire [3*S_W-1:0]  px_s;
+wire [JM_W-1:0]   px_jm;
+wire [JE_W-1:0]   px_je;
+wire              px_last;
+/* verilator lint_off UNUSEDSIGNAL */  // unfolded: constant, not read
+wire [F_W-1:0]    fold_f;
+wire [3*C_W-1:0]  fold_c;
+wire              fold_valid;
+/* verilator lint_on UNUSEDSIGNAL */
+
+generate
+    if (FOLD) begin : g_fold
+        wire [JM_W+JE_W:0] side;
+        noise_fold #(
+            .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
+            .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
+            .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
+            .NOISE_TERMS(K), .NOISE_UNITS(U), .F_W(F_W), .C_W(C_W), .SIDE_W(JM_W + JE_W + 1),
+            .MIN_CLOCKS(QUADRIC_CLOCKS), .PERM(PERM)
+        ) u_noise_fold (
+            .clk(clk), .rst(rst), .ce(ce),
+            .in_valid(in_valid), .in_ready(fold_ready),
+            .s_in(in_s), .side_in({s_axis_tlast, in_je, in_jm}),
+            .k_used(k_used_reg), .a_all(a_all_reg), .t_all(t_use), .o_all(o_all_reg),
+            .px_valid(px_valid), .px_s(px_s), .px_side(side),
+            .sum_valid(fold_valid), .f_sum(fold_f), .c_sum(fold_c)
+        );
+        assign px_jm   = side[0 +: JM_W];
+        assign px_je   = side[JM_W +: JE_W];
+        assign px_last = side[JM_W + JE_W];
+    end else begin : g_direct
+        assign fold_ready = 1'b1;
+        assign px_valid   = in_valid;
+        assign px_s       = in_s;
+        assign px_jm      = in_jm;
+        assign px_je      = in_je;
+        assign px_last    = s_axis_tlast;
+        assign fold_f     = {F_W{1'b0}};
+        assign fold_c     = {3*C_W{1'b0}};
+        assign fold_valid = 1'b0;
+    end
+endgenerate
 
 // ---------------------------------------------------------------------------
 // Front: quadric_mac and K noise terms in parallel
@@ -258,20 +342,20 @@ wire [JE_W-1:0]   px_je = s_axis_tdata[3*S_W + JM_W +: JE_W];
 wire [3*S_W-1:0] qs_s;
 wire             qs_valid;
 delay_line #(.W(3*S_W), .N(DLY_Q))           u_dly_qs (.clk(clk), .rst(rst), .ce(ce), .d_in(px_s), .d_out(qs_s));
-delay_line #(.W(1), .N(DLY_Q), .CLEAR(1))    u_dly_qv (.clk(clk), .rst(rst), .ce(ce), .d_in(in_valid), .d_out(qs_valid));
+delay_line #(.W(1), .N(DLY_Q), .CLEAR(1))    u_dly_qv (.clk(clk), .rst(rst), .ce(ce), .d_in(px_valid), .d_out(qs_valid));
 
 wire [QF_W-1:0]  qm_q;
 wire [3*C_W-1:0] qm_cq;
 wire             qm_valid;
 
 quadric_mac #(
-    .DIAG(DIAG), .S_W(S_W), .S_FRAC(S_FRAC), .Q_W(Q_W), .Q_FRAC(Q_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
-    .C_W(C_W)
+    .DIAG(DIAG), .CLOCKS(QUADRIC_CLOCKS), .S_W(S_W), .S_FRAC(S_FRAC), .Q_W(Q_W), .Q_FRAC(Q_FRAC),
+    .F_FRAC(F_FRAC), .C_FRAC(C_FRAC), .C_W(C_W)
 ) u_quadric_mac (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(qs_valid),
     .s_in(qs_s),
-    .q_coef(q_coef),
+    .q_coef(q_use),
     .out_valid(qm_valid),
     .q_out(qm_q),
     .cq_out(qm_cq)
@@ -292,36 +376,46 @@ wire sum_in_valid;  // every block of the front agrees on validity (shared in_va
 
 // sign extension to the exact-sum widths (F_W >= QF_W, AN_W; C_W >= AG_W: exact-sum bounds)
 localparam FX_Q = F_W - QF_W;  // sign bits added to q
-localparam FX_N = F_W - AN_W;  // to a_i n_i
-localparam CX_N = C_W - AG_W;  // to each a_i grad n_i component
+localparam LN_W = FOLD ? F_W : AN_W;  // a noise leaf: a_i n_i, or noise_fold's sum
+localparam LG_W = FOLD ? C_W : AG_W;  // its gradient components
+localparam FX_N = F_W - LN_W;         // sign bits added to a noise leaf
+localparam CX_N = C_W - LG_W;         // to each of its gradient components
 
 generate
-    for (gi = 0; gi < K; gi = gi + 1) begin : g_term
-        wire [AN_W-1:0]   an;
-        wire [3*AG_W-1:0] ag;
+    for (gi = 0; gi < NLEAF; gi = gi + 1) begin : g_term
+        wire [LN_W-1:0]   an;
+        wire [3*LG_W-1:0] ag;
         wire              nt_valid;
-        noise_term #(
-            .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
-            .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
-            .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
-            .PERM(PERM)
-        ) u_noise_term (
-            .clk(clk), .rst(rst), .ce(ce),
-            .in_valid(in_valid),
-            .s_in(px_s),
-            .a_in(a_all_reg[gi*A_W +: A_W]),
-            .t_in(t_all_reg[gi*9*T_W +: 9*T_W]),
-            .o_in(o_all_reg[gi*3*O_W +: 3*O_W]),
-            .out_valid(nt_valid),
-            .an_out(an),
-            .ag_out(ag)
-        );
+        if (FOLD) begin : g_folded
+            assign an       = fold_f;
+            assign ag       = fold_c;
+            assign nt_valid = fold_valid;
+        end else begin : g_unit
+            // a term past the texture's k_used contributes nothing (a = 0), as noise_fold skips it
+            wire [A_W-1:0] a_k = (gi < k_used_reg) ? a_all_reg[gi*A_W +: A_W] : {A_W{1'b0}};
+            noise_term #(
+                .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
+                .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
+                .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
+                .PERM(PERM)
+            ) u_noise_term (
+                .clk(clk), .rst(rst), .ce(ce),
+                .in_valid(px_valid),
+                .s_in(px_s),
+                .a_in(a_k),
+                .t_in(t_use[gi*9*T_W +: 9*T_W]),
+                .o_in(o_all_reg[gi*3*O_W +: 3*O_W]),
+                .out_valid(nt_valid),
+                .an_out(an),
+                .ag_out(ag)
+            );
+        end
         // delayed to LAT_FRONT (normally DLY_N = 0)
-        wire [AN_W-1:0]   an_d;
-        wire [3*AG_W-1:0] ag_d;
+        wire [LN_W-1:0]   an_d;
+        wire [3*LG_W-1:0] ag_d;
         wire              v_d;
-        delay_line #(.W(AN_W), .N(DLY_N))           u_dly_an (.clk(clk), .rst(rst), .ce(ce), .d_in(an), .d_out(an_d));
-        delay_line #(.W(3*AG_W), .N(DLY_N))         u_dly_ag (.clk(clk), .rst(rst), .ce(ce), .d_in(ag), .d_out(ag_d));
+        delay_line #(.W(LN_W), .N(DLY_N))           u_dly_an (.clk(clk), .rst(rst), .ce(ce), .d_in(an), .d_out(an_d));
+        delay_line #(.W(3*LG_W), .N(DLY_N))         u_dly_ag (.clk(clk), .rst(rst), .ce(ce), .d_in(ag), .d_out(ag_d));
         delay_line #(.W(1), .N(DLY_N), .CLEAR(1))   u_dly_v  (.clk(clk), .rst(rst), .ce(ce), .d_in(nt_valid),
                                                               .d_out(v_d));
         wire v_all;  // this term's valid and all before it
@@ -332,14 +426,14 @@ generate
         end
     end
 
-    if (K == 0) begin : g_v_q
+    if (NLEAF == 0) begin : g_v_q
         assign sum_in_valid = qo_valid;
     end else begin : g_v_terms
-        assign sum_in_valid = g_term[K-1].v_all;
+        assign sum_in_valid = g_term[NLEAF-1].v_all;
     end
 
     // sign extension in processes (a net concatenation would be rebuilt bit by bit)
-    for (gi = 0; gi <= K; gi = gi + 1) begin : g_leaf
+    for (gi = 0; gi <= NLEAF; gi = gi + 1) begin : g_leaf
         wire [F_W-1:0]   f;
         wire [3*C_W-1:0] c;
         if (gi == 0) begin : g_q
@@ -353,21 +447,21 @@ generate
             // !NG: the tree carries no gradient (the quadric's goes to filter_width)
             assign c = NG ? qm_cq : {3*C_W{1'b0}};
         end else begin : g_n
-            wire [AN_W-1:0]   an = g_term[gi-1].an_d;
+            wire [LN_W-1:0]   an = g_term[gi-1].an_d;
             /* verilator lint_off UNUSEDSIGNAL */  // !NG: the terms' ag outputs are 0, not summed
-            wire [3*AG_W-1:0] ag = g_term[gi-1].ag_d;
+            wire [3*LG_W-1:0] ag = g_term[gi-1].ag_d;
             /* verilator lint_on UNUSEDSIGNAL */
             reg [F_W-1:0] f_x;
             if (FX_N > 0) begin : g_fx
-                always @* f_x = {{FX_N{an[AN_W-1]}}, an};
+                always @* f_x = {{FX_N{an[LN_W-1]}}, an};
             end else begin : g_f
                 always @* f_x = an;
             end
             assign f = f_x;
             if (NG && CX_N > 0) begin : g_cx
                 reg [3*C_W-1:0] c_x;
-                always @* c_x = {{CX_N{ag[3*AG_W-1]}}, ag[2*AG_W +: AG_W], {CX_N{ag[2*AG_W-1]}}, ag[AG_W +: AG_W],
-                                 {CX_N{ag[AG_W-1]}}, ag[0 +: AG_W]};
+                always @* c_x = {{CX_N{ag[3*LG_W-1]}}, ag[2*LG_W +: LG_W], {CX_N{ag[2*LG_W-1]}}, ag[LG_W +: LG_W],
+                                 {CX_N{ag[LG_W-1]}}, ag[0 +: LG_W]};
                 assign c = c_x;
             end else if (NG) begin : g_c
                 assign c = ag;
@@ -396,8 +490,8 @@ wire [3*C_W-1:0] c_sum;
 genvar gl;
 generate
     for (gl = 1; gl <= TREE_LEVELS; gl = gl + 1) begin : g_lvl
-        localparam NN = tree_nodes_of(K + 1, gl, TREE_ARITY);      // nodes on this level
-        localparam NP = tree_nodes_of(K + 1, gl - 1, TREE_ARITY);  // children on the level below
+        localparam NN = tree_nodes_of(NLEAF + 1, gl, TREE_ARITY);      // nodes on this level
+        localparam NP = tree_nodes_of(NLEAF + 1, gl - 1, TREE_ARITY);  // children on the level below
         // the children: the leaves (level 1) or the node registers of the level below
         for (gi = 0; gi < NP; gi = gi + 1) begin : g_kid
             wire [F_W-1:0]   f;
@@ -487,7 +581,7 @@ wire [JD_W-1:0] jd_out;
 delay_line #(.W(JD_W), .N(DLY_J)) u_dly_j (.clk(clk), .rst(rst), .ce(ce), .d_in({px_je, px_jm}), .d_out(jd_out));
 
 wire cm_last;
-delay_line #(.W(1), .N(T_CM + LAT_CM)) u_dly_last (.clk(clk), .rst(rst), .ce(ce), .d_in(s_axis_tlast),
+delay_line #(.W(1), .N(T_CM + LAT_CM)) u_dly_last (.clk(clk), .rst(rst), .ce(ce), .d_in(px_last),
                                                   .d_out(cm_last));
 
 // ---------------------------------------------------------------------------

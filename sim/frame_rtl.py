@@ -46,7 +46,9 @@ class FrameRunError(RuntimeError):
 
 
 def build_dir(config, sim: str) -> Path:
-    return ROOT / "build" / "sim" / TOPLEVEL / f"{config_of(config).name}-{sim}"
+    """build/sim/frame_tb/<configuration name>-<sim> (config: a name or a Config)."""
+    name = config if isinstance(config, str) else config.name
+    return ROOT / "build" / "sim" / TOPLEVEL / f"{name}-{sim}"
 
 
 def _sources(gdir: Path) -> list[Path]:

@@ -122,6 +122,9 @@ COMMANDS = {
     "synth / synth-blocks (entry point, one block)": (None, {}, None),
     "config": ([PY, "-m", "model.hw.config", "reduced"], {}, lambda r, out: (_ok(r), "derived" in r.stdout)),
     "scene check": ([PY, "-m", "model.scene.scene", "scenes/wood.toml"], {}, lambda r, out: (_ok(r), "wood" in r.stdout)),
+    "quality": ([PY, "-m", "model.scene.quality", "--config", "compact", "--size", "8", "--step", "div_bits=5", "--json"],
+                {}, lambda r, out: (_ok(r), len(_json_lines(r.stdout)) == 2,
+                                    all("worst" in x for x in _json_lines(r.stdout)))),
 }
 
 

@@ -25,7 +25,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]  # the repository (model/hw/config.py)
 CONFIG_DIR = ROOT / "config"
-CONFIG_NAMES = ("full", "reduced")
+CONFIG_NAMES = ("full", "reduced", "compact")
 
 
 class ConfigError(ValueError):
@@ -42,6 +42,7 @@ _SCHEMA = {
     "filter": ("features", str, ("sat", "mip", "none")),
     "noise_gradient": ("features", bool, (False, True)),
     "noise_units": ("features", int, (1, 8)),
+    "quadric_clocks": ("features", int, (1, 2)),
     "s_w": ("formats", int, (4, 32)),
     "s_frac": ("formats", int, (0, 24)),
     "q_w": ("formats", int, (4, 32)),
@@ -99,6 +100,7 @@ class Config:
     filter: str
     noise_gradient: bool
     noise_units: int
+    quadric_clocks: int
     s_w: int
     s_frac: int
     q_w: int
@@ -132,9 +134,20 @@ class Config:
 
 def clocks_per_pixel(cfg: Config, k_used: int | None = None) -> int:
     """Clocks the pipeline takes a pixel for a texture of k_used terms (default: all K):
-    ceil(k_used / noise_units), at least 1 (noise_units = noise_terms: one pixel a clock)."""
+    ceil(k_used / noise_units), at least quadric_clocks (noise_units = noise_terms,
+    quadric_clocks = 1: one pixel a clock)."""
     k = cfg.noise_terms if k_used is None else k_used
-    return max(1, -(-k // cfg.noise_units))
+    return max(1, cfg.quadric_clocks, -(-k // cfg.noise_units))
+
+
+def folded(cfg: Config) -> bool:
+    """The noise terms run on fewer units than there are terms (rtl/noise_fold.v)."""
+    return cfg.noise_terms > 0 and cfg.noise_units < cfg.noise_terms
+
+
+def noise_term_instances(cfg: Config) -> int:
+    """noise_term instances in the RTL: one per unit (folded) or per term."""
+    return cfg.noise_units if folded(cfg) else cfg.noise_terms
 
 
 def _derive(c: Config) -> dict:
@@ -299,6 +312,8 @@ def _check(c: Config, p: Path) -> None:
     need(c.w_cap_log2 >= c.n_log2_max, "formats.w_cap_log2 must be >= n_log2_max (w must reach N)")
     need(c.noise_units <= max(c.noise_terms, 1), f"features.noise_units = {c.noise_units} must be <= noise_terms "
                                                  f"= {c.noise_terms} (U noise units take the K terms U a clock)")
+    need(c.quadric_clocks == 1 or (c.quadric == "diagonal" and 0 < c.noise_units < c.noise_terms),
+         "features.quadric_clocks = 2 needs a diagonal quadric and folded noise terms (noise_units < noise_terms)")
 
 
 def _check_rtl(c: Config, p: Path) -> None:
@@ -398,6 +413,8 @@ def random_config(seed: int, name: str | None = None, tries: int = 1000) -> Conf
         v["div_bits"] = int(r.choice([0, int(r.integers(4, 16))]))
         v["seed"] = int(r.integers(0, 2**31 - 1))
         v["noise_units"] = int(r.integers(1, max(v["noise_terms"], 1) + 1))
+        v["quadric_clocks"] = int(r.choice([1, 2])) if (v["quadric"] == "diagonal"
+                                                          and v["noise_units"] < v["noise_terms"]) else 1
         try:
             return variant(base, name or f"random{seed}", **v)
         except ConfigError:

@@ -63,8 +63,13 @@ class TexInt:
     clut: np.ndarray  # int64 [N, 4]
     csat: np.ndarray = field(default=None)  # int64 [N, 4], inclusive prefix sums (eq. 13)
     mip: np.ndarray = field(default=None)  # int64 [2N - 1, 4], colour-table MIP levels
+    # terms the texture uses: 0..k_used-1 (the CTRL register's term count; default all);
+    # the hardware skips the others whatever their a, and so does texture_stages
+    k_used: int = None
 
     def __post_init__(self):
+        if self.k_used is None:
+            self.k_used = len(self.a)
         if self.csat is None or self.mip is None:
             self.csat, self.mip = build_tables(self.clut)
 
@@ -455,12 +460,14 @@ def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
     """The whole pixel pipeline with its intermediate signals: f, c, w and rgba.
 
     f = q + sum a_i n_i and c = dq/ds + sum a_i (dn_i/dp) T_i are summed exactly
-    (words wide enough, docs/numerics.md); a term with a = 0 contributes exactly 0
+    (words wide enough, docs/numerics.md), over the terms the texture uses (k_used), in
+    any order: the sums are exact, so the RTL's order (all terms at once, or U a clock on
+    noise units, noise_fold) gives the same bits. A term with a = 0 contributes exactly 0
     (a * anything = 0 before every floor shift), so it is skipped.
     """
     s = np.asarray(s, dtype=I64)
     f, c = quadric_mac(cfg, tex.Q, s)
-    for i in range(min(len(tex.a), cfg.noise_terms)):
+    for i in range(min(tex.k_used, len(tex.a), cfg.noise_terms)):
         if tex.a[i] == 0:
             continue
         an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s)

@@ -91,6 +91,7 @@ def quantize_texture(cfg: Config, tex: TextureParams) -> tuple[TexInt, dict]:
         n_log2=n_log2,
         filter=bool(tex.filter),
         clut=np.asarray(tex.clut, dtype=np.int64),
+        k_used=len(used),
     )
     return tint, {"terms_used": len(used), "dropped_terms": max(0, len(tex.terms) - K)}
 

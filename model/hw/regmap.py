@@ -41,6 +41,8 @@ REGMAP_TABLE = (
     ("CTRL_MODE_BIT", 0, "CTRL bit: colour-table index mode (0 mod, 1 clamp)"),
     ("CTRL_FILTER_BIT", 1, "CTRL bit: filter_en"),
     ("CTRL_NLOG2_LSB", 8, "CTRL field [CTRL_NLOG2_LSB +: n_log2_w]: n_log2 (N = 2^n_log2 colour-table entries)"),
+    ("CTRL_KUSED_LSB", 16, "CTRL field [CTRL_KUSED_LSB +: bits of K]: k_used, the noise terms the texture uses "
+                           "(terms 0..k_used-1; the others are skipped: a pixel takes ceil(k_used / U) clocks)"),
     ("ADDR_Q", 0x0010, "quadric coefficient i (A..J) at ADDR_Q + i, s{q_w}.{q_frac}"),
     ("Q_COUNT", 10, "quadric coefficients"),
     ("ADDR_TERM", 0x0100, "noise term k at ADDR_TERM + TERM_STRIDE*k + field (terms k >= K are ignored)"),
@@ -97,6 +99,8 @@ def _derived(rm: dict) -> dict:
     assert len(set(fields)) == len(fields) and max(fields) < rm["TERM_STRIDE"], "register map: term fields"
     ctrl = (rm["CTRL_MODE_BIT"], rm["CTRL_FILTER_BIT"])
     assert len(set(ctrl)) == 2 and max(ctrl) < rm["CTRL_NLOG2_LSB"] < rm["DATA_W"] - 4, "register map: CTRL fields"
+    # n_log2 has at most 4 bits (n_log2_max <= 10), k_used at most 4 (K <= 8)
+    assert rm["CTRL_NLOG2_LSB"] + 4 <= rm["CTRL_KUSED_LSB"] <= rm["DATA_W"] - 4, "register map: CTRL fields"
     return d
 
 
@@ -115,6 +119,7 @@ CSAT_CHANNELS = REGMAP["CSAT_CHANNELS"]
 ADDR_MIP = REGMAP["ADDR_MIP"]
 CTRL_MODE_BIT, CTRL_FILTER_BIT, CTRL_NLOG2_LSB = (REGMAP["CTRL_MODE_BIT"], REGMAP["CTRL_FILTER_BIT"],
                                                   REGMAP["CTRL_NLOG2_LSB"])
+CTRL_KUSED_LSB = REGMAP["CTRL_KUSED_LSB"]
 REGION_LSB = REGMAP["REGION_LSB"]
 ADDR_SPACE = 1 << REGMAP["ADDR_W"]
 TABLE_CLUT, TABLE_CSAT, TABLE_MIP = REGMAP["TABLE_CLUT"], REGMAP["TABLE_CSAT"], REGMAP["TABLE_MIP"]
@@ -190,7 +195,9 @@ def write_sequence(cfg: Config, tex: TexInt) -> list[tuple[int, int]]:
     n = 1 << n_log2
     K = cfg.noise_terms
     w: list[tuple[int, int]] = []
-    ctrl = (int(tex.mode) << CTRL_MODE_BIT) | (int(bool(tex.filter)) << CTRL_FILTER_BIT) | (n_log2 << CTRL_NLOG2_LSB)
+    k_used = min(int(tex.k_used), K)
+    ctrl = ((int(tex.mode) << CTRL_MODE_BIT) | (int(bool(tex.filter)) << CTRL_FILTER_BIT) | (n_log2 << CTRL_NLOG2_LSB)
+            | (k_used << CTRL_KUSED_LSB))
     w.append((ADDR_CTRL, ctrl))
     Q = np.asarray(tex.Q, dtype=np.int64).reshape(Q_COUNT)
     for i in range(Q_COUNT):
@@ -253,7 +260,7 @@ class TexRegs:
 
     def reset(self):
         K = self.K
-        self.mode = self.filter_en = self.n_log2 = 0
+        self.mode = self.filter_en = self.n_log2 = self.k_used = 0
         self.q = [0] * Q_COUNT
         self.a = [0] * K
         self.T = [[0] * 9 for _ in range(K)]
@@ -286,6 +293,7 @@ class TexRegs:
                 self.mode = (data >> CTRL_MODE_BIT) & 1
                 self.filter_en = (data >> CTRL_FILTER_BIT) & 1
                 self.n_log2 = (data >> CTRL_NLOG2_LSB) & _mask(cfg.n_log2_w)
+                self.k_used = (data >> CTRL_KUSED_LSB) & _mask(k_used_width(cfg))
             for i in range(Q_COUNT):
                 if off == (ADDR_Q & _mask(lsb)) + i:
                     self.q[i] = data & _mask(cfg.q_w)
@@ -321,6 +329,11 @@ class TexRegs:
         return None
 
 
+def k_used_width(cfg: Config) -> int:
+    """Bits of the CTRL k_used field: 0..K (tex_regs KU_W)."""
+    return max(1, int(cfg.noise_terms).bit_length())
+
+
 def _signed(v: int, w: int) -> int:
     return v - (1 << w) if v >> (w - 1) & 1 else v
 
@@ -354,7 +367,8 @@ def texint_of_regs(cfg: Config, st: TexRegs, tables) -> TexInt:
                   a=arr([_signed(v, cfg.a_w) for v in st.a]),
                   T=arr([[_signed(v, cfg.t_w) for v in t] for t in st.T]).reshape(K, 3, 3),
                   o=arr(st.o).reshape(K, 3), mode=st.mode, n_log2=st.n_log2, filter=bool(st.filter_en),
-                  clut=table(TABLE_CLUT, n), csat=table(TABLE_CSAT, n), mip=table(TABLE_MIP, 2 * n - 1))
+                  clut=table(TABLE_CLUT, n), csat=table(TABLE_CSAT, n), mip=table(TABLE_MIP, 2 * n - 1),
+                  k_used=st.k_used)
 
 
 def pack_pixels(cfg: Config, s, Jm, je) -> list[int]:

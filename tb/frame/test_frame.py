@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import hdlbuild
-from model.hw.config import load_config
+from model.hw.config import clocks_per_pixel, load_config, variant
 from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt, texture_stages
 
 
@@ -78,7 +78,9 @@ def random_texture(cfg, r, kind: str, mode=None, filt=None, n_log2=None) -> TexI
         clut[:, :] = clut[:, :1]  # grey tables too
     mode = int(r.choice([MODE_MOD, MODE_CLAMP])) if mode is None else mode
     filt = bool(r.random() < 0.75) if filt is None else filt
-    return TexInt(Q=Q, a=a, T=T, o=o, mode=mode, n_log2=n_log2, filter=filt, clut=clut)
+    # the terms the texture uses: usually all, sometimes fewer (the rest must be skipped)
+    k_used = int(r.integers(0, K + 1)) if r.random() < 0.3 else K
+    return TexInt(Q=Q, a=a, T=T, o=o, mode=mode, n_log2=n_log2, filter=filt, clut=clut, k_used=k_used)
 
 
 def random_pixels(cfg, r, n: int, kind: str):
@@ -185,8 +187,10 @@ def test_frame_random(sim, config):
         if t == 0:
             got0, cycles, _ = run_frame_rtl(config, sim, tex, s, Jm, je, seed=seed + 99)
             assert np.array_equal(got, got0), "gaps/stalls changed the pixels"
-            print(f"  texture 0 without gaps or stalls: {cycles} cycles ({n / cycles:.3f} px/clk)")
-            assert cycles < n + 100, f"not one pixel per clock without stalls: {cycles} cycles for {n} pixels"
+            p = clocks_per_pixel(cfg, tex.k_used)
+            print(f"  texture 0 without gaps or stalls: {cycles} cycles ({n / cycles:.3f} px/clk; "
+                  f"{tex.k_used} terms on {cfg.noise_units} units: {p} clocks a pixel)")
+            assert cycles < p * n + 100, f"not one pixel per {p} clocks without stalls: {cycles} cycles for {n} pixels"
 
 
 @pytest.mark.parametrize("sim", sorted({sim for sim, _ in hdlbuild.sim_params()}))
@@ -226,3 +230,45 @@ def test_frame_reset(sim, config):
     reset_at = nwr + 2 + int(r.integers(n // 4, n // 2))  # inside the stream (~1 px / clock)
     got, _, _ = run_frame_rtl(config, sim, tex, s, Jm, je, gaps=10, stalls=10, seed=seed, reset_at=reset_at)
     _compare(cfg, tex, s, Jm, je, got, "after a mid-frame reset")
+
+
+def _unit_params():
+    """(sim, base configuration, noise_units): U = 1, 2 and K of compact and reduced."""
+    sims = sorted({sim for sim, _ in hdlbuild.sim_params()})
+    out = []
+    for base in ("compact", "reduced"):
+        k = load_config(base).noise_terms
+        out += [(sim, base, u) for sim in sims for u in sorted({1, 2, k})]
+    return out
+
+
+@pytest.mark.parametrize("sim,base,units", _unit_params())
+def test_frame_noise_units(sim, base, units):
+    """The noise terms on U units (noise_fold; U = K: all in parallel) give the same bits for
+    every U: one texture and stream (the same seed for every U), its terms 0..k_used-1, through
+    the RTL with random input gaps and output stalls, then without (ceil(k_used / U) clocks a
+    pixel), then with a reset in the middle of the frame; every run equal to the golden model,
+    which does not depend on U, so the runs of U = 1, 2, K are bit-identical with each other."""
+    run_frame_rtl = _frame_rtl()
+    b = load_config(base)
+    # U = K: every term in parallel, and a quadric of one clock (two need folded terms)
+    qc = b.quadric_clocks if units < b.noise_terms else 1
+    cfg = variant(b, f"{base}-u{units}", noise_units=units, quadric_clocks=qc)
+    seed = _seed()
+    print(f"[frame {cfg.name} {sim}] SEED={seed}")
+    r = np.random.default_rng(seed + 11)
+    n = min(_n_pixels(sim), 2000)
+    tex = random_texture(load_config(base), r, "real", filt=True)
+    s, Jm, je = random_pixels(cfg, r, n, "real")
+    got, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed)
+    _compare(cfg, tex, s, Jm, je, got, f"{cfg.name}, gaps 30% / stalls 40%")
+    got0, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, seed=seed + 1)
+    assert np.array_equal(got, got0), "gaps/stalls changed the pixels"
+    p = clocks_per_pixel(cfg, tex.k_used)
+    print(f"  {tex.k_used} terms on {units} units: {cycles} cycles for {n} px ({p} clocks a pixel expected)")
+    assert p * n <= cycles < p * n + 100, f"{cycles} cycles for {n} pixels, expected {p} a pixel"
+    from model.hw.regmap import write_sequence
+
+    reset_at = len(write_sequence(cfg, tex)) + 2 + int(r.integers(p * n // 4, p * n // 2))
+    got_r, _, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=10, stalls=10, seed=seed + 2, reset_at=reset_at)
+    _compare(cfg, tex, s, Jm, je, got_r, f"{cfg.name}, after a mid-frame reset")

@@ -63,7 +63,7 @@ def test_regmap_table_names_unique():
 
 
 def random_texture(cfg, r) -> TexInt:
-    """Every parameter over its whole format, random n_log2, mode, filter."""
+    """Every parameter over its whole format, random n_log2, mode, filter, k_used."""
     K = cfg.noise_terms
 
     def s(w, size):
@@ -74,7 +74,7 @@ def random_texture(cfg, r) -> TexInt:
     return TexInt(Q=Q, a=s(cfg.a_w, K), T=s(cfg.t_w, (K, 3, 3)),
                   o=r.integers(0, 1 << cfg.d["o_w"], size=(K, 3), dtype=np.int64),
                   mode=int(r.choice([MODE_MOD, MODE_CLAMP])), n_log2=n_log2, filter=bool(r.random() < 0.5),
-                  clut=r.integers(0, 256, size=(1 << n_log2, 4), dtype=np.int64))
+                  clut=r.integers(0, 256, size=(1 << n_log2, 4), dtype=np.int64), k_used=int(r.integers(0, K + 1)))
 
 
 def ignored_addresses(cfg) -> list[int]:
@@ -149,7 +149,7 @@ def test_write_sequence_round_trip(cfg):
         n = 1 << tex.n_log2
         assert np.array_equal(back.Q, tex.Q) and np.array_equal(back.a, tex.a)
         assert np.array_equal(back.T, tex.T) and np.array_equal(back.o, tex.o)
-        assert (back.mode, back.n_log2, back.filter) == (tex.mode, tex.n_log2, tex.filter)
+        assert (back.mode, back.n_log2, back.filter, back.k_used) == (tex.mode, tex.n_log2, tex.filter, tex.k_used)
         assert np.array_equal(back.clut, tex.clut)
         assert set(tables[RM.TABLE_CLUT]) == set(range(n))
         if cfg.filter == "sat":
@@ -169,7 +169,7 @@ def test_ignored_writes_change_nothing(cfg):
 
 
 def _state(st, tables=True):
-    regs = (st.mode, st.filter_en, st.n_log2, tuple(st.q), tuple(st.a), tuple(map(tuple, st.T)),
+    regs = (st.mode, st.filter_en, st.n_log2, st.k_used, tuple(st.q), tuple(st.a), tuple(map(tuple, st.T)),
             tuple(map(tuple, st.o)))
     return regs + ((st.tbl_wr_en,) if tables else ())
 
@@ -187,7 +187,7 @@ def _pack(values, w):
 
 def expected_outputs(cfg, st: RM.TexRegs) -> dict:
     return {
-        "mode": st.mode, "filter_en": st.filter_en, "n_log2": st.n_log2,
+        "mode": st.mode, "filter_en": st.filter_en, "n_log2": st.n_log2, "k_used": st.k_used,
         "q_coef": _pack(st.q, cfg.q_w), "a_all": _pack(st.a, cfg.a_w),
         "t_all": _pack([v for t in st.T for v in t], cfg.t_w), "o_all": _pack([v for o in st.o for v in o], cfg.d["o_w"]),
         "tbl_wr_en": st.tbl_wr_en, "tbl_wr_table": st.tbl_wr_table, "tbl_wr_addr": st.tbl_wr_addr,

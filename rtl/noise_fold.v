@@ -1,0 +1,251 @@
+// noise_fold: the K noise terms of a pixel on U noise units, U terms a clock.
+//
+// Computes, for each pixel (s, side),
+//   f_sum = sum_{k < K_used} a_k n(T_k s + o_k)          (noise_term's an, exact)
+//   c_sum = sum_{k < K_used} a_k (dn_k/dp) T_k           (noise_term's ag, exact; 0 without
+//                                                         the noise gradient)
+// the same sums texture_pipeline's parallel terms and adder tree form (the sums are exact
+// two's complement sums, so their order does not change a bit: the golden model's
+// texture_stages is the twin for every U). Terms k >= K_used are skipped: a pixel takes
+// P = max(MIN_CLOCKS, ceil(K_used / U)) clocks, so a texture with fewer terms costs fewer clocks
+// (MIN_CLOCKS = 2 where the quadric MAC takes two clocks a pixel).
+//
+// Schedule: a pixel is taken into hold registers (s and `side`, the data that travel with
+// it: texture_pipeline's Jm, je and tlast); on the next P enabled clocks, issue j = 0..P-1
+// gives unit u term k = j U + u (its a forced to 0 when k >= K_used) with that term's
+// parameters, which travel down the unit with the vector (noise_term PARAM_PIPE = 1). The
+// last issue clock is the pixel's exit from the fold stage: px_valid is high, px_s and
+// px_side hold it (texture_pipeline starts the quadric and the delay lines there), and the
+// next pixel may be taken in the same clock (in_ready), so a pixel enters every P clocks.
+// The units' outputs are summed over the units and accumulated over the P issues (tags
+// first / last travel with the vectors); f_sum, c_sum and sum_valid appear LATENCY =
+// `LAT_NOISE_TERM + 1 enabled clocks after the pixel's px_valid.
+//
+// Formats: s_in 3 x s{S_W}.{S_FRAC}; a_all, t_all, o_all: term k's a at [k*A_W +: A_W], T at
+// [9*k*T_W +: 9*T_W], o at [3*k*O_W +: 3*O_W] (as texture_pipeline's parameter registers);
+// k_used u{KU_W}.0 (0..K); f_sum s{F_W}.{F_FRAC}, c_sum 3 x s{C_W}.{C_FRAC} (F_W, C_W: the
+// exact-sum widths of texture_pipeline, which hold K terms and the quadric).
+// Throughput: one pixel per P enabled clocks. in_ready is a function of registers only.
+// ce = 0 holds every register; rst (synchronous) empties the fold (no pixel, no sum in
+// flight). k_used and the parameters must be stable while pixels are in flight (they are
+// texture_pipeline's per-pass registers).
+
+`default_nettype none
+
+`include "tex_latency.vh"
+
+module noise_fold #(
+    // noise_term's formats and modes (config/<name>.toml keys in brackets)
+    parameter S_W            = 19,  // [s_w]
+    parameter S_FRAC         = 11,  // [s_frac]
+    parameter T_W            = 13,  // [t_w]
+    parameter T_FRAC         = 6,   // [t_frac]
+    parameter A_W            = 8,   // [a_w]
+    parameter A_FRAC         = 5,   // [a_frac]
+    parameter P_FRAC         = 8,   // [p_frac]
+    parameter HASH_BITS      = 5,   // [hash_bits]
+    parameter N_FRAC         = 9,   // [n_frac]
+    parameter F_FRAC         = 11,  // [f_frac]
+    parameter C_FRAC         = 6,   // [c_frac]
+    parameter TRANSFORM      = 1,   // [transform] 0 affine, 1 pow2
+    parameter BLEND          = 1,   // [blend] 0 linear, 1 cubic
+    parameter AMPLITUDE      = 1,   // [amplitude] 0 any, 1 pow2
+    parameter NOISE_GRADIENT = 1,   // [noise_gradient]
+    parameter NOISE_TERMS    = 8,   // [noise_terms] K: parameter sets (1..8)
+    parameter NOISE_UNITS    = 1,   // [noise_units] U: noise_term instances (1..K)
+    parameter F_W            = 32,  // f_sum word (texture_pipeline's exact-sum width)
+    parameter C_W            = 24,  // c_sum element word (likewise)
+    parameter SIDE_W         = 1,   // data that travel with a pixel (held, not read)
+    parameter MIN_CLOCKS     = 1,   // [quadric_clocks] a pixel takes at least this many clocks (1, 2)
+    parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}  // lattice permutation
+) (clk, rst, ce, in_valid, in_ready, s_in, side_in, k_used, a_all, t_all, o_all,
+   px_valid, px_s, px_side, sum_valid, f_sum, c_sum);
+
+`include "tex_widths.vh"
+
+localparam K       = NOISE_TERMS;
+localparam U       = NOISE_UNITS;
+localparam NJ      = (K + U - 1) / U;                    // issues of a pixel with every term
+localparam NJE     = (NJ > MIN_CLOCKS) ? NJ : MIN_CLOCKS;  // issues of a pixel at most
+localparam J_W     = (NJE > 1) ? $clog2(NJE) : 1;        // issue index
+localparam KU_W    = $clog2(K + 1);                      // k_used
+localparam O_W     = HASH_BITS + P_FRAC;
+localparam AN_W    = tw_an_w(A_W, A_FRAC, N_FRAC, F_FRAC);
+localparam AG_W    = tw_ag_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC);
+localparam LAT_NT  = `LAT_NOISE_TERM;
+/* verilator lint_off UNUSEDPARAM */
+localparam LATENCY = LAT_NT + 1;                          // px_valid to sum_valid (for readers)
+/* verilator lint_on UNUSEDPARAM */
+localparam GRAD    = (NOISE_GRADIENT != 0);
+
+input  wire                 clk;
+input  wire                 rst;
+input  wire                 ce;
+input  wire                 in_valid;
+output wire                 in_ready;
+input  wire [3*S_W-1:0]     s_in;
+input  wire [SIDE_W-1:0]    side_in;
+input  wire [KU_W-1:0]      k_used;
+input  wire [K*A_W-1:0]     a_all;
+input  wire [K*9*T_W-1:0]   t_all;
+input  wire [K*3*O_W-1:0]   o_all;
+output wire                 px_valid;
+output wire [3*S_W-1:0]     px_s;
+output wire [SIDE_W-1:0]    px_side;
+output wire                 sum_valid;
+output wire [F_W-1:0]       f_sum;
+output wire [3*C_W-1:0]     c_sum;
+
+// elaboration fails (unknown module) on an unsupported fold
+generate
+    if (U < 1 || U > K || F_W < AN_W || C_W < AG_W || MIN_CLOCKS < 1 || MIN_CLOCKS > 2) begin : g_bad_params
+        noise_fold_needs_1_le_units_le_terms u_error ();
+    end
+endgenerate
+
+// ---------------------------------------------------------------------------
+// Issue: hold registers and the issue index
+
+reg              busy_reg;       // the hold registers carry a pixel being issued
+reg [J_W-1:0]    j_reg;          // this clock's issue
+reg [3*S_W-1:0]  s_reg;
+reg [SIDE_W-1:0] side_reg;
+
+// the pixel's last issue: P - 1 = max(ceil(K_used / U), MIN_CLOCKS) - 1 (k_used is static;
+// issues past the terms give every unit a = 0)
+reg [J_W-1:0]  j_last;
+/* verilator lint_off UNUSEDSIGNAL */  // (K_used - 1) / U < NJ: the high bits are 0
+reg [31:0]     jq;
+/* verilator lint_on UNUSEDSIGNAL */
+always @* begin
+    jq     = (k_used == {KU_W{1'b0}}) ? 32'd0 : ({{(32-KU_W){1'b0}}, k_used} - 32'd1) / U;
+    if (jq < MIN_CLOCKS - 1) jq = MIN_CLOCKS - 1;
+    j_last = jq[J_W-1:0];
+end
+
+wire last_issue = busy_reg && (j_reg == j_last);
+assign in_ready = !busy_reg || (j_reg == j_last);
+assign px_valid = last_issue;
+assign px_s     = s_reg;
+assign px_side  = side_reg;
+
+always @(posedge clk) begin
+    if (rst) begin
+        busy_reg <= 1'b0;
+        j_reg    <= {J_W{1'b0}};
+    end else if (ce) begin
+        if (in_valid && in_ready) begin
+            busy_reg <= 1'b1;
+            j_reg    <= {J_W{1'b0}};
+        end else if (last_issue) begin
+            busy_reg <= 1'b0;
+        end else if (busy_reg) begin
+            j_reg <= j_reg + 1'b1;
+        end
+    end
+    if (ce && in_valid && in_ready) begin
+        s_reg    <= s_in;
+        side_reg <= side_in;
+    end
+end
+
+// ---------------------------------------------------------------------------
+// Units: unit u gets term j U + u (a = 0 past K_used); first / last tags beside them
+
+wire [U*AN_W-1:0]   an_u;
+wire [U*3*AG_W-1:0] ag_u;
+wire                out_valid;   // unit 0's (all units share the valid)
+
+genvar gu;
+generate
+    for (gu = 0; gu < U; gu = gu + 1) begin : g_unit
+        reg [A_W-1:0]   a_sel;
+        reg [9*T_W-1:0] t_sel;
+        reg [3*O_W-1:0] o_sel;
+        integer         m;
+        always @* begin
+            a_sel = {A_W{1'b0}};
+            t_sel = {9*T_W{1'b0}};
+            o_sel = {3*O_W{1'b0}};
+            for (m = 0; m < NJ; m = m + 1) begin
+                if (j_reg == m[J_W-1:0] && m*U + gu < K) begin
+                    a_sel = (m*U + gu < k_used) ? a_all[(m*U + gu)*A_W +: A_W] : {A_W{1'b0}};
+                    t_sel = t_all[(m*U + gu)*9*T_W +: 9*T_W];
+                    o_sel = o_all[(m*U + gu)*3*O_W +: 3*O_W];
+                end
+            end
+        end
+        wire v;
+        noise_term #(
+            .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
+            .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
+            .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
+            .PARAM_PIPE(1), .PERM(PERM)
+        ) u_noise_term (
+            .clk(clk), .rst(rst), .ce(ce),
+            .in_valid(busy_reg),
+            .s_in(s_reg), .a_in(a_sel), .t_in(t_sel), .o_in(o_sel),
+            .out_valid(v),
+            .an_out(an_u[gu*AN_W +: AN_W]),
+            .ag_out(ag_u[gu*3*AG_W +: 3*AG_W])
+        );
+        if (gu == 0) begin : g_v
+            assign out_valid = v;
+        end else begin : g_nv
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire unused_v = v;  // every unit's valid equals unit 0's
+            /* verilator lint_on UNUSEDSIGNAL */
+        end
+    end
+endgenerate
+
+wire first_o, last_o;
+delay_line #(.W(2), .N(LAT_NT)) u_dly_tags (.clk(clk), .rst(rst), .ce(ce),
+                                             .d_in({last_issue, busy_reg && j_reg == {J_W{1'b0}}}),
+                                             .d_out({last_o, first_o}));
+
+// ---------------------------------------------------------------------------
+// Sum over the units, accumulated over the issues (exact: the partial sums of at most K
+// terms fit F_W / C_W, whose bounds hold K terms and the quadric)
+
+reg [F_W-1:0]   f_step;
+reg [3*C_W-1:0] c_step;
+reg [F_W-1:0]   f_acc_reg;
+reg [3*C_W-1:0] c_acc_reg;
+reg             sum_valid_reg;
+integer         ui, ci, cj;
+
+always @* begin
+    f_step = {F_W{1'b0}};
+    c_step = {3*C_W{1'b0}};
+    for (ui = 0; ui < U; ui = ui + 1) begin
+        f_step = f_step + {{(F_W-AN_W){an_u[ui*AN_W + AN_W-1]}}, an_u[ui*AN_W +: AN_W]};
+        for (ci = 0; ci < 3; ci = ci + 1)
+            c_step[ci*C_W +: C_W] = c_step[ci*C_W +: C_W]
+                + {{(C_W-AG_W){ag_u[(3*ui+ci)*AG_W + AG_W-1]}}, ag_u[(3*ui+ci)*AG_W +: AG_W]};
+    end
+end
+
+always @(posedge clk) begin
+    if (rst) begin
+        sum_valid_reg <= 1'b0;
+        f_acc_reg     <= {F_W{1'b0}};
+        c_acc_reg     <= {3*C_W{1'b0}};
+    end else if (ce) begin
+        sum_valid_reg <= out_valid && last_o;
+        if (out_valid) begin
+            f_acc_reg <= first_o ? f_step : f_acc_reg + f_step;
+            for (cj = 0; cj < 3; cj = cj + 1)
+                c_acc_reg[cj*C_W +: C_W] <= first_o ? c_step[cj*C_W +: C_W]
+                                                    : c_acc_reg[cj*C_W +: C_W] + c_step[cj*C_W +: C_W];
+        end
+    end
+end
+
+assign sum_valid = sum_valid_reg;
+assign f_sum     = f_acc_reg;
+assign c_sum     = GRAD ? c_acc_reg : {3*C_W{1'b0}};
+
+endmodule
+
+`default_nettype wire
