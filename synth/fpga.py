@@ -177,7 +177,11 @@ def critical_path(rep: dict) -> dict | None:
             "clock_from": p.get("from"), "clock_to": p.get("to"),
             "delay_ns": round(sum(s.get("delay", 0) for s in segs), 2),
             "logic_ns": delay(("logic", "clk-to-q", "setup")), "routing_ns": delay(("routing",)),
-            "logic_cells": sum(1 for s in segs if s.get("type") == "logic")}
+            "logic_cells": sum(1 for s in segs if s.get("type") == "logic"),
+            # where the time goes: the three slowest steps (a block RAM's or FF's clock-to-out, a
+            # multiplier, a long route), each with the cell it ends in
+            "largest_steps": [{"type": s["type"], "ns": round(s["delay"], 2), "cell": s["to"]["cell"]}
+                              for s in sorted(segs, key=lambda s: -s.get("delay", 0))[:3]]}
 
 
 def run_flow(label: str, top: str, files: list[str], params: dict, freq: float = DEFAULT_FREQ,
@@ -285,7 +289,15 @@ def write_doc() -> Path:
         cp = r.get("critical_path")
         if cp:
             L.append(f"- `{r['config']}`: {cp['delay_ns']} ns from `{cp['from']}` to `{cp['to']}` "
-                     f"({cp['logic_cells']} logic cells; {cp['logic_ns']} ns logic, {cp['routing_ns']} ns routing).")
+                     f"({cp['logic_cells']} logic cells; {cp['logic_ns']} ns logic, {cp['routing_ns']} ns routing); "
+                     "its slowest steps: " + ", ".join(f"{st['type']} {st['ns']} ns into `{st['cell']}`"
+                                                      for st in cp.get("largest_steps", [])) + ".")
+            first = (cp.get("largest_steps") or [{}])[0]
+            if first.get("type") == "clk-to-q" and "_mem" in first.get("cell", ""):
+                L.append(f"  The path starts at a block RAM read without the DP16KD's output register (its clock-to-out "
+                         f"is {first['ns']} ns of the {cp['delay_ns']} ns): a register stage after the table read "
+                         "(the RAM's output register, one more clock of latency in rtl/, with the golden model's "
+                         "latency) would take that off this path.")
         elif r.get("error"):
             L.append(f"- `{r.get('config')}`: {r['error']}")
     tools = next((r["tools"] for r in reps if r.get("tools")), {})
