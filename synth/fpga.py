@@ -59,9 +59,9 @@ PNR_PHASE = re.compile(r"^Info: (Packing|Running|Placed|Device utilisation|Routi
 class FlowError(Exception):
     """The flow failed: `line` is the one-line reason; `over` the resources over budget."""
 
-    def __init__(self, line: str, over: dict | None = None):
+    def __init__(self, line: str, over: dict | None = None, resources: dict | None = None):
         super().__init__(line)
-        self.over = over or {}
+        self.over, self.resources = over or {}, resources or {}
 
 
 def tool(name: str) -> str:
@@ -151,11 +151,12 @@ def place_and_route(netlist: Path, out: Path, freq: float, seed: int, timeout: f
     if timed_out:
         raise FlowError(f"nextpnr: stopped after the time limit of {timeout:g} s (log {log})")
     if rc != 0 or not report.exists():
-        over = {RESOURCES.get(k, k): {"used": u, "available": a} for k, (u, a) in _utilisation(text).items() if u > a}
+        util = {RESOURCES.get(k, k): {"used": u, "available": a} for k, (u, a) in _utilisation(text).items()}
+        over = {k: v for k, v in util.items() if v["used"] > v["available"]}
         err = [ln.strip() for ln in text.splitlines() if ln.startswith("ERROR")] or [f"exit status {rc}"]
         what = "; ".join(f"{k} {v['used']:,} of {v['available']:,}" for k, v in over.items())
         raise FlowError(f"nextpnr: does not fit the {DEVICE}: {what}" if over else f"nextpnr: {err[0]} (log {log})",
-                        over)
+                        over, util)
     return json.loads(report.read_text())
 
 
@@ -205,6 +206,7 @@ def run_flow(label: str, top: str, files: list[str], params: dict, freq: float =
         pnr = place_and_route(syn["netlist"], out, freq, seed, timeout, ooc, quiet)
     except FlowError as e:
         rep.update(fits=False if e.over else None, over_budget=e.over, error=str(e),
+                   resources={k: e.resources[k] for k in RESOURCES.values() if k in e.resources},  # demanded
                    seconds={"synth": round(t_syn, 1), "total": round(time.perf_counter() - t0, 1)})
         e.report = rep
         raise
@@ -282,7 +284,9 @@ def write_doc() -> Path:
                  f"| {r.get('seconds', {}).get('total', 0) / 60:.1f} min |")
     name, cells, clock, rate = PERLIN_CORE
     L += [f"| {name} | | {cells} | | | | {clock} | | {rate} | | | | |", "",
-          "LUT4s count nextpnr's TRELLIS_COMB cells (a LUT4, or half of a CCU2C carry cell); the Perlin core's "
+          "LUT4s count nextpnr's TRELLIS_COMB cells (a LUT4, or half of a CCU2C carry cell); a configuration that "
+          "does not fit shows what it demands (nextpnr's utilisation before placement: the multipliers are "
+          "Yosys's DSP mapping of every product, `synth_ecp5` without a limit on MULT18X18D); the Perlin core's "
           "figure is in the logic cells its paper reports, stated as the issue states it.", "",
           "## What limits the clock", ""]
     for r in reps:
