@@ -46,7 +46,7 @@ import hdlbuild
 from model.hw import golden as G
 from tb import pipe
 
-SOURCES = ["noise_term.v", "noise_hash.v", "noise_blend.v", "lerp.v"]
+SOURCES = ["noise_term.v", "noise_hash.v", "noise_blend.v", "lerp.v", "delay_line.v"]
 
 
 def latency() -> int:
