@@ -3,10 +3,9 @@
 Two halves in one file (the project's testbench convention):
 - pytest entries: `test_colour_map_rtl` over (simulator, configuration),
   `test_colour_map_filter_variants_rtl`, the same cocotb test on each configuration with
-  its filter switched to "mip" and to "none" (a header generated into
-  build/gen/<config>_<filter>/), so that every `CFG_FILTER branch is simulated, and
-  `test_colour_map_div_variants_rtl`, the same with formats.div_bits switched (build/gen/
-  <config>_div<B>/): the saturating normalised division (B = 4, 9 on reduced), B = W_W - 1
+  its filter switched to "mip" and to "none" (model.hw.config.variant), so that every
+  FILTER branch is simulated, and
+  `test_colour_map_div_variants_rtl`, the same with formats.div_bits switched: the saturating normalised division (B = 4, 9 on reduced), B = W_W - 1
   (shift 0 or 1) and a normalised division on full's wide w (B = 10);
 - the cocotb test `colour_map_vs_golden`: for a series of colour tables (random, one for
   every N = 2^n_log2, n_log2 = 0..n_log2_max; all 255 and all 0, the quotient extremes;

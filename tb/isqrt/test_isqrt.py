@@ -1,8 +1,8 @@
 """isqrt: r = floor(sqrt(l)) bit-exact against Python's math.isqrt (and golden isqrt).
 
 Two kinds of build:
-- test_isqrt_rtl(sim, config): the widths filter_width uses (L_W = `CFG_L_W,
-  R_W = `CFG_R_W, LATENCY = `LAT_FILTER_WIDTH - 5): n_vectors() random radicands
+- test_isqrt_rtl(sim, config): the widths filter_width uses (L_W = l_w,
+  R_W = r_w, LATENCY = `LAT_FILTER_WIDTH - 5, hdlbuild.block_params): n_vectors() random radicands
   (a share uniform over the whole input word, a share small, a share near perfect
   squares) plus the edges: 0..15, every power of two and its neighbours, k^2 - 1,
   k^2, k^2 + 1 for the largest roots, the largest radicand filter_width produces
