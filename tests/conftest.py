@@ -10,13 +10,20 @@ from __future__ import annotations
 import os
 
 import pytest
-from hypothesis import core
+from hypothesis import core, settings
 
 
 def _session_seed() -> int:
     s = os.environ.get("SEED")
     return int(s) if s else int.from_bytes(os.urandom(4), "little") >> 1
 
+
+# Hypothesis loads its "ci" profile when the environment says CI (the CI variable is set), and that
+# profile derandomizes: every run would draw the same examples and ignore SEED. Keep whatever profile
+# is loaded (deadline, database, print_blob) but draw from the seed.
+settings.register_profile("seeded", parent=settings.get_profile(settings.get_current_profile_name()),
+                          derandomize=False)
+settings.load_profile("seeded")
 
 HYPOTHESIS_SEED = _session_seed()
 if core.global_force_seed is None:  # --hypothesis-seed on the command line wins
