@@ -17,7 +17,8 @@ SIM    ?= verilator
 SCENE  ?= zone_plate
 SIZE   ?= 256
 # optional: OUT= output root (instead of out/render, out/frames; renders/frames: their docs too),
-# STRICT=1 (any approximation of the scene by the configuration is an error), TRUTH_SS= (render),
+# STRICT=1 (any approximation of the scene by the configuration is an error), TRUTH_SS= / BAND_SS= (render,
+# renders: the truth's samples a pixel axis, outside / inside the filter-width > N/8 band's tiles),
 # GAPS= / STALLS= (frame: percent of input gaps / output stalls), RENDERS_SIZE=, FRAMES_SIZE=,
 # FRAMES_SCENES= (frames: a comma-separated subset), BENCH_SIZE= (bench-model frame side),
 # PERF_PIXELS= (icarus-perf)
@@ -26,6 +27,7 @@ FRAMES_SIZE  ?= 512
 BENCH_SIZE   ?= 512
 PERF_PIXELS  ?= 8192
 COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
+TRUTH_FLAGS = $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS)) $(if $(BAND_SS),--band-ss $(BAND_SS))
 
 .PHONY: help setup gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
         synth synth-check synth-blocks fpga clean
@@ -44,7 +46,7 @@ help:
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
 	@echo "make fpga CONFIG=reduced [FREQ=100] [SEED=1]   ECP5 85F place and route (yowasp): synth/reports/fpga_<name>.json, docs/fpga.md"
-	@echo "  render/frame also take OUT= STRICT=1 (TRUTH_SS=; GAPS= STALLS=); renders/frames OUT= RENDERS_SIZE= FRAMES_SIZE= FRAMES_SCENES="
+	@echo "  render/frame also take OUT= STRICT=1 (TRUTH_SS= BAND_SS=; GAPS= STALLS=); renders/frames OUT= RENDERS_SIZE= FRAMES_SIZE= FRAMES_SCENES="
 
 setup:
 	@if command -v apt-get >/dev/null; then \
@@ -85,10 +87,10 @@ bench-model:
 
 render:
 	$(PY) -m model.scene.render --scene $(SCENE) --config $(CONFIG) --size $(SIZE) $(COMMON_FLAGS) \
-	  $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS))
+	  $(TRUTH_FLAGS)
 
 renders:
-	$(PY) -m model.scene.render --all --size $(RENDERS_SIZE) $(COMMON_FLAGS)
+	$(PY) -m model.scene.render --all --size $(RENDERS_SIZE) $(COMMON_FLAGS) $(TRUTH_FLAGS)
 
 frame: gen
 	$(VENV_ENV) $(PY) -m sim.frame --scene $(SCENE) --config $(CONFIG) --sim $(SIM) --size $(SIZE) $(COMMON_FLAGS) \

@@ -103,10 +103,10 @@ COMMANDS = {
     "lint": (["lint"], {}, lambda r, out: (_ok(r), "lint: clean" in r.stdout)),
     "bench-model": (["bench-model", "BENCH_SIZE=8"], {},
                     lambda r, out: (_ok(r), json.loads(r.stdout)["golden_full_pixels_per_second"] > 0)),
-    "render": (["render", "SCENE=zone_plate", "CONFIG=full", "SIZE=8", "TRUTH_SS=2"], {}, _check_out("render")),
-    "render (scene path)": (["render", "SCENE={tiny}", "CONFIG=reduced", "SIZE=8", "TRUTH_SS=2"], {},
+    "render": (["render", "SCENE=zone_plate", "CONFIG=full", "SIZE=8", "TRUTH_SS=2", "BAND_SS=4"], {}, _check_out("render")),
+    "render (scene path)": (["render", "SCENE={tiny}", "CONFIG=reduced", "SIZE=8", "TRUTH_SS=2", "BAND_SS=4"], {},
                             _check_out("render")),
-    "renders": (["renders", "RENDERS_SIZE=4"], {}, lambda r, out: (
+    "renders": (["renders", "RENDERS_SIZE=4", "TRUTH_SS=2", "BAND_SS=4"], {}, lambda r, out: (
         _check_out("render")(r, out), (out / "docs" / "scenes.md").is_file(),
         (out / "docs" / "images" / "renders.png").is_file())),
     "frame": (["frame", "SCENE={tiny}", "CONFIG=reduced", "SIM=verilator", "SIZE=8", "GAPS=20", "STALLS=20"], {},
@@ -185,7 +185,8 @@ BAD = {
     "size not a number": (lambda t: {"SIZE": "big"}, "--size: invalid int value: 'big'", ("render", "frame")),
     "size 4096 (render: memory)": (lambda t: {"SIZE": "4096"}, "GiB of memory", ("render",)),
     "size 4096 (frame: range)": (lambda t: {"SIZE": "4096"}, "--size 4096: expected 1..1024", ("frame",)),
-    "truth-ss 0": (lambda t: {"TRUTH_SS": "0"}, "--truth-ss 0: expected 1..16", ("render",)),
+    "truth-ss 0": (lambda t: {"TRUTH_SS": "0"}, "--truth-ss 0: expected 1..64", ("render",)),
+    "band-ss 65": (lambda t: {"BAND_SS": "65"}, "--band-ss 65: expected 1..64", ("render",)),
     "gaps 200": (lambda t: {"GAPS": "200"}, "--gaps 200: expected 0..99", ("frame",)),
     "stalls -1": (lambda t: {"STALLS": "-1"}, "--stalls -1: expected 0..99", ("frame",)),
     "unknown simulator": (lambda t: {"SIM": "modelsim"}, "--sim modelsim: expected one of verilator, icarus", ("frame",)),

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -12,14 +13,23 @@ from model.imageio import read_attrs, read_image
 @pytest.mark.parametrize("scene,size", [("zone_plate", 128), ("seascape", 64)])
 def test_filtered_closer_to_truth_than_unfiltered(tmp_path, scene, size):
     """Section 3.4: the box-filtered colour table reduces aliasing (zone plate, seascape)."""
-    rep = render.render(scene, "full", size, truth=True, truth_ss=8, out_root=tmp_path, progress=False)
+    rep = render.render(scene, "full", size, truth=True, truth_ss=8, band_ss=16, out_root=tmp_path, progress=False)
     assert rep["psnr_filtered_vs_truth_db"] > rep["psnr_unfiltered_vs_truth_db"]
+    # the band of filter widths above N/8 entries (issue 15), and the truth's own movement
+    band = rep["band_w_gt_n8"]
+    assert 0 < band["pixels"] < rep["pixels_textured"] or scene == "zone_plate", band
+    assert band["psnr_filtered_vs_truth_db"] and band["psnr_unfiltered_vs_truth_db"], band
+    tr = rep["truth"]
+    assert tr["band_pixels"] == band["pixels"] and tr["ss"] == 8 and tr["band_ss"] == 16
+    assert tr["margin_db"]["all"] > 0 and tr["margin_db"]["band"] > 0, tr  # the truth moves less than what it measures
+    assert (tmp_path / "truth").is_dir() and Path(tr["cache"]).is_file()
     out = tmp_path / scene / f"full-{size}"
     for name in ("reference.exr", "reference.png", "golden.png", "unfiltered.png", "truth.png", "filter_width.png"):
         assert (out / name).exists(), name
     saved = json.loads((out / "report.json").read_text())
     for key in ("scene", "config", "width", "height", "pixels_textured", "psnr_golden_vs_reference_db",
-                "max_abs_error_lsb", "psnr_filtered_vs_truth_db", "psnr_unfiltered_vs_truth_db", "seconds"):
+                "max_abs_error_lsb", "psnr_filtered_vs_truth_db", "psnr_unfiltered_vs_truth_db", "band_w_gt_n8",
+                "truth", "seconds"):
         assert key in saved, key
     assert read_image(out / "golden.png").shape == (rep["height"], rep["width"], 4)
     attrs = read_attrs(out / "reference.exr")

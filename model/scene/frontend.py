@@ -81,16 +81,30 @@ class Pass:
 
 
 class Rays:
-    """Primary rays of a W x H frame, flattened row-major (index = y * W + x)."""
+    """Primary rays of a W x H frame, flattened row-major (index = y * W + x).
 
-    def __init__(self, cam, W: int, H: int):
-        self.W, self.H, self.N = W, H, W * H
+    window = (x0, y0, x1, y1): only the pixels x0 <= x < x1, y0 <= y < y1 of the frame (the
+    camera and k still those of the whole W x H frame), flattened row-major over the window
+    (index = (y - y0) * (x1 - x0) + (x - x0)). jitter = (jx, jy), float arrays of the window's
+    shape in [-0.5, 0.5): each ray goes through (x + 0.5 + jx, y + 0.5 + jy) instead of the
+    pixel centre (the supersampled truth's stratified jitter, model.scene.render)."""
+
+    def __init__(self, cam, W: int, H: int, window=None, jitter=None):
+        x0, y0, x1, y1 = window or (0, 0, W, H)
+        if not (0 <= x0 < x1 <= W and 0 <= y0 < y1 <= H):
+            raise ValueError(f"window {window}: not inside the {W}x{H} frame")
+        self.W, self.H = W, H
+        self.x0, self.y0, self.Ww, self.Hw = x0, y0, x1 - x0, y1 - y0
+        self.N = self.Ww * self.Hw
         self.ortho = cam.projection == "orthographic"
         f, r, u = cam.basis()
         self.f, self.r, self.u, self.E = f, r, u, cam.position.astype(np.float64)
-        px = (np.arange(W) + 0.5) - W / 2.0
-        py = (np.arange(H) + 0.5) - H / 2.0
-        px, py = np.meshgrid(px, py)  # [H, W]
+        px = (np.arange(x0, x1) + 0.5) - W / 2.0
+        py = (np.arange(y0, y1) + 0.5) - H / 2.0
+        px, py = np.meshgrid(px, py)  # [Hw, Ww]
+        if jitter is not None:
+            px, py = px + jitter[0], py + jitter[1]
+        self.px, self.py = px.ravel() + W / 2.0, py.ravel() + H / 2.0  # frame coordinates of every ray
         px, py = px.ravel(), py.ravel()
         if self.ortho:
             k = cam.ortho_height / H
@@ -291,6 +305,7 @@ def _hit_mesh(p, rays):
     e2 = V[T[:, 2]] - v0
     nrm = np.cross(e1, e2)
     W, H = rays.W, rays.H
+    wx0, wy0, wx1, wy1 = rays.x0, rays.y0, rays.x0 + rays.Ww - 1, rays.y0 + rays.Hw - 1  # the window, inclusive
     zt = np.full(rays.N, np.inf)
     zi = np.full(rays.N, -1, dtype=np.int64)
     # contiguous cluster ranges
@@ -314,15 +329,19 @@ def _hit_mesh(p, rays):
         x1 = np.where(full, W - 1, np.ceil(np.nan_to_num(X.max(axis=1), nan=W) + 1.0))
         y0 = np.where(full, 0, np.floor(np.nan_to_num(Y.min(axis=1), nan=0) - 1.0))
         y1 = np.where(full, H - 1, np.ceil(np.nan_to_num(Y.max(axis=1), nan=H) + 1.0))
-    x0, x1 = np.clip(x0, 0, W - 1).astype(np.int64), np.clip(x1, 0, W - 1).astype(np.int64)
-    y0, y1 = np.clip(y0, 0, H - 1).astype(np.int64), np.clip(y1, 0, H - 1).astype(np.int64)
+    x0, x1 = np.clip(x0, wx0, wx1).astype(np.int64), np.clip(x1, wx0, wx1).astype(np.int64)
+    y0, y1 = np.clip(y0, wy0, wy1).astype(np.int64), np.clip(y1, wy0, wy1).astype(np.int64)
     live = (zmax > 0) & (x0 <= x1) & (y0 <= y1)
+    if rays.Ww < W or rays.Hw < H:  # a cluster wholly outside the window (its rectangle clipped to an edge)
+        with np.errstate(invalid="ignore"):
+            live &= full | ~((X.max(axis=1) + 1 < wx0) | (X.min(axis=1) - 1 > wx1 + 1)
+                             | (Y.max(axis=1) + 1 < wy0) | (Y.min(axis=1) - 1 > wy1 + 1))
     if not rays.ortho:
         live &= ~(~full & ((X.max(axis=1) < -1) | (X.min(axis=1) > W + 1) | (Y.max(axis=1) < -1) | (Y.min(axis=1) > H + 1)))
     for c in np.flatnonzero(live):
         xs = np.arange(x0[c], x1[c] + 1)
         ys = np.arange(y0[c], y1[c] + 1)
-        idx = (ys[:, None] * W + xs[None, :]).ravel()
+        idx = ((ys[:, None] - wy0) * rays.Ww + (xs[None, :] - wx0)).ravel()
         sl = slice(starts[c], ends[c])
         O = rays.O[idx][:, None, :]
         D = rays.D[idx][:, None, :]
@@ -383,10 +402,7 @@ def _object_sample(ob: SceneObject, rays: Rays):
     if ob.type == "screen":
         W, H = rays.W, rays.H
         x0, y0, x1, y1 = ob.params["rect"]
-        uu = (np.arange(W) + 0.5) / W
-        vv = (np.arange(H) + 0.5) / H
-        U, Vv = np.meshgrid(uu, vv)
-        U, Vv = U.ravel(), Vv.ravel()
+        U, Vv = rays.px / W, rays.py / H
         cov = (U >= x0) & (U < x1) & (Vv >= y0) & (Vv < y1)
         P = np.stack([U, Vv, np.zeros(N)], axis=1)
         s[cov] = _lin(M, P[cov]) + m
@@ -417,15 +433,19 @@ def _object_sample(ob: SceneObject, rays: Rays):
     return depth, s, J, sid
 
 
-def render_passes(scene: Scene, width: int | None = None, height: int | None = None) -> list:
+def render_passes(scene: Scene, width: int | None = None, height: int | None = None, window=None,
+                  jitter=None) -> list:
     """Ray-cast the scene at width x height (default: the scene's) into a list of `Pass`.
 
-    The list is in front-to-back compositing order (see the module docstring).
+    The list is in front-to-back compositing order (see the module docstring). window =
+    (x0, y0, x1, y1) and jitter (see `Rays`): only that rectangle of the frame, the passes'
+    arrays of its shape [y1 - y0, x1 - x0], every ray moved by its jitter.
     """
     W = int(width or scene.width)
     H = int(height or scene.height)
-    rays = Rays(scene.camera, W, H)
-    N = W * H
+    rays = Rays(scene.camera, W, H, window, jitter)
+    N = rays.N
+    W, H = rays.Ww, rays.Hw  # the arrays' shape
     layers = []
     for lname in scene.layers:
         obs = [ob for ob in scene.objects if ob.layer == lname]

@@ -2,9 +2,12 @@
 
 `python -m model.scene.render --scene zone_plate --config full --size 256` (make render)
 writes out/render/<scene>/<config>-<size>/: reference.exr (float reference, with
-provenance attributes), reference.png, golden.png, unfiltered.png, truth.png
-(8x8 supersampled unfiltered float reference, box-averaged), filter_width.png
-(Fig. 9c: w from 1 entry, black, to N entries, white) and report.json.
+provenance attributes), reference.png, golden.png, unfiltered.png, truth.png (the ground
+truth, model.scene.truth: stratified jittered supersampling of the unfiltered float reference,
+16x16 a pixel, 32x32 in the tiles of the band where the filter width exceeds N/8 entries;
+cached in out/truth/), filter_width.png (Fig. 9c: w from 1 entry, black, to N entries, white)
+and report.json (PSNR against the truth over the textured pixels and over that band,
+`band_w_gt_n8`, and how far the truth moves between n/2 x n/2 and n x n samples).
 `--all` renders every scene for both configurations and writes the contact sheet
 docs/images/renders.png.
 """
@@ -26,6 +29,7 @@ from model.imageio import compare, contact_sheet, write_image
 from model.scene.cli import (Parser, UserError, check_config, check_range, memory_available, resolve_scene,
                              run_main, staged)
 from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, to8
+from model.scene.truth import BAND_SS, TILE, TRUTH_SS, truth, truth_image  # noqa: F401 (truth_image: the API)
 
 
 def git_describe() -> str:
@@ -36,25 +40,34 @@ def git_describe() -> str:
         return "unknown"
 
 
-# memory of a render, measured (moonrise, full): ~1.1 KB a pixel, ~0.7 KB a truth sample
+# memory of a render, measured (moonrise, full): ~1.1 KB a pixel, ~0.7 KB a truth sample; the
+# truth renders one TILE x TILE tile of samples at a time, beside its own per-pixel arrays
 _BYTES_BASE, _BYTES_PIXEL, _BYTES_SAMPLE = 150 << 20, 1100, 700
 
 
-def memory_needed(W: int, H: int, truth: bool, truth_ss: int) -> int:
-    return _BYTES_BASE + _BYTES_PIXEL * W * H + (_BYTES_SAMPLE * W * H * truth_ss**2 if truth else 0)
+def memory_needed(W: int, H: int, truth: bool, truth_ss: int, band_ss: int = BAND_SS) -> int:
+    return _BYTES_BASE + _BYTES_PIXEL * W * H + (
+        _BYTES_PIXEL * W * H + _BYTES_SAMPLE * (TILE * max(truth_ss, band_ss))**2 if truth else 0)
 
 
-def render(scene_name: str, config_name: str, size: int, truth: bool = True, truth_ss: int = 8,
-           out_root: Path | None = None, progress: bool = True, strict: bool = False) -> dict:
+def truth_dir(out_root: Path | None) -> Path:
+    """The truth cache of a render root: out/truth for out/render, else <out_root>/truth."""
+    return ROOT / "out" / "truth" if out_root is None else Path(out_root) / "truth"
+
+
+def render(scene_name: str, config_name: str, size: int, truth: bool = True, truth_ss: int = TRUTH_SS,
+           out_root: Path | None = None, progress: bool = True, strict: bool = False, band_ss: int = BAND_SS) -> dict:
     """Render one scene (a name or a .toml path) for one configuration into
     <out_root>/<scene>/<config>-<size>/ (staged: only a completed render is moved into place).
-    strict: any approximation the configuration makes to the scene is an error (UserError)."""
+    strict: any approximation the configuration makes to the scene is an error (UserError).
+    truth_ss, band_ss: the truth's samples a pixel axis outside and inside the band's tiles."""
     from model.scene.frontend import render_passes
     from model.scene.scene import load_scene
 
     t0 = time.perf_counter()
     check_range("--size", size, 1, 4096)
-    check_range("--truth-ss", truth_ss, 1, 16)
+    check_range("--truth-ss", truth_ss, 1, 64)
+    check_range("--band-ss", band_ss, 1, 64)
     check_config(config_name)
     scene_name, path = resolve_scene(scene_name)
     target = (out_root or ROOT / "out" / "render") / scene_name / f"{config_name}-{size}"
@@ -63,9 +76,9 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
         cfg = load_config(config_name)
         scene = load_scene(path)
         W, H = frame_size(scene, size)
-        need, avail = memory_needed(W, H, truth, truth_ss), memory_available()
+        need, avail = memory_needed(W, H, truth, truth_ss, band_ss), memory_available()
         if avail is not None and need > avail:
-            raise UserError(f"--size {size}: a {W}x{H} render" + (f" with {truth_ss}x{truth_ss} truth" if truth else "")
+            raise UserError(f"--size {size}: a {W}x{H} render" + (" with its truth" if truth else "")
                             + f" needs about {need / 2**30:.1f} GiB of memory, {avail / 2**30:.1f} GiB available "
                             "(a smaller --size or --truth-ss, or --no-truth)")
         passes = render_passes(scene, W, H)
@@ -73,15 +86,16 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
         approx = scene_approximations(pds)
         if strict and approx:
             raise UserError(f"--strict: {approx[0]}" + (f" (and {len(approx) - 1} more)" if len(approx) > 1 else ""))
-        rep = _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, truth, truth_ss, progress)
+        tr = (path, passes, truth_ss, band_ss, truth_dir(out_root)) if truth else None
+        rep = _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, tr, progress)
         rep["approximations"] = approx
         rep["seconds"] = round(time.perf_counter() - t0, 2)
         (out / "report.json").write_text(json.dumps(rep, indent=2) + "\n")
     return rep
 
 
-def _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, truth, truth_ss, progress) -> dict:
-    bar = _bar(progress, total=len(pds) * 3 + (1 if truth else 0), desc=f"{scene_name} {config_name} {W}x{H}")
+def _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, tr, progress) -> dict:
+    bar = _bar(progress, total=len(pds) * 3, desc=f"{scene_name} {config_name} {W}x{H}")
     gold, unf, ref, cref, widths = [], [], [], [], np.zeros((H, W))
     for pd in pds:
         st = golden.texture_stages(cfg, pd.ti, pd.si, pd.Jm, pd.je)
@@ -107,11 +121,12 @@ def _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, trut
     textured = np.zeros((H, W), bool)
     for pd in pds:
         textured |= pd.mask
-    img_truth = None
-    if truth:
-        img_truth = supersampled_truth(scene, cfg, W, H, truth_ss)
-        bar.update()
     bar.close()
+    img_truth = tinfo = None
+    if tr is not None:
+        path, passes, truth_ss, band_ss, cache = tr
+        img_truth, tinfo = truth(str(path), cfg, size, ss=truth_ss, band_ss=band_ss, cache_dir=cache,
+                                 progress=progress, passes=passes)
     prov = {"scene": scene_name, "config": config_name, "size": f"{W}x{H}", "git": git_describe(),
             "command": f"make render SCENE={scene_name} CONFIG={config_name} SIZE={size}",
             "generator": "model/reference.py (float64 reference)"}
@@ -137,32 +152,31 @@ def _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, trut
     rep["max_abs_error_vs_configured_reference_lsb"] = cc["max_abs_error_lsb"]
     if img_truth is not None:
         write_image(out / "truth.png", to8(img_truth))
-        rep["psnr_filtered_vs_truth_db"] = compare(img_gold[textured], img_truth[textured])["psnr_db"]
-        rep["psnr_unfiltered_vs_truth_db"] = compare(img_unf[textured], img_truth[textured])["psnr_db"]
-        rep["psnr_reference_vs_truth_db"] = compare(img_ref[textured], img_truth[textured])["psnr_db"]
-        rep["truth_supersampling"] = f"{truth_ss}x{truth_ss}"
+        band = tinfo["band"] & textured
+        for key, img in (("filtered", img_gold), ("unfiltered", img_unf), ("reference", img_ref)):
+            rep[f"psnr_{key}_vs_truth_db"] = compare(img[textured], img_truth[textured])["psnr_db"]
+        rep["band_w_gt_n8"] = {"pixels": int(band.sum()), **{
+            f"psnr_{key}_vs_truth_db": compare(img[band], img_truth[band])["psnr_db"]
+            for key, img in (("filtered", img_gold), ("unfiltered", img_unf), ("reference", img_ref))}}
+        rep["truth_supersampling"] = tinfo["rate"]
+        rep["truth"] = {k: v for k, v in tinfo.items() if k not in ("band", "textured")}
+        rep["truth"]["margin_db"] = truth_margin(rep)
     else:
         rep["psnr_filtered_vs_truth_db"] = rep["psnr_unfiltered_vs_truth_db"] = None
     return rep
 
 
-def supersampled_truth(scene, cfg, W, H, ss: int) -> np.ndarray:
-    """Ground truth: the unfiltered float reference at ss x ss samples per pixel, box-averaged.
-
-    Rendered in horizontal bands to bound memory; each band is a full-width
-    render of ss*W x ss*H restricted to its rows by the front end's row window.
-    """
-    from model.scene.frontend import render_passes
-
-    big = render_passes(scene, W * ss, H * ss)
-    layers = []
-    for ps in big:
-        s = ps.s[ps.mask]
-        rgba = reference.unfiltered_lookup(ps.texture.clut, reference.texture_f(ps.texture, s, cfg.perm, cfg.hash_bits),
-                                           ps.texture.mode)
-        layers.append((ps.mask, rgba))
-    img = composite(layers, (H * ss, W * ss), scene.background)
-    return img.reshape(H, ss, W, ss, 4).mean(axis=(1, 3))
+def truth_margin(rep: dict) -> dict:
+    """How much less the truth moves (n/2 against n samples) than the differences measured
+    against it, in dB: its movement's PSNR minus the highest PSNR measured against it (filtered,
+    unfiltered), over all textured pixels and over the band. Positive: the truth moves less."""
+    conv = rep["truth"]["convergence"]
+    out = {}
+    for region, figs in (("all", rep), ("band", rep["band_w_gt_n8"])):
+        measured = [figs[f"psnr_{k}_vs_truth_db"] for k in ("filtered", "unfiltered")]
+        moved = conv[region]["psnr_db"]
+        out[region] = (None if moved is None or None in measured else round(moved - max(measured), 2))
+    return out
 
 
 class _NoBar:
@@ -182,7 +196,7 @@ def _bar(progress: bool, total: int, desc: str):
 
 
 def render_all(size: int, truth: bool, progress: bool = True, out_root: Path | None = None,
-               strict: bool = False) -> list[dict]:
+               strict: bool = False, truth_ss: int = TRUTH_SS, band_ss: int = BAND_SS) -> list[dict]:
     """Every scene, both configurations; the contact sheet, renders.json and scenes.md go to
     docs/ (or, with out_root, to <out_root>/docs)."""
     reps = []
@@ -193,11 +207,12 @@ def render_all(size: int, truth: bool, progress: bool = True, out_root: Path | N
     for scene in SCENES:
         row = []
         for c in CONFIG_NAMES:
-            rep = render(scene, c, size, truth=truth, progress=progress, out_root=out_root, strict=strict)
+            rep = render(scene, c, size, truth=truth, progress=progress, out_root=out_root, strict=strict,
+                         truth_ss=truth_ss, band_ss=band_ss)
             reps.append(rep)
-            print(json.dumps({k: rep[k] for k in ("scene", "config", "psnr_golden_vs_reference_db",
-                                                   "psnr_filtered_vs_truth_db", "psnr_unfiltered_vs_truth_db",
-                                                   "seconds")}), flush=True)
+            print(json.dumps({k: rep.get(k) for k in ("scene", "config", "psnr_golden_vs_reference_db",
+                                                       "psnr_filtered_vs_truth_db", "psnr_unfiltered_vs_truth_db",
+                                                       "band_w_gt_n8", "seconds")}), flush=True)
         from model.imageio import read_image
 
         base = root / scene
@@ -206,13 +221,13 @@ def render_all(size: int, truth: bool, progress: bool = True, out_root: Path | N
         row.append(("golden reduced", read_image(base / f"reduced-{size}" / "golden.png")))
         row.append(("unfiltered (full)", read_image(base / f"full-{size}" / "unfiltered.png")))
         if truth:
-            row.append(("truth 8x8", read_image(base / f"full-{size}" / "truth.png")))
+            row.append((f"truth {truth_ss}/{band_ss} ss", read_image(base / f"full-{size}" / "truth.png")))
         row.append(("filter width", read_image(base / f"full-{size}" / "filter_width.png")))
         rows.append(row)
     contact_sheet(docs / "images" / "renders.png", rows, tile=160,
                   title=f"make renders: the eight scenes, {size} px (golden model and float reference)")
     (docs / "images" / "renders.json").write_text(json.dumps(reps, indent=1) + "\n")
-    write_scenes_md(reps, size, docs)
+    write_scenes_md(reps, size, docs, truth_ss, band_ss)
     return reps
 
 
@@ -228,25 +243,45 @@ PAPER = {
 }
 
 
-def write_scenes_md(reps: list[dict], size: int, docs: Path = ROOT / "docs") -> None:
+def write_scenes_md(reps: list[dict], size: int, docs: Path = ROOT / "docs", truth_ss: int = TRUTH_SS,
+                    band_ss: int = BAND_SS) -> None:
     """docs/scenes.md: each scene beside the paper's description, with its report figures."""
     L = ["# The paper's scenes", "",
-         f"Written by `make renders` ({size} px per side, both configurations). Images: "
+         f"Written by `make renders` ({size} px per side, every configuration). Images: "
          "![renders](images/renders.png)", "",
          "Columns: PSNR of the golden model against the float reference (the configuration's error), "
-         "its largest error in LSB, and the PSNR against the 8x8 supersampled ground truth of the "
-         "filtered (antialiased) and unfiltered golden images: the filter helps where filtered > unfiltered.", ""]
+         "its largest error in LSB, and the PSNR against the ground truth of the filtered (antialiased) "
+         "and unfiltered golden images, over every textured pixel and over the band `band_w_gt_n8` (the "
+         "pixels where the float reference's filter width exceeds N/8 table entries, the horizon's): the "
+         "filter helps where filtered > unfiltered.", "",
+         f"The truth (model/scene/truth.py) is the unfiltered float reference, stratified and jittered "
+         f"(seeded), {truth_ss}x{truth_ss} samples a pixel, {band_ss}x{band_ss} in the {TILE}x{TILE}-pixel "
+         "tiles that hold a band pixel, one truth per lattice (the configurations' seed and hash_bits). "
+         "'truth moves' is how far it moves between n/2 x n/2 and n x n samples (PSNR of the one against "
+         "the other, all textured pixels / the band, and the largest change in LSB): an upper bound on its "
+         "own error, to read beside the differences measured against it; 'margin' is that PSNR less the "
+         "highest PSNR measured against the truth (filtered or unfiltered), all / band: positive where the "
+         "truth moves less than the differences it measures.", ""]
+    f = lambda v: "-" if v is None else v  # noqa: E731
     for scene in SCENES:
         L += [f"## {scene}", "", PAPER[scene], "",
               "| config | pixels | PSNR vs reference (dB) | max err (LSB) | PSNR filtered vs truth | "
-              "PSNR unfiltered vs truth | noise terms used / dropped | seconds |", "|---|---|---|---|---|---|---|---|"]
+              "PSNR unfiltered vs truth | band pixels | band: filtered vs truth | band: unfiltered vs truth | "
+              "truth moves (dB, all / band; max LSB) | margin (dB, all / band) | noise terms used / dropped | seconds |",
+              "|---" * 13 + "|"]
         for r in reps:
             if r["scene"] != scene:
                 continue
             used = "; ".join(f"{p['terms_used']}/{p['dropped_terms']}" for p in r["passes"])
+            b = r.get("band_w_gt_n8") or {}
+            tr = r.get("truth") or {"convergence": {"all": {}, "band": {}}, "margin_db": {}}
+            cv, mg = tr["convergence"], tr["margin_db"]
             L.append(f"| {r['config']} | {r['pixels_textured']} | {r['psnr_golden_vs_reference_db']} | "
-                     f"{r['max_abs_error_lsb']} | {r['psnr_filtered_vs_truth_db']} | "
-                     f"{r['psnr_unfiltered_vs_truth_db']} | {used} | {r['seconds']} |")
+                     f"{r['max_abs_error_lsb']} | {f(r['psnr_filtered_vs_truth_db'])} | "
+                     f"{f(r['psnr_unfiltered_vs_truth_db'])} | {f(b.get('pixels'))} | "
+                     f"{f(b.get('psnr_filtered_vs_truth_db'))} | {f(b.get('psnr_unfiltered_vs_truth_db'))} | "
+                     f"{f(cv['all'].get('psnr_db'))} / {f(cv['band'].get('psnr_db'))}; {f(cv['all'].get('max_abs_lsb'))} | "
+                     f"{f(mg.get('all'))} / {f(mg.get('band'))} | {used} | {r['seconds']} |")
         L.append("")
     (docs / "scenes.md").write_text("\n".join(L))
 
@@ -257,8 +292,10 @@ def main(argv=None) -> int:
     ap.add_argument("--config", default="full", help=f"one of {', '.join(CONFIG_NAMES)}")
     ap.add_argument("--size", type=int, default=256, help="image width, 1..4096 (and what memory allows)")
     ap.add_argument("--all", action="store_true", help="all scenes, both configurations, contact sheet")
-    ap.add_argument("--no-truth", action="store_true", help="skip the 8x8 supersampled ground truth")
-    ap.add_argument("--truth-ss", type=int, default=8, help="truth supersampling per axis, 1..16")
+    ap.add_argument("--no-truth", action="store_true", help="skip the supersampled ground truth")
+    ap.add_argument("--truth-ss", type=int, default=TRUTH_SS, help=f"truth samples a pixel axis, 1..64 (default {TRUTH_SS})")
+    ap.add_argument("--band-ss", type=int, default=BAND_SS,
+                    help=f"truth samples a pixel axis in the tiles with filter width > N/8, 1..64 (default {BAND_SS})")
     ap.add_argument("--out", type=Path, help="output root (default out/render; --all: its docs too)")
     ap.add_argument("--strict", action="store_true", help="any approximation of the scene by the configuration is an error")
     ap.add_argument("--quiet", action="store_true")
@@ -266,12 +303,14 @@ def main(argv=None) -> int:
 
     def go():
         check_range("--size", a.size, 1, 4096)
-        check_range("--truth-ss", a.truth_ss, 1, 16)
+        check_range("--truth-ss", a.truth_ss, 1, 64)
+        check_range("--band-ss", a.band_ss, 1, 64)
         if a.all:
-            render_all(a.size, truth=not a.no_truth, progress=not a.quiet, out_root=a.out, strict=a.strict)
+            render_all(a.size, truth=not a.no_truth, progress=not a.quiet, out_root=a.out, strict=a.strict,
+                       truth_ss=a.truth_ss, band_ss=a.band_ss)
         else:
             rep = render(a.scene, a.config, a.size, truth=not a.no_truth, truth_ss=a.truth_ss, out_root=a.out,
-                         progress=not a.quiet, strict=a.strict)
+                         progress=not a.quiet, strict=a.strict, band_ss=a.band_ss)
             print(json.dumps(rep, indent=2))
         return 0
 
