@@ -25,12 +25,13 @@ SIZE   ?= 256
 RENDERS_SIZE ?= 256
 FRAMES_SIZE  ?= 512
 BENCH_SIZE   ?= 512
+PRECISION_SIZE ?= 512
 PERF_PIXELS  ?= 8192
 COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 TRUTH_FLAGS = $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS)) $(if $(BAND_SS),--band-ss $(BAND_SS))
 
 .PHONY: help setup gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
-        synth synth-check synth-blocks fpga clean
+        synth synth-check synth-blocks fpga clean precision
 
 help:
 	@echo "make setup           install everything (Debian packages, pinned Python venv)"
@@ -42,6 +43,7 @@ help:
 	@echo "make renders         all scenes, both configurations, contact sheet"
 	@echo "make frame SCENE=zone_plate CONFIG=full SIM=verilator SIZE=256   RTL frame vs golden"
 	@echo "make frames          all scenes, both configurations, 512x512, docs/conformance.md"
+	@echo "make precision       the precision test (Fig. 10): s_frac 6..16 on scenes/fig10/precision.toml, docs/precision.md (PRECISION_SIZE=)"
 	@echo "make bench-sim       RTL simulation throughput"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
@@ -99,6 +101,10 @@ frame: gen
 frames: gen
 	$(VENV_ENV) $(PY) -m sim.frame --all --sim verilator --size $(FRAMES_SIZE) $(COMMON_FLAGS) \
 	  $(if $(FRAMES_SCENES),--scenes $(FRAMES_SCENES))
+
+# the precision test (paper Fig. 10): every configuration at s_frac 6..16, docs/precision.md
+precision:
+	$(PY) -m model.scene.precision --size $(PRECISION_SIZE) $(if $(OUT),--out $(OUT))
 
 bench-sim: gen
 	$(VENV_ENV) $(PY) -m sim.bench

@@ -114,6 +114,10 @@ COMMANDS = {
     # the whole table is 16 runs of ~7 s: the same entry point on one scene, both configurations
     "frames": (["frames", "FRAMES_SIZE=2", "FRAMES_SCENES=zone_plate"], {}, lambda r, out: (
         _check_out("frame")(r, out), (out / "docs" / "conformance.md").is_file())),
+    "precision": (["precision", "PRECISION_SIZE=16"], {}, lambda r, out: (
+        _ok(r), (out / "docs" / "precision.md").is_file(), (out / "docs" / "images" / "precision.png").is_file(),
+        (out / "docs" / "images" / "precision_psnr.png").is_file(),
+        json.loads((out / "precision" / "report.json").read_text())["status"] == "ok")),
     "bench-sim": (["bench-sim", "CONFIG=reduced"], {"PIXELS_VERILATOR": "16", "PIXELS_ICARUS": "16"},
                   lambda r, out: (_ok(r), len(_json_lines(r.stdout)) == 2,
                                   all(x["bit_exact"] for x in _json_lines(r.stdout)))),
@@ -140,7 +144,7 @@ def test_command_runs(name, tmp_path):
     if args[0] == PY:
         r = subprocess.run(args, cwd=ROOT, capture_output=True, text=True, timeout=300)
     else:
-        if args[0] in ("render", "renders", "frame", "frames"):
+        if args[0] in ("render", "renders", "frame", "frames", "precision"):
             args.append(f"OUT={out}")
         r = _make(*args, env=env)
     res = check(r, out)
