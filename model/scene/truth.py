@@ -4,6 +4,7 @@ reference, adaptive by filter width, with its own convergence figure, cached on 
     from model.scene.truth import truth_image, truth
     img = truth_image("seascape", cfg, 256)            # float64 RGBA [H, W, 4], 0..255
     img, info = truth("seascape", cfg, 256)            # info: rates, band, convergence, cache file
+    img, half, band, textured, meta = render_truth(scene, cfg, W, H)   # a loaded Scene, not cached
 
 Sampling: the frame is cut into TILE x TILE-pixel tiles. A tile with a pixel of the band
 (`band_mask`: the float reference's filter width w = |grad f| above N/8 table entries, i.e.
@@ -67,7 +68,7 @@ def band_mask(passes, cfg) -> tuple[np.ndarray, np.ndarray]:
     return band, textured
 
 
-def _key(path: Path) -> str:
+def source_key(path: Path) -> str:
     h = hashlib.sha256(Path(path).read_bytes())
     for src in _SOURCES:
         h.update((ROOT / src).read_bytes())
@@ -106,31 +107,12 @@ def _convergence(img, half, mask) -> dict:
             "mean_abs_lsb": round(c["mean_abs_error_lsb"], 4), "pixels": int(mask.sum())}
 
 
-def truth(scene_name: str, cfg, size: int, ss: int = TRUTH_SS, band_ss: int = BAND_SS, seed: int = JITTER_SEED,
-          cache_dir: Path | None = None, progress: bool = False, passes=None) -> tuple[np.ndarray, dict]:
-    """(truth image float64 RGBA [H, W, 4] in 0..255, info) of a scene (a name or a .toml path)
-    at `size` px wide, for the lattice of configuration cfg (cfg.perm, cfg.hash_bits: nothing
-    else of cfg matters). Read from the cache when there; else rendered and cached.
-    info: size, rates, samples, band and textured pixel counts, convergence {"all", "band"}
-    (n/2 against n: psnr_db, max_abs_lsb, mean_abs_lsb), cache file, seconds; info["band"] and
-    info["textured"] are the [H, W] masks (not in the .json). passes: the scene's 1x passes at
-    this size, if the caller has them (spares ray-casting them again)."""
-    from model.scene.cli import resolve_scene
+def render_truth(scene, cfg, W: int, H: int, ss: int = TRUTH_SS, band_ss: int = BAND_SS, seed: int = JITTER_SEED,
+                 passes=None, progress: bool = False, desc: str = "truth"):
+    """The truth of a loaded scene (not cached): (image, n/2 estimate or None, band, textured,
+    meta); meta: size, rates, tiles, samples, lattice, pixel counts, convergence."""
     from model.scene.render import _bar
-    from model.scene.scene import load_scene
 
-    name, path = resolve_scene(scene_name)
-    scene = load_scene(path)
-    W, H = frame_size(scene, size)
-    cache = Path(cache_dir) if cache_dir is not None else CACHE_DIR
-    stem = f"{name}-{W}x{H}-ss{ss}-{band_ss}-j{seed}-p{cfg.seed}-h{cfg.hash_bits}-{_key(path)}"
-    npz, js = cache / f"{stem}.npz", cache / f"{stem}.json"
-    if npz.is_file() and js.is_file():
-        with np.load(npz) as z:
-            info = json.loads(js.read_text())
-            info.update(band=z["band"], textured=z["textured"], cached=True)
-            return z["truth"], info
-    t0 = time.perf_counter()
     if passes is None:
         from model.scene.frontend import render_passes
 
@@ -144,7 +126,7 @@ def truth(scene_name: str, cfg, size: int, ss: int = TRUTH_SS, band_ss: int = BA
     rates = [[band_ss if b else ss for b in row] for row in in_band]
     samples = sum(r * r * min(TILE, W - tx * TILE) * min(TILE, H - ty * TILE)
                   for ty, row in enumerate(rates) for tx, r in enumerate(row))
-    bar = _bar(progress, total=samples, desc=f"truth {name} {W}x{H}")
+    bar = _bar(progress, total=samples, desc=desc)
     for ty in range(nty):
         for tx in range(ntx):
             n = rates[ty][tx]
@@ -158,23 +140,65 @@ def truth(scene_name: str, cfg, size: int, ss: int = TRUTH_SS, band_ss: int = BA
             bar.update(n * n * t.shape[0] * t.shape[1])
     bar.close()
     half = half if have_half else None
-    band_tiles = sum(b for row in in_band for b in row)
-    info = {"scene": name, "width": W, "height": H, "ss": ss, "band_ss": band_ss, "tile": TILE,
+    meta = {"width": W, "height": H, "ss": ss, "band_ss": band_ss, "tile": TILE,
             "rate": f"{ss}x{ss} a pixel, {band_ss}x{band_ss} in the {TILE}x{TILE}-pixel tiles with a band pixel",
-            "tiles": nty * ntx, "band_tiles": band_tiles, "samples": samples, "jitter_seed": seed,
-            "lattice": {"seed": cfg.seed, "hash_bits": cfg.hash_bits},
+            "tiles": nty * ntx, "band_tiles": sum(b for row in in_band for b in row), "samples": samples,
+            "jitter_seed": seed, "lattice": {"seed": cfg.seed, "hash_bits": cfg.hash_bits},
             "band_pixels": int(band.sum()), "textured_pixels": int(textured.sum()),
             "convergence": {"all": _convergence(img, half, textured), "band": _convergence(img, half, band)},
-            "convergence_rates": "n/2 x n/2 against n x n (n = the tile's rate)",
-            "cache": str(npz), "seconds": round(time.perf_counter() - t0, 2)}
+            "convergence_rates": "n/2 x n/2 against n x n (n = the tile's rate)"}
+    return img, half, band, textured, meta
+
+
+def truth(scene_name: str, cfg, size: int, ss: int = TRUTH_SS, band_ss: int = BAND_SS, seed: int = JITTER_SEED,
+          cache_dir: Path | None = None, progress: bool = False, passes=None) -> tuple[np.ndarray, dict]:
+    """(truth image float64 RGBA [H, W, 4] in 0..255, info) of a scene (a name or a .toml path)
+    at `size` px wide, for the lattice of configuration cfg (cfg.perm, cfg.hash_bits: nothing
+    else of cfg matters). Read from the cache when there; else rendered and cached.
+    info: size, rates, samples, band and textured pixel counts, convergence {"all", "band"}
+    (n/2 against n: psnr_db, max_abs_lsb, mean_abs_lsb), cache file, seconds; info["band"] and
+    info["textured"] are the [H, W] masks (not in the .json). passes: the scene's 1x passes at
+    this size, if the caller has them (spares ray-casting them again)."""
+    from model.scene.cli import resolve_scene
+    from model.scene.scene import load_scene
+
+    name, path = resolve_scene(scene_name)
+    scene = load_scene(path)
+    W, H = frame_size(scene, size)
+    cache = Path(cache_dir) if cache_dir is not None else CACHE_DIR
+    stem = f"{name}-{W}x{H}-ss{ss}-{band_ss}-j{seed}-p{cfg.seed}-h{cfg.hash_bits}-{source_key(path)}"
+    hit = load_cached(cache, stem)
+    if hit is not None:
+        return hit
+    t0 = time.perf_counter()
+    img, half, band, textured, meta = render_truth(scene, cfg, W, H, ss, band_ss, seed, passes, progress,
+                                                   f"truth {name} {W}x{H}")
+    info = {"scene": name, **meta, "seconds": round(time.perf_counter() - t0, 2)}
+    return img, save_cached(cache, stem, img, half, band, textured, info)
+
+
+def load_cached(cache: Path, stem: str):
+    """(truth, info) from <cache>/<stem>.npz/.json, or None."""
+    npz, js = cache / f"{stem}.npz", cache / f"{stem}.json"
+    if not (npz.is_file() and js.is_file()):
+        return None
+    with np.load(npz) as z:
+        info = json.loads(js.read_text())
+        info.update(band=z["band"], textured=z["textured"], cached=True)
+        return z["truth"], info
+
+
+def save_cached(cache: Path, stem: str, img, half, band, textured, info: dict) -> dict:
+    """Write <cache>/<stem>.npz/.json (temporary names, renamed); -> info with the masks."""
+    npz, js = cache / f"{stem}.npz", cache / f"{stem}.json"
+    info = {**info, "cache": str(npz)}
     cache.mkdir(parents=True, exist_ok=True)
     tmp = cache / f".{stem}.{os.getpid()}"
     np.savez(f"{tmp}.npz", truth=img, half=half if half is not None else np.zeros(0), band=band, textured=textured)
     Path(f"{tmp}.json").write_text(json.dumps(info, indent=1) + "\n")
     os.replace(f"{tmp}.npz", npz)
     os.replace(f"{tmp}.json", js)
-    info.update(band=band, textured=textured, cached=False)
-    return img, info
+    return {**info, "band": band, "textured": textured, "cached": False}
 
 
 def truth_image(scene_name: str, cfg, size: int, **kw) -> np.ndarray:
