@@ -31,7 +31,7 @@ COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 TRUTH_FLAGS = $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS)) $(if $(BAND_SS),--band-ss $(BAND_SS))
 
 .PHONY: help setup gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
-        synth synth-check synth-blocks fpga clean precision
+        synth synth-check synth-blocks fpga clean precision animation
 
 help:
 	@echo "make setup           install everything (Debian packages, pinned Python venv)"
@@ -44,6 +44,7 @@ help:
 	@echo "make frame SCENE=zone_plate CONFIG=full SIM=verilator SIZE=256   RTL frame vs golden"
 	@echo "make frames          all scenes, both configurations, 512x512, docs/conformance.md"
 	@echo "make precision       the precision test (Fig. 10): s_frac 6..16 on scenes/fig10/precision.toml, docs/precision.md (PRECISION_SIZE=)"
+	@echo "make animation SCENE=seascape [CONFIG=full] [FRAMES=16] [SIZE=128] [RTL=1]   section 4.4: frames vs truth, flicker, docs/animation.md"
 	@echo "make bench-sim       RTL simulation throughput"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
@@ -105,6 +106,12 @@ frames: gen
 # the precision test (paper Fig. 10): every configuration at s_frac 6..16, docs/precision.md
 precision:
 	$(PY) -m model.scene.precision --size $(PRECISION_SIZE) $(if $(OUT),--out $(OUT))
+
+# the animation test (paper section 4.4): scenes/animation/$(SCENE).toml, filtered and unfiltered
+# frames against their truth, band PSNR and flicker, docs/animation.md; RTL=1: every pass through Verilator
+animation: gen
+	$(VENV_ENV) $(PY) -m model.scene.animation --scene $(SCENE) --config $(CONFIG) $(if $(FRAMES),--frames $(FRAMES)) \
+	  --size $(if $(filter command line,$(origin SIZE)),$(SIZE),128) $(if $(RTL),--rtl) $(if $(OUT),--out $(OUT)) $(TRUTH_FLAGS)
 
 bench-sim: gen
 	$(VENV_ENV) $(PY) -m sim.bench

@@ -118,6 +118,12 @@ COMMANDS = {
         _ok(r), (out / "docs" / "precision.md").is_file(), (out / "docs" / "images" / "precision.png").is_file(),
         (out / "docs" / "images" / "precision_psnr.png").is_file(),
         json.loads((out / "precision" / "report.json").read_text())["status"] == "ok")),
+    "animation": (["animation", "SCENE=seascape", "FRAMES=3", "SIZE=8", "TRUTH_SS=2", "BAND_SS=4"], {},
+                  lambda r, out: (_check_out("animation")(r, out), (out / "docs" / "animation.md").is_file(),
+                                  (out / "animation" / "seascape" / "full-8" / "frames.gif").is_file())),
+    "animation (RTL)": (["animation", "SCENE=fire", "FRAMES=2", "SIZE=4", "TRUTH_SS=2", "BAND_SS=2", "RTL=1"], {},
+                        lambda r, out: (_check_out("animation")(r, out), json.loads(
+                            (out / "animation" / "fire" / "full-4" / "report.json").read_text())["rtl_bit_exact"])),
     "bench-sim": (["bench-sim", "CONFIG=reduced"], {"PIXELS_VERILATOR": "16", "PIXELS_ICARUS": "16"},
                   lambda r, out: (_ok(r), len(_json_lines(r.stdout)) == 2,
                                   all(x["bit_exact"] for x in _json_lines(r.stdout)))),
@@ -144,7 +150,7 @@ def test_command_runs(name, tmp_path):
     if args[0] == PY:
         r = subprocess.run(args, cwd=ROOT, capture_output=True, text=True, timeout=300)
     else:
-        if args[0] in ("render", "renders", "frame", "frames", "precision"):
+        if args[0] in ("render", "renders", "frame", "frames", "precision", "animation"):
             args.append(f"OUT={out}")
         r = _make(*args, env=env)
     res = check(r, out)
