@@ -33,7 +33,8 @@ import numpy as np
 from model.hw import golden
 from model.hw.config import CONFIG_NAMES, ROOT, load_config
 from model.imageio import compare
-from model.scene.cli import Parser, UserError, check_config, check_range, need_tool, run_main, staged
+from model.scene.cli import (Parser, UserError, add_truth_args, check_config, check_range, check_truth_args, need_tool,
+                             run_main, staged)
 from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations, scene_path, to8
 from model.scene import truth as T
 
@@ -280,16 +281,14 @@ def main(argv=None) -> int:
     ap.add_argument("--frames", type=int, help="frames (default: the animation's)")
     ap.add_argument("--size", type=int, default=128, help="image width, 4..1024")
     ap.add_argument("--rtl", action="store_true", help="every pass also through the RTL (Verilator), bit-exact")
-    ap.add_argument("--truth-ss", type=int, default=T.TRUTH_SS, help="truth samples a pixel axis, 1..64")
-    ap.add_argument("--band-ss", type=int, default=T.BAND_SS, help="truth samples a pixel axis in the band's tiles, 1..64")
+    add_truth_args(ap, T.TRUTH_SS, T.BAND_SS)
     ap.add_argument("--out", type=Path, help="output root (default out/; the docs then go to <out>/docs)")
     ap.add_argument("--no-docs", action="store_true", help="do not write docs/animation.md")
     ap.add_argument("--quiet", action="store_true")
     a = ap.parse_args(argv)
 
     def go():
-        check_range("--truth-ss", a.truth_ss, 1, 64)
-        check_range("--band-ss", a.band_ss, 1, 64)
+        check_truth_args(a)
         rep = run(a.scene, a.config, a.frames, a.size, a.rtl, a.out, not a.no_docs, not a.quiet, a.truth_ss, a.band_ss)
         print(json.dumps({k: rep[k] for k in ("animation", "config", "frames", "mean", "seconds")}
                          | ({"rtl_bit_exact": rep["rtl_bit_exact"]} if a.rtl else {})))

@@ -64,6 +64,19 @@ def check_range(flag: str, value: int, lo: int, hi: int, why: str = "") -> int:
     return value
 
 
+def add_truth_args(ap, ss: int, band_ss: int) -> None:
+    """--truth-ss and --band-ss (model.scene.truth: samples a pixel axis outside / inside the
+    tiles of the band where the filter width exceeds N/8 entries); check_truth_args checks them."""
+    ap.add_argument("--truth-ss", type=int, default=ss, help=f"truth samples a pixel axis, 1..64 (default {ss})")
+    ap.add_argument("--band-ss", type=int, default=band_ss,
+                    help=f"truth samples a pixel axis in the tiles with filter width > N/8, 1..64 (default {band_ss})")
+
+
+def check_truth_args(a) -> None:
+    check_range("--truth-ss", a.truth_ss, 1, 64)
+    check_range("--band-ss", a.band_ss, 1, 64)
+
+
 def check_config(name: str) -> str:
     if name not in CONFIG_NAMES:
         raise UserError(f"--config {name}: no such configuration (known: {', '.join(CONFIG_NAMES)})")

@@ -26,8 +26,8 @@ from model import reference
 from model.hw import golden
 from model.hw.config import CONFIG_NAMES, ROOT, load_config
 from model.imageio import compare, contact_sheet, write_image
-from model.scene.cli import (Parser, UserError, check_config, check_range, memory_available, resolve_scene,
-                             run_main, staged)
+from model.scene.cli import (Parser, UserError, add_truth_args, check_config, check_range, check_truth_args,
+                             memory_available, resolve_scene, run_main, staged)
 from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, to8
 from model.scene.truth import BAND_SS, TILE, TRUTH_SS, truth, truth_image  # noqa: F401 (truth_image: the API)
 
@@ -293,9 +293,7 @@ def main(argv=None) -> int:
     ap.add_argument("--size", type=int, default=256, help="image width, 1..4096 (and what memory allows)")
     ap.add_argument("--all", action="store_true", help="all scenes, both configurations, contact sheet")
     ap.add_argument("--no-truth", action="store_true", help="skip the supersampled ground truth")
-    ap.add_argument("--truth-ss", type=int, default=TRUTH_SS, help=f"truth samples a pixel axis, 1..64 (default {TRUTH_SS})")
-    ap.add_argument("--band-ss", type=int, default=BAND_SS,
-                    help=f"truth samples a pixel axis in the tiles with filter width > N/8, 1..64 (default {BAND_SS})")
+    add_truth_args(ap, TRUTH_SS, BAND_SS)
     ap.add_argument("--out", type=Path, help="output root (default out/render; --all: its docs too)")
     ap.add_argument("--strict", action="store_true", help="any approximation of the scene by the configuration is an error")
     ap.add_argument("--quiet", action="store_true")
@@ -303,8 +301,7 @@ def main(argv=None) -> int:
 
     def go():
         check_range("--size", a.size, 1, 4096)
-        check_range("--truth-ss", a.truth_ss, 1, 64)
-        check_range("--band-ss", a.band_ss, 1, 64)
+        check_truth_args(a)
         if a.all:
             render_all(a.size, truth=not a.no_truth, progress=not a.quiet, out_root=a.out, strict=a.strict,
                        truth_ss=a.truth_ss, band_ss=a.band_ss)
