@@ -213,6 +213,10 @@ def run(scene_arg: str, config_name: str, frames: int | None, size: int, rtl: bo
     return rep
 
 
+def _stem(rep: dict) -> str:
+    return f"{rep['animation']}_{rep['config']}_{rep['frames']}f_{rep['width']}" + ("_rtl" if "rtl_bit_exact" in rep else "")
+
+
 def write_docs(rep: dict, docs: Path) -> None:
     """docs/animation.md: one section per animation (the others kept), and its plot."""
     import matplotlib
@@ -220,7 +224,7 @@ def write_docs(rep: dict, docs: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    name, rows = rep["animation"], rep["rows"]
+    rows = rep["rows"]
     (docs / "images").mkdir(parents=True, exist_ok=True)
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(9.6, 3.6), dpi=100)
     fr = [r["frame"] for r in rows]
@@ -238,14 +242,14 @@ def write_docs(rep: dict, docs: Path) -> None:
     a2.grid(True, alpha=0.3)
     fig.suptitle(f"{rep['command']}")
     fig.tight_layout()
-    img = docs / "images" / f"animation_{name}.png"
+    img = docs / "images" / f"animation_{_stem(rep)}.png"
     fig.savefig(img.with_name(f".{img.name}"), format="png")
     plt.close(fig)
     img.with_name(f".{img.name}").replace(img)
 
     state = docs / "images" / "animation.json"
     reps = json.loads(state.read_text()) if state.is_file() else {}
-    reps[name] = {k: v for k, v in rep.items()}
+    reps[rep["command"]] = rep  # one section per distinct command
     state.write_text(json.dumps(reps, indent=1) + "\n")
     L = ["# The animation test (paper section 4.4)", "",
          "Written by `make animation` (model/scene/animation.py), one section per animation, each from its "
@@ -255,11 +259,12 @@ def write_docs(rep: dict, docs: Path) -> None:
          "the mean absolute frame-to-frame change of the error against the truth over the pixels in the band "
          "of both frames (RGB, LSB). The GIF of each run (filtered | unfiltered | truth) is in its output "
          "directory, out/animation/<scene>/<config>-<size>/frames.gif.", ""]
-    for nm, r in sorted(reps.items()):
-        m = r["mean"]
-        L += [f"## {nm}", "", f"`{r['command']}` ({r['seconds']} s; git {r['git']}; truth {r['truth']}"
+    for cmd, r in sorted(reps.items()):
+        m, nm = r["mean"], r["animation"]
+        L += [f"## {nm}: {r['config']}, {r['frames']} frames, {r['width']}x{r['height']}", "",
+              f"`{cmd}` ({r['seconds']} s; git {r['git']}; truth {r['truth']}"
               + (f"; RTL bit-exact on every frame: {r['rtl_bit_exact']}" if "rtl_bit_exact" in r else "") + ").", "",
-              f"![{nm}](images/animation_{nm}.png)", "",
+              f"![{nm}](images/animation_{_stem(r)}.png)", "",
               "| | filtered | unfiltered |", "|---|---|---|",
               f"| mean PSNR in the band (dB) | {m['band_psnr_filtered_db']} | {m['band_psnr_unfiltered_db']} |",
               f"| mean PSNR, all textured pixels (dB) | {m['psnr_filtered_db']} | {m['psnr_unfiltered_db']} |",
