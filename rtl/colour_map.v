@@ -447,12 +447,15 @@ generate
             integer             c;
             reg  [TW-1:0]       ea_x;   // e_a (clamp: negated) or e_a << 8 (mod)
             reg  [TW-1:0]       whole;  // whole entries of D, mod 2^TW
-            // sum = D + w + 2 h(sh) (< 2^D_W): its LSB is below the rounding; nsh = sum >>
+            // dd = D (< 2^D_W, computed mod 2^D_W); sum = D + w + 2 h(sh), one bit wider: with
+            // B = 1, 2 h(sh) reaches w (w = 2^sh), and D + 2w of a whole 255-valued window is
+            // 2^D_W (the make-fit sweep found it); its LSB is below the rounding; nsh = sum >>
             // (sh + 1) < 2^NQ_W (num' < 256 den', or 384 den' with SAT: docs/numerics.md),
             // its high bits are zero
+            reg  [D_W-1:0]      dd;
             /* verilator lint_off UNUSEDSIGNAL */
-            reg  [D_W-1:0]      sum;
-            reg  [D_W-2:0]      nsh;
+            reg  [D_W:0]        sum;
+            reg  [D_W-1:0]      nsh;
             /* verilator lint_on UNUSEDSIGNAL */
             reg  [NQ_W-1:0]     pt;     // clut[k] zero-extended
             always @* begin
@@ -468,8 +471,9 @@ generate
                     else
                         ea_x = e_a[c*TW +: TW] << 8;
                     whole = e_b[c*TW +: TW] + ea_x;
-                    sum = {whole, {XF{1'b0}}} + p_b[c*D_W +: D_W] - p_a[c*D_W +: D_W] + d_wn;
-                    nsh = sum[D_W-1:1] >> s5_sh_reg;
+                    dd = {whole, {XF{1'b0}}} + p_b[c*D_W +: D_W] - p_a[c*D_W +: D_W];
+                    sum = {1'b0, dd} + {1'b0, d_wn};
+                    nsh = sum[D_W:1] >> s5_sh_reg;
                     pt = {NQ_W{1'b0}};
                     pt[7:0] = s5_point_reg[8*c +: 8];
                     num_x[c*NQ_W +: NQ_W] = w_zero ? pt : nsh[NQ_W-1:0];

@@ -82,7 +82,7 @@ def edge_cases(r: random.Random, num_w: int, den_w: int, sat: int = 0):
     dens |= {1 << k for k in range(den_w)} | {(1 << k) - 1 for k in range(2, den_w)}
     qs = (1, 2, 127, 128, 254, 255) + ((256, 257, 383, 384, 511) if sat else ())
     out = []
-    for den in sorted(d for d in dens if d > 0):
+    for den in sorted(d for d in dens if 0 < d < 1 << den_w):
         lim = limit(den, num_w, sat)
         cand = {0, 1, den - 1, den, den + 1, lim - 1, (qmax * den) - 1, qmax * den, qmax * den + 1,
                 (den << (Q_W - 1)) - 1, den << (Q_W - 1), (1 << num_w) - 1}
@@ -160,6 +160,7 @@ def _random_sets():
         p = hdlbuild.block_params(hdlbuild.config_of(f"random:{s}"), "box_divide")
         out[f"random{s}"] = {k: p[k] for k in ("NUM_W", "DEN_W", "Q_W", "LANES", "SAT")}
     out["den2"] = {"NUM_W": 11, "DEN_W": 2, "Q_W": Q_W, "LANES": LANES, "SAT": 1}  # a 2-bit divisor
+    out["den1"] = {"NUM_W": 10, "DEN_W": 1, "Q_W": Q_W, "LANES": LANES, "SAT": 1}  # div_bits = 1: den' is 1
     return out
 
 

@@ -299,7 +299,9 @@ def _div_variant_params():
     """Icarus only unless SIM= asks for a simulator; CONFIG= narrows the configurations."""
     sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["icarus"]
     cfgs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(hdlbuild.CONFIGS)
-    bits = {"reduced": (4, 9, load_config("reduced").w_w - 1), "full": (10,)}
+    # 1: the narrowest divisor, where D + w + 2 h(sh) of a whole 255-valued window reaches 2^D_W
+    # (found by `make fit`'s descent; colour_map's sum is one bit wider since)
+    bits = {"reduced": (1, 4, 9, load_config("reduced").w_w - 1), "full": (10,)}
     return [(s, c, b) for s in sims for c in cfgs for b in bits.get(c, ())]
 
 
