@@ -31,7 +31,7 @@ COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 TRUTH_FLAGS = $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS)) $(if $(BAND_SS),--band-ss $(BAND_SS))
 
 .PHONY: help setup gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
-        synth synth-check synth-blocks fpga clean precision animation
+        synth synth-check synth-blocks fpga clean precision animation explore fit
 
 help:
 	@echo "make setup           install everything (Debian packages, pinned Python venv)"
@@ -43,6 +43,8 @@ help:
 	@echo "make renders         all scenes, both configurations, contact sheet"
 	@echo "make frame SCENE=zone_plate CONFIG=full SIM=verilator SIZE=256   RTL frame vs golden"
 	@echo "make frames          all scenes, both configurations, 512x512, docs/conformance.md"
+	@echo "make explore         the design-space sweep (Dask; EXPLORE_FLAGS=, e.g. --scheduler tcp://HOST:PORT): out/explore/results.json, docs/tradeoffs.md"
+	@echo "make fit SCENE=zone_plate DB=40 [PXCLK=0.25]   the smallest-GE configuration for those scenes: out/fit/, rendered through the RTL"
 	@echo "make precision       the precision test (Fig. 10): s_frac 6..16 on scenes/fig10/precision.toml, docs/precision.md (PRECISION_SIZE=)"
 	@echo "make animation SCENE=seascape [CONFIG=full] [FRAMES=16] [SIZE=128] [RTL=1]   section 4.4: frames vs truth, flicker, docs/animation.md"
 	@echo "make bench-sim       RTL simulation throughput"
@@ -102,6 +104,17 @@ frame: gen
 frames: gen
 	$(VENV_ENV) $(PY) -m sim.frame --all --sim verilator --size $(FRAMES_SIZE) $(COMMON_FLAGS) \
 	  $(if $(FRAMES_SCENES),--scenes $(FRAMES_SCENES))
+
+# the design-space sweep on Dask (a LocalCluster of JOBS workers, or DASK_SCHEDULER_ADDRESS /
+# EXPLORE_FLAGS=--scheduler tcp://HOST:PORT); each point stored under out/explore/points/
+explore: gen
+	$(VENV_ENV) $(PY) -m explore.sweep --jobs $(JOBS) $(EXPLORE_FLAGS)
+
+# the smallest-GE configuration whose worst PSNR on SCENE (a comma-separated list) meets DB at PXCLK
+# pixels per clock or more: out/fit/<name>.toml, rendered through the RTL (FIT_FLAGS=, e.g. --rtl-size 32)
+fit: gen
+	$(VENV_ENV) $(PY) -m explore.fit --scenes $(SCENE) $(if $(DB),--db $(DB)) $(if $(PXCLK),--pxclk $(PXCLK)) \
+	  $(if $(OUT),--out $(OUT)) $(FIT_FLAGS)
 
 # the precision test (paper Fig. 10): every configuration at s_frac 6..16, docs/precision.md
 precision:

@@ -40,6 +40,16 @@ def write_image(path, pixels: np.ndarray, attrs: dict | None = None) -> None:
     tmp.replace(path)
 
 
+def write_figure(path, fig, attrs: dict | None = None) -> None:
+    """A matplotlib figure as a PNG, written through OpenImageIO (write_image), then closed."""
+    fig.canvas.draw()
+    pixels = np.asarray(fig.canvas.buffer_rgba(), dtype=np.uint8)
+    write_image(path, pixels, attrs)
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+
+
 def read_image(path) -> np.ndarray:
     buf = oiio.ImageBuf(str(path))
     if buf.has_error:

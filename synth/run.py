@@ -24,7 +24,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from hdlbuild import ROOT, block_params
+from hdlbuild import ROOT, block_params, config_of
 from model.hw.config import CONFIG_NAMES, clocks_per_pixel, load_config, noise_term_instances
 
 REPORTS = ROOT / "synth" / "reports"
@@ -50,12 +50,14 @@ def rtl_files():
     return sorted(str(p) for p in (ROOT / "rtl").glob("*.v"))
 
 
-def synth_one(config: str, top: str, lib_files=()) -> dict:
+def synth_one(config, top: str, lib_files=(), out: Path | None = None) -> dict:
     """One block (or the top's glue, with `lib_files` as black boxes) with the parameters the
-    configuration gives it (hdlbuild block_params)."""
-    params = block_params(load_config(config), top)
+    configuration (a name or a Config) gives it (hdlbuild block_params); its report is written
+    to `out` (default build/synth/<config>/<top>.json)."""
+    cfg = config_of(config)
+    params = block_params(cfg, top)
     files = [f for f in rtl_files() if Path(f).stem in (top, *GLUE)] if lib_files else rtl_files()
-    out = ROOT / "build" / "synth" / config / f"{top}.json"
+    out = out or ROOT / "build" / "synth" / cfg.name / f"{top}.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     cmd = [sys.executable, str(ROOT / "synth" / "synth.py"), "--top", top, "--files", *files,
            "--include", str(ROOT / "rtl"), "--json", str(out),
@@ -65,18 +67,23 @@ def synth_one(config: str, top: str, lib_files=()) -> dict:
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         msg = (r.stderr.strip().splitlines() or ["?"])[-1]
-        raise SystemExit(f"synth: {top} ({config}): {msg}")
+        raise SynthError(f"synth: {top} ({cfg.name}): {msg}")
     return json.loads(out.read_text())
 
 
-def synth_config(config: str, jobs: int = 2) -> dict:
-    t0 = time.perf_counter()
-    cfg = load_config(config)
+class SynthError(SystemExit):
+    """A block failed to synthesize (one line); a SystemExit, so the commands end with it."""
+
+
+def block_jobs(cfg) -> dict:
+    """label -> (module, black-box files) of every separately synthesized piece of the pipeline."""
     lib = [f for f in rtl_files() if Path(f).stem not in (TOP, *GLUE)]
-    with ThreadPoolExecutor(max_workers=jobs) as ex:
-        futs = {label: ex.submit(synth_one, config, mod) for label, mod in BLOCKS.items()}
-        futs["control"] = ex.submit(synth_one, config, TOP, lib)
-        res = {k: f.result() for k, f in futs.items()}
+    return {**{label: (mod, ()) for label, mod in BLOCKS.items()}, "control": (TOP, tuple(lib))}
+
+
+def combine(config: str, cfg, res: dict) -> dict:
+    """The pipeline's figures from its pieces' reports (`res`: label -> synth.py report): each
+    block times its instance count, plus the glue."""
     count = {"quadric": 1, "noise_term": noise_term_instances(cfg), "filter_width": 1, "colour_map": 1, "control": 1}
     blocks = {}
     for k, r in res.items():
@@ -99,14 +106,22 @@ def synth_config(config: str, jobs: int = 2) -> dict:
         "noise_terms": cfg.noise_terms,
         "blocks": blocks,
         "block_ge_each": {k: res[k]["ge_total"] for k in res},
-        "budget_ge": BUDGET[config],
-        "paper_gates": BUDGET[config] if config in PAPER_MODELS else None,
-        "within_budget": tot("ge_total") <= BUDGET[config],
         "method": "each block synthesized alone (Yosys synth, abc -liberty synth/cells.lib), times its instance "
                   "count, plus texture_pipeline glue with the blocks as black boxes; storage apart",
-        "seconds": round(time.perf_counter() - t0, 1),
     }
     rep["ge_cmos_crosscheck"] = round(rep["transistors_cmos"] / 4, 1)
+    return rep
+
+
+def synth_config(config: str, jobs: int = 2) -> dict:
+    t0 = time.perf_counter()
+    cfg = load_config(config)
+    with ThreadPoolExecutor(max_workers=jobs) as ex:
+        futs = {label: ex.submit(synth_one, config, mod, lib) for label, (mod, lib) in block_jobs(cfg).items()}
+        res = {k: f.result() for k, f in futs.items()}
+    rep = combine(config, cfg, res)
+    rep.update({"budget_ge": BUDGET[config], "paper_gates": BUDGET[config] if config in PAPER_MODELS else None,
+                "within_budget": rep["ge_total"] <= BUDGET[config], "seconds": round(time.perf_counter() - t0, 1)})
     REPORTS.mkdir(parents=True, exist_ok=True)
     (REPORTS / f"{config}.json").write_text(json.dumps(rep, indent=2) + "\n")
     (REPORTS / f"{config}.md").write_text(markdown(rep))

@@ -41,12 +41,18 @@ def _scene(name: str, size: int):
     return _passes[(name, size)]
 
 
-def scene_psnr(cfg, name: str, size: int) -> tuple[float, float]:
-    """(PSNR dB, largest error in LSB) of the golden image of `name` against its float reference."""
+def scene_images(cfg, name: str, size: int) -> dict:
+    """The golden image of `name` under `cfg` and its float reference (the scene as written):
+    {"golden", "reference": [H, W, 4] float, "textured": [H, W] bool, "pixels": textured pixels
+    streamed, "clocks": the pipeline's clocks for them (model.hw.config.clocks_per_pixel of each
+    pass's k_used)}."""
+    from model.hw.config import clocks_per_pixel
+
     sc, W, H, passes = _scene(name, size)
     pds = prepare_passes(cfg, passes)
     textured = np.zeros((H, W), bool)
     gold, ref = [], []
+    pixels = clocks = 0
     for pd in pds:
         gold.append((pd.mask, golden.texture_pipeline(cfg, pd.ti, pd.si, pd.Jm, pd.je)))
         key = (name, size, pd.name, cfg.seed, cfg.hash_bits)  # the reference depends on the lattice only
@@ -54,9 +60,17 @@ def scene_psnr(cfg, name: str, size: int) -> tuple[float, float]:
             _refs[key] = reference.shade(pd.tex, pd.s, pd.J, cfg.perm, cfg.hash_bits)
         ref.append((pd.mask, _refs[key]))
         textured |= pd.mask
-    a = composite(gold, (H, W), sc.background)
-    b = composite(ref, (H, W), sc.background)
-    c = compare(a[textured], b[textured])
+        pixels += len(pd.si)
+        clocks += len(pd.si) * clocks_per_pixel(cfg, pd.ti.k_used)
+    return {"golden": composite(gold, (H, W), sc.background), "reference": composite(ref, (H, W), sc.background),
+            "textured": textured, "pixels": pixels, "clocks": clocks}
+
+
+def scene_psnr(cfg, name: str, size: int) -> tuple[float, float]:
+    """(PSNR dB, largest error in LSB) of the golden image of `name` against its float reference."""
+    im = scene_images(cfg, name, size)
+    t = im["textured"]
+    c = compare(im["golden"][t], im["reference"][t])
     return c["psnr_db"], c["max_abs_error_lsb"]
 
 

@@ -1,0 +1,249 @@
+"""`make fit SCENE=a[,b...] DB=<target> [PXCLK=<min>]`: the smallest-GE configuration for some scenes.
+
+    python -m explore.fit --scenes marble,seascape --db 38 [--pxclk 0.25] [--size 256] [--rtl-size 64]
+                          [--features-of full] [--name NAME] [--out out/fit] [--results out/explore/results.json]
+
+1. What the scenes need (model.scene.needs): terms, transform and amplitude kinds, blend, noise
+   gradient, quadric, filter. `--features-of CONFIG` fixes the features to a configuration's
+   instead (the "full, revisited" search: every feature of `full`, only the formats searched).
+2. The start: the smallest-GE point of the sweep's results (out/explore/results.json and its
+   stored points) that has those features or more, meets the target on these scenes at this size
+   and runs at least PXCLK pixels per clock on each; else the named configuration with the fewest
+   gates that has them. Its features are then cut to what the scenes need, and its noise units to
+   the fewest that keep PXCLK (U >= ceil(K / floor(1 / PXCLK))).
+3. A descent over the formats, on the golden model against the float reference (cheap: no
+   synthesis): each precision (a word with its fraction), range word and width is narrowed one
+   bit at a time while the worst scene stays at or above the target; the lattice (seed,
+   hash_bits) stays the start's, since it is part of what the texture is.
+4. The result is measured like a sweep point (explore.measure: gates, images, and the Verilator
+   check) and stored with the sweep's points, written as a configuration file
+   <out>/<name>.toml with <out>/<name>.json (its record, the start and the steps), and every
+   scene is rendered with it through the RTL under Verilator at --rtl-size, bit-exact against the
+   golden model (<out>/<name>/<scene>.png). Exit status 1 when no configuration meets the target
+   or the RTL differs; 2 for a bad argument, before any work.
+"""
+from __future__ import annotations
+
+import json
+import sys
+import time
+from pathlib import Path
+
+from explore import measure
+from model.hw.config import CONFIG_NAMES, ConfigError, clocks_per_pixel, config_toml, config_values, load_config
+from model.hw.quantize import FormatError
+from model.scene.cli import Parser, UserError, check_range, run_main
+from model.scene.passes import SCENES
+
+ROOT = measure.ROOT
+FEATURE_ORDER = {"transform": ("pow2", "affine"), "amplitude": ("pow2", "any"), "blend": ("linear", "cubic"),
+                 "quadric": ("diagonal", "full"), "filter": ("none", "mip", "sat")}
+# the descent's moves, in the order tried: (label, {key: delta}) -- precision pairs keep the range
+MOVES = [("s precision", {"s_w": -1, "s_frac": -1}), ("q precision", {"q_w": -1, "q_frac": -1}),
+         ("t precision", {"t_w": -1, "t_frac": -1}), ("a precision", {"a_w": -1, "a_frac": -1}),
+         ("s range", {"s_w": -1}), ("q range", {"q_w": -1}), ("t range", {"t_w": -1}), ("a range", {"a_w": -1}),
+         ("p_frac", {"p_frac": -1}), ("n_frac", {"n_frac": -1}), ("f_frac", {"f_frac": -1}),
+         ("c_frac", {"c_frac": -1}), ("j_w", {"j_w": -1}), ("je_w", {"je_w": -1}), ("norm_bits", {"norm_bits": -1}),
+         ("w_cap_log2", {"w_cap_log2": -1}), ("div_bits", {"div_bits": -1})]
+DIV_START = 12  # an exact division (div_bits 0) is first replaced by a 12-bit normalised one, then narrowed
+
+
+def has_features(v: dict, need: dict) -> bool:
+    if v["noise_terms"] < need["noise_terms"] or (need["noise_gradient"] and not v["noise_gradient"]):
+        return False
+    return all(FEATURE_ORDER[k].index(v[k]) >= FEATURE_ORDER[k].index(need[k]) for k in FEATURE_ORDER if k in need)
+
+
+def _scene_ok(rec: dict, scenes, db: float, pxclk: float, size: int) -> bool:
+    if rec.get("status") != "ok" or rec.get("opts", {}).get("size") != size:
+        return False
+    sc = rec["scenes"]
+    return all(s in sc and sc[s]["psnr_ref_db"] >= db and (sc[s]["pixels_per_clock"] or 1) >= pxclk for s in scenes)
+
+
+def stored_records(results: Path) -> list[dict]:
+    recs = []
+    if results.exists():
+        recs += json.loads(results.read_text())["records"]
+    pdir = results.parent / "points"
+    if pdir.is_dir():
+        recs += [json.loads(p.read_text()) for p in sorted(pdir.glob("*.json"))]
+    src = measure.source_hash()
+    return [r for r in recs if r.get("source") == src]  # measured on this source only
+
+
+def units_for(k: int, pxclk: float) -> int:
+    """The fewest noise units that keep pxclk pixels a clock with k terms."""
+    if k == 0:
+        return 1
+    per = max(1, int(1 / pxclk + 1e-9))  # clocks a pixel allowed
+    return -(-k // per)
+
+
+def shape(v: dict, need: dict, pxclk: float, fixed: bool) -> dict:
+    """The start cut to what the scenes need (unless the features are fixed) and to PXCLK."""
+    v = dict(v)
+    if not fixed:
+        v.update({k: need[k] for k in FEATURE_ORDER})
+        v["noise_gradient"] = need["noise_gradient"]
+        v["noise_terms"] = need["noise_terms"]
+    k = v["noise_terms"]
+    v["noise_units"] = min(max(1, k), max(units_for(k, pxclk), 1)) if not fixed else v["noise_units"]
+    per = max(1, int(1 / pxclk + 1e-9))
+    folded = 0 < v["noise_units"] < k
+    v["quadric_clocks"] = 2 if (per >= 2 and folded and v["quadric"] == "diagonal" and not fixed) else \
+        (v["quadric_clocks"] if fixed else 1)
+    return v
+
+
+def evaluate(v: dict, scenes, size: int) -> float | None:
+    """The worst PSNR (golden model against the float reference) of `scenes`, or None when the
+    configuration is rejected or a scene does not fit it."""
+    from model.scene.quality import scene_psnr
+
+    try:
+        cfg = measure.point_config(v)
+        return min(scene_psnr(cfg, s, size)[0] for s in scenes)
+    except (ConfigError, FormatError):
+        return None
+
+
+def descend(v: dict, scenes, db: float, size: int, log: list, progress: bool = True) -> dict:
+    from tqdm import tqdm
+
+    if v["div_bits"] == 0 and v["filter"] == "sat":
+        w = dict(v, div_bits=DIV_START)
+        q = evaluate(w, scenes, size)
+        if q is not None and q >= db:
+            log.append({"move": f"div_bits 0 -> {DIV_START}", "worst_db": round(q, 2)})
+            v = w
+    bar = tqdm(MOVES, desc="fit: formats", unit="knob", file=sys.stderr, disable=not progress, leave=False)
+    for label, d in bar:
+        while True:
+            w = {**v, **{k: v[k] + x for k, x in d.items()}}
+            if label == "div_bits" and w["div_bits"] < 1:
+                break
+            q = evaluate(w, scenes, size)
+            if q is None or q < db:
+                break
+            log.append({"move": label, "to": {k: w[k] for k in d}, "worst_db": round(q, 2)})
+            v = w
+    bar.close()
+    return v
+
+
+def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 64, features_of: str | None = None,
+        name: str | None = None, out: Path | None = None, results: Path | None = None, progress: bool = True) -> dict:
+    from model.scene.needs import merge_needs, needs
+
+    t0 = time.perf_counter()
+    out = out or ROOT / "out" / "fit"
+    results = results or ROOT / "out" / "explore" / "results.json"
+    pxclk_eff = pxclk if pxclk > 0 else 1 / 64
+    need = merge_needs([needs(s, size) for s in scenes])
+    fixed = features_of is not None
+    if fixed:
+        fv = config_values(load_config(features_of))
+        need = {k: fv[k] for k in (*FEATURE_ORDER, "noise_terms", "noise_gradient")}
+    # the start: the sweep's cheapest point that qualifies, else the cheapest named configuration with the features
+    cands = [r for r in stored_records(results) if has_features(r["config"], need) and _scene_ok(r, scenes, db, pxclk, size)
+             and (not fixed or all(r["config"][k] == need[k] for k in need))]
+    if cands:
+        best = min(cands, key=lambda r: r["ge_total"])
+        start = {"from": f"sweep point {best.get('label', best.get('name'))}", "ge_total": best["ge_total"],
+                 "values": best["config"]}
+    else:
+        named = [n for n in CONFIG_NAMES if has_features(config_values(load_config(n)), need)]
+        if not named:
+            named = ["full"]
+        ge = {n: _named_ge(n) for n in named}
+        n0 = features_of or min(named, key=lambda n: ge[n] if ge[n] is not None else float("inf"))
+        start = {"from": f"configuration {n0}", "ge_total": ge.get(n0), "values": config_values(load_config(n0))}
+    v = shape(start["values"], need, pxclk_eff, fixed)
+    q0 = evaluate(v, scenes, size)
+    log = [{"move": "start, cut to what the scenes need", "worst_db": None if q0 is None else round(q0, 2)}]
+    if q0 is None or q0 < db:
+        # the cut start misses the target: the start as it was, only its units for PXCLK
+        v = dict(start["values"])
+        q0 = evaluate(v, scenes, size)
+        log.append({"move": "start as found (the cut missed the target)", "worst_db": None if q0 is None else round(q0, 2)})
+        if q0 is None or q0 < db:
+            raise FitError(f"no configuration found that meets {db} dB on {', '.join(scenes)} "
+                           f"(the start, {start['from']}, gives {q0 if q0 is None else round(q0, 2)} dB)")
+    v = descend(v, scenes, db, size, log, progress)
+    name = name or f"fit-{'-'.join(scenes)}-{db:g}db" + (f"-{pxclk:g}px" if pxclk else "")
+    cfg = measure.point_config(v, name=name.replace(".", "_"))
+    opts = {"scenes": list(scenes), "size": size, "rtl_scenes": list(scenes), "rtl_size": rtl_size, "rtl": True}
+    rec = measure.measure_cached(v, opts, results.parent / "points", label=f"fit {name}")
+    if rec["status"] == "failed":
+        raise FitError(f"the fitted configuration failed: {rec['error']}")
+    if start.get("ge_total") is not None and start["ge_total"] < rec["ge_total"] and cands:
+        # the sweep's point was cheaper after all (the descent never widens, but the cut may differ)
+        v = start["values"]
+        cfg = measure.point_config(v, name=name.replace(".", "_"))
+        rec = measure.measure_cached(v, opts, results.parent / "points", label=f"fit {name}")
+    out.mkdir(parents=True, exist_ok=True)
+    imgs = measure.rtl_render(cfg, scenes, rtl_size, out / cfg.name)
+    toml = out / f"{cfg.name}.toml"
+    toml.write_text(config_toml(cfg))
+    rep = {"scenes": list(scenes), "target_db": db, "min_pixels_per_clock": pxclk, "size": size, "needs": need,
+           "start": {k: start[k] for k in ("from", "ge_total")}, "steps": log, "config_file": str(toml.relative_to(ROOT)) if toml.is_relative_to(ROOT) else str(toml),
+           "record": rec, "rtl_render": imgs, "pixels_per_clock_all_terms": round(1 / clocks_per_pixel(cfg), 4),
+           "seconds": round(time.perf_counter() - t0, 1)}
+    (out / f"{cfg.name}.json").write_text(json.dumps(rep, indent=1) + "\n")
+    return rep
+
+
+def _named_ge(n: str) -> float | None:
+    p = ROOT / "synth" / "reports" / f"{n}.json"
+    return json.loads(p.read_text())["ge_total"] if p.exists() else None
+
+
+class FitError(RuntimeError):
+    pass
+
+
+def main(argv=None) -> int:
+    ap = Parser(prog="python -m explore.fit", description="the smallest-GE configuration for some scenes (make fit)")
+    ap.add_argument("--scenes", required=True, help="comma-separated scene names")
+    ap.add_argument("--db", type=float, required=True, help="the worst scene's PSNR target against its float reference")
+    ap.add_argument("--pxclk", type=float, default=0.0, help="at least this many pixels per clock on every scene")
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--rtl-size", type=int, default=64, help="frame side of the RTL renders (px)")
+    ap.add_argument("--features-of", default=None, help="keep this configuration's features; search its formats")
+    ap.add_argument("--name", default=None)
+    ap.add_argument("--out", type=Path, default=None)
+    ap.add_argument("--results", type=Path, default=None)
+    ap.add_argument("--quiet", action="store_true")
+    a = ap.parse_args(argv)
+
+    def go():
+        scenes = tuple(s.strip() for s in a.scenes.split(",") if s.strip())
+        bad = [s for s in scenes if s not in SCENES]
+        if bad or not scenes:
+            raise UserError(f"--scenes: unknown scene '{bad[0] if bad else a.scenes}' (expected some of {', '.join(SCENES)})")
+        if not 0 < a.db < 200:
+            raise UserError(f"--db {a.db:g}: expected a PSNR in dB, 0 < DB < 200")
+        if not 0 <= a.pxclk <= 1:
+            raise UserError(f"--pxclk {a.pxclk:g}: expected pixels per clock in 0..1")
+        check_range("--size", a.size, 8, 1024)
+        check_range("--rtl-size", a.rtl_size, 2, 512)
+        if a.features_of is not None and a.features_of not in CONFIG_NAMES:
+            raise UserError(f"--features-of {a.features_of}: no such configuration (known: {', '.join(CONFIG_NAMES)})")
+        try:
+            rep = fit(scenes, a.db, a.pxclk, a.size, a.rtl_size, a.features_of, a.name, a.out, a.results, not a.quiet)
+        except FitError as e:
+            print(f"fit: {e}", file=sys.stderr)
+            return 1
+        r = rep["record"]
+        print(json.dumps({"config_file": rep["config_file"], "start": rep["start"], "ge_total": r["ge_total"],
+                          "worst_psnr_db": r["worst_psnr_ref_db"], "min_pixels_per_clock": r["min_pixels_per_clock"],
+                          "rtl_bit_exact": rep["rtl_render"]["bit_exact"], "rtl_pixels": rep["rtl_render"]["pixels"],
+                          "seconds": rep["seconds"]}, indent=1))
+        return 0 if rep["rtl_render"]["bit_exact"] and r["status"] == "ok" else 1
+
+    return run_main("fit", go)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,207 @@
+"""docs/tradeoffs.md and its plots, from the sweep's results (explore.sweep, make explore).
+
+    python -m explore.report [--results out/explore/results.json] [--docs docs]
+
+Plots (matplotlib, written through OpenImageIO): GE against the worst scene's PSNR with the
+Pareto front drawn, one marker per pixels-per-clock class, the paper's two budgets and the named
+configurations labelled (docs/images/tradeoffs.png); and per knob, what one step of it costs in
+GE and buys in dB (docs/images/tradeoffs_knobs.png).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from explore import space
+from explore.measure import ROOT
+
+PAPER_BUDGETS = {"paper's reduced model (100,000 gates)": 100_000, "paper's full model (1,250,000 gates)": 1_250_000}
+# pixels-per-clock classes (the slowest scene's): marker, label
+PXCLK_CLASSES = [(1.0, "o", "1 px/clock"), (0.5, "s", "1/2 px/clock"), (0.25, "^", "1/4 to 1/2"),
+                 (0.0, "v", "below 1/4")]
+
+
+def _cls(pxclk: float):
+    for lo, m, lab in PXCLK_CLASSES:
+        if pxclk >= lo - 1e-9:
+            return m, lab
+    return PXCLK_CLASSES[-1][1:]
+
+
+def _f(v, fmt="{:,.0f}"):
+    return "-" if v is None else fmt.format(v)
+
+
+def knob_steps(recs: list[dict]) -> list[dict]:
+    """One row per one-at-a-time step (and grid point) with its base measured: what the step
+    costs in GE and in dB at the worst scene against the float reference."""
+    by_label = {r.get("label"): r for r in recs}
+    rows = []
+    for r in recs:
+        base = by_label.get(r.get("base"))
+        if r.get("step") in (None,) or base is None or r is base:
+            continue
+        row = {"label": r["label"], "base": r["base"], "step": r["step"], "status": r["status"], "error": r.get("error")}
+        if r["status"] == "ok" and base["status"] == "ok":
+            row.update({"d_ge": r["ge_total"] - base["ge_total"], "d_ge_pct": 100 * (r["ge_total"] / base["ge_total"] - 1),
+                        "d_db": r["worst_psnr_ref_db"] - base["worst_psnr_ref_db"],
+                        "d_depth": r["logic_depth"] - base["logic_depth"],
+                        "pxclk": r["min_pixels_per_clock"], "base_pxclk": base["min_pixels_per_clock"]})
+        rows.append(row)
+    return rows
+
+
+def plot_front(recs: list[dict], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from model.imageio import write_figure
+
+    ok = [r for r in recs if r["status"] == "ok"]
+    fig, ax = plt.subplots(figsize=(10, 6.5), dpi=110)
+    seen = set()
+    for r in ok:
+        m, lab = _cls(r["min_pixels_per_clock"])
+        ax.scatter(r["ge_total"], r["worst_psnr_ref_db"], marker=m, s=36, color="tab:blue", alpha=0.75,
+                   label=lab if lab not in seen else None, edgecolors="none")
+        seen.add(lab)
+    front = space.pareto(recs)
+    ax.plot([r["ge_total"] for r in front], [r["worst_psnr_ref_db"] for r in front], "-", color="tab:red",
+            lw=1.5, label="Pareto front (GE against worst-scene PSNR)")
+    for r in ok:
+        if r.get("step") is None:
+            ax.annotate(r["label"], (r["ge_total"], r["worst_psnr_ref_db"]), textcoords="offset points",
+                        xytext=(6, 6), fontsize=10, weight="bold")
+    for lab, ge in PAPER_BUDGETS.items():
+        ax.axvline(ge, color="gray", ls="--", lw=1)
+        ax.text(ge, ax.get_ylim()[0] + 1, " " + lab, rotation=90, va="bottom", fontsize=8, color="gray")
+    ax.set_xscale("log")
+    ax.set_xlabel("gate equivalents (logic, Yosys + synth/cells.lib; storage apart)")
+    ax.set_ylabel("worst scene PSNR against its float reference (dB)")
+    ax.set_title("The design space: gates against image quality (marker: the slowest scene's pixels per clock)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(loc="lower right", fontsize=8)
+    fig.tight_layout()
+    write_figure(path, fig)
+
+
+def plot_knobs(rows: list[dict], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from model.imageio import write_figure
+
+    rows = [r for r in rows if "d_ge" in r and r["step"] != "grid"]
+    bases = sorted({r["base"] for r in rows})
+    fig, axes = plt.subplots(len(bases), 1, figsize=(11, 3.6 * max(1, len(bases))), dpi=100, squeeze=False)
+    for ax, b in zip(axes[:, 0], bases):
+        rs = sorted((r for r in rows if r["base"] == b), key=lambda r: r["d_ge"])
+        x = range(len(rs))
+        ax.bar([i - 0.2 for i in x], [r["d_ge_pct"] for r in rs], width=0.4, color="tab:blue", label="GE change (%)")
+        ax2 = ax.twinx()
+        ax2.bar([i + 0.2 for i in x], [r["d_db"] for r in rs], width=0.4, color="tab:orange", label="worst-scene dB change")
+        ax.set_xticks(list(x))
+        ax.set_xticklabels([r["step"] for r in rs], rotation=60, ha="right", fontsize=7)
+        ax.set_ylabel("GE change (%)", color="tab:blue")
+        ax2.set_ylabel("worst PSNR change (dB)", color="tab:orange")
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set_title(f"one step from `{b}`: what it costs in gates and buys in dB")
+    fig.tight_layout()
+    write_figure(path, fig)
+
+
+def write(res: dict, out: Path | None = None, docs: Path | None = None) -> Path:
+    docs = docs or ROOT / "docs"
+    recs, summ = res["records"], res["summary"]
+    img = docs / "images"
+    plot_front(recs, img / "tradeoffs.png")
+    rows = knob_steps(recs)
+    plot_knobs(rows, img / "tradeoffs_knobs.png")
+    front = space.pareto(recs)
+    o = summ["opts"]
+    L = ["# Speed against error: the design-space sweep", "",
+         f"Written by `make explore` (explore/sweep.py) from out/explore/results.json: {summ['points']} configurations "
+         f"({summ['ok']} measured, {summ['failed']} failed, each with its reason below), measured on source "
+         f"`{summ['source']}` (explore.measure.source_hash). Wall time {summ['wall_seconds'] / 60:.1f} min on "
+         f"{summ['scheduler']} ({summ['workers']} workers; a rerun reads the stored points and measures only what "
+         f"changed); blocks synthesized {summ['blocks_synthesized']}, read from the block cache "
+         f"{summ['blocks_cached']}.", "",
+         "Each point: gate equivalents from `make synth`'s method (each block alone through synth/synth.py, Yosys "
+         "with synth/cells.lib, times its instances, plus texture_pipeline's glue; storage apart; each block's "
+         "netlist cached by its parameter set), logic depth in cells, pixels per clock of each scene (its textures' "
+         f"terms on the noise units), and per scene at {o['size']}x{o['size']}: PSNR of the golden model against the "
+         "float reference of the scene as written and against the converged supersampled truth (model.scene.truth), "
+         f"the largest error in LSB; and {', '.join(o['rtl_scenes'])} at {o['rtl_size']}x{o['rtl_size']} through the "
+         "RTL under Verilator, every pixel against the golden model.", "",
+         "## The plan (explore/space.py)", "",
+         "1. The named configurations: " + ", ".join(f"`{n}`" for n in space.NAMED) + ".",
+         f"2. A grid around `{space.GRID_BASE}` over the knobs that trade gates for clocks and quality: "
+         + "; ".join(f"{k} in {list(v)}" for k, v in space.GRID.items()) + ".",
+         "3. One-at-a-time steps from each named configuration: every feature switched, and the formats a few "
+         "bits either way (a precision step moves a word and its fraction together, so the range stays).",
+         f"4. A refinement around the Pareto front: each front point with every step that cost its base less than "
+         f"{space.REFINE_DB} dB at the worst scene (at most {space.REFINE_MAX}).", "",
+         "![GE against worst-scene PSNR](images/tradeoffs.png)", "",
+         "## The Pareto front", "",
+         "No other configuration has fewer gates and a better worst scene.", "",
+         "| configuration | GE | worst PSNR vs reference (dB) | worst PSNR vs truth (dB) | slowest px/clock | logic depth |",
+         "|---|---|---|---|---|---|"]
+    L += [f"| {r['label']} | {r['ge_total']:,.0f} | {r['worst_psnr_ref_db']:.1f} | {r['worst_psnr_truth_db']:.1f} | "
+          f"{r['min_pixels_per_clock']:.3g} | {r['logic_depth']} |" for r in front]
+    L += ["", "## What one step of a knob costs", "",
+          "Against its base (the worst scene, PSNR against the float reference); negative GE is a saving.", "",
+          "![per knob](images/tradeoffs_knobs.png)", "",
+          "| base | step | GE change | GE % | worst dB change | depth change | px/clock (base) |", "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if "d_ge" in r:
+            L.append(f"| {r['base']} | {r['step'] if r['step'] != 'grid' else r['label']} | {r['d_ge']:+,.0f} | "
+                     f"{r['d_ge_pct']:+.1f}% | {r['d_db']:+.1f} | {r['d_depth']:+d} | "
+                     f"{r['pxclk']:.3g} ({r['base_pxclk']:.3g}) |")
+    scenes = o["scenes"]
+    L += ["", "## Every point", "",
+          "PSNR per scene against the float reference (dB); GE; bit-exact: the Verilator check.", "",
+          "| configuration | status | GE | comb | seq | depth | px/clock | " + " | ".join(scenes)
+          + " | worst vs truth | max err (LSB) | bit-exact |",
+          "|---|---|---|---|---|---|---|" + "---|" * len(scenes) + "---|---|---|"]
+    for r in recs:
+        if r["status"] == "failed":
+            L.append(f"| {r['label']} | failed | " + " | ".join(["-"] * (6 + len(scenes) + 3)) + " |")
+            continue
+        sc = r["scenes"]
+        L.append(f"| {r['label']} | {r['status']} | {r['ge_total']:,.0f} | {r['ge_comb']:,.0f} | {r['ge_seq']:,.0f} | "
+                 f"{r['logic_depth']} | {r['min_pixels_per_clock']:.3g} | "
+                 + " | ".join(f"{sc[s]['psnr_ref_db']:.1f}" for s in scenes)
+                 + f" | {r['worst_psnr_truth_db']:.1f} | {max(v['max_error_lsb'] for v in sc.values())} | "
+                 f"{'yes' if r['rtl']['bit_exact'] else 'NO'} ({r['rtl']['pixels']} px) |")
+    bad = [r for r in recs if r["status"] != "ok"]
+    if bad:
+        L += ["", "## Points that failed, and why", ""] + [f"- {r['label']}: {r['error']}" for r in bad]
+    L += ["", "## Reproduce", "", "    make explore                 # the sweep (JOBS= workers; DASK_SCHEDULER_ADDRESS= or "
+          "EXPLORE_FLAGS=--scheduler tcp://HOST:PORT for a cluster)",
+          "    python -m explore.report     # this page again from out/explore/results.json", ""]
+    docs.mkdir(parents=True, exist_ok=True)
+    p = docs / "tradeoffs.md"
+    p.write_text("\n".join(L))
+    return p
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m explore.report")
+    ap.add_argument("--results", type=Path, default=ROOT / "out" / "explore" / "results.json")
+    ap.add_argument("--docs", type=Path, default=ROOT / "docs")
+    a = ap.parse_args(argv)
+    if not a.results.exists():
+        print(f"explore.report: {a.results}: no results (run `make explore`)", file=sys.stderr)
+        return 2
+    print(write(json.loads(a.results.read_text()), docs=a.docs))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,186 @@
+"""`make explore`: the design-space sweep on Dask distributed.
+
+    python -m explore.sweep [--size 256] [--rtl-size 32] [--points N] [--scenes a,b] [--jobs 2]
+                            [--scheduler tcp://HOST:PORT] [--out out/explore] [--no-docs] [--no-refine]
+                            [--plan full|test] [--docs DIR]
+
+Runs the plan of explore.space (the named configurations, a grid, one-at-a-time steps, then a
+refinement around the Pareto front) as one Dask task a point (explore.measure.measure). The
+tasks run on a LocalCluster of --jobs worker processes by default, or on the scheduler named by
+--scheduler or Dask's own DASK_SCHEDULER_ADDRESS, unchanged. Each point's record is stored
+under <out>/points/<hash>.json, the hash of its configuration, the measurement options and the
+source it was measured on (explore.measure.source_hash): a sweep that is killed and restarted
+redoes only what is missing, and an edit of the RTL or the model measures again. A progress bar
+shows points done, failed and left. A failed point (configuration rejected, a scene that does
+not fit, a synthesis error, an RTL mismatch) is recorded with its error, never dropped.
+
+Writes <out>/results.json (one record per point, with the configuration itself) and, unless
+--no-docs, docs/tradeoffs.md and its plots (explore.report). --points N keeps the first N
+points of the plan; --plan test is three cheap points (the tests' sweep). Exit status 2 for a bad argument, before any
+work starts.
+"""
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+from explore import measure, space
+from model.scene.cli import Parser, UserError, check_range, run_main
+from model.scene.passes import SCENES
+
+ROOT = measure.ROOT
+RTL_SCENES = ("zone_plate", "seascape")
+
+
+def client_for(scheduler: str | None, jobs: int):
+    """A Dask client: the named scheduler (--scheduler, else DASK_SCHEDULER_ADDRESS), else a
+    LocalCluster of `jobs` single-threaded worker processes. (client, cluster or None)."""
+    from distributed import Client, LocalCluster
+
+    addr = scheduler or os.environ.get("DASK_SCHEDULER_ADDRESS")
+    if addr:
+        return Client(addr, timeout=30), None
+    cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=None,
+                           silence_logs=40)
+    return Client(cluster), cluster
+
+
+def _run_points(client, pts: list[dict], opts: dict, pdir: Path, src: str, progress: bool, phase: str) -> list[dict]:
+    """The records of `pts`, in order: from <pdir> when stored, else measured on the cluster."""
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    recs: list = [None] * len(pts)
+    todo = {}
+    for i, p in enumerate(pts):
+        f = pdir / f"{measure.point_key(p['values'], opts, src)}.json"
+        if f.exists():  # stored: under this plan's label (a point `make fit` measured first has its own)
+            recs[i] = {**json.loads(f.read_text()), **{k: p[k] for k in ("label", "base", "step")}}
+        else:
+            todo[i] = f
+    stored = len(pts) - len(todo)
+    failed = sum(r["status"] != "ok" for r in recs if r)
+    bar = tqdm(total=len(pts), initial=stored, desc=f"explore {phase}", unit="point", file=sys.stderr,
+               disable=not progress, dynamic_ncols=True)
+    bar.set_postfix(failed=failed, left=len(todo), stored=stored)
+    futs = {client.submit(measure.measure, pts[i]["values"], opts, pure=False, key=f"point-{f.stem}"): i
+            for i, f in todo.items()}
+    for fut in as_completed(futs):
+        i = futs[fut]
+        try:
+            rec = fut.result()
+        except Exception as e:  # a worker lost: recorded, never dropped
+            rec = {"config": pts[i]["values"], "opts": opts, "status": "failed", "error": f"{type(e).__name__}: {e}"}
+        rec.update({"label": pts[i]["label"], "base": pts[i]["base"], "step": pts[i]["step"], "source": src})
+        measure.store(todo[i], rec)
+        recs[i] = rec
+        failed += rec["status"] != "ok"
+        bar.update()
+        bar.set_postfix(failed=failed, left=len(pts) - bar.n, stored=stored)
+    bar.close()
+    return recs
+
+
+def sweep(size: int = 256, rtl_size: int = 32, points: int | None = None, scenes=SCENES, jobs: int = 2,
+          scheduler: str | None = None, out: Path | None = None, docs: bool = True, refine: bool = True,
+          progress: bool = True, plan: str = "full", docs_dir: Path | None = None) -> dict:
+    t0 = time.perf_counter()
+    out = out or ROOT / "out" / "explore"
+    pdir = out / "points"
+    pdir.mkdir(parents=True, exist_ok=True)
+    opts = {"scenes": list(scenes), "size": size, "rtl_scenes": [s for s in RTL_SCENES if s in scenes] or list(scenes[:2]),
+            "rtl_size": rtl_size, "rtl": True}
+    src = measure.source_hash()
+    pts = space.plan(plan)
+    pts = pts[:points] if points else pts
+    client, cluster = client_for(scheduler, jobs)
+    try:
+        # the truths first, one task per scene and lattice, so that points never compute one twice
+        lattices = {(p["values"]["seed"], p["values"]["hash_bits"]) for p in pts}
+        tfuts = [client.submit(_truth_task, s, size, seed, hb, pure=False) for s in scenes for seed, hb in sorted(lattices)]
+        _wait(tfuts, progress, "explore truths")
+        recs = _run_points(client, pts, opts, pdir, src, progress, "plan")
+        if refine and not points and plan == "full":
+            more = space.refine(recs, pts)
+            recs += _run_points(client, more, opts, pdir, src, progress, "refine")
+            pts += more
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    wall = round(time.perf_counter() - t0, 1)
+    summary = {"points": len(recs), "ok": sum(r["status"] == "ok" for r in recs),
+               "failed": sum(r["status"] != "ok" for r in recs),
+               "blocks_synthesized": sum(r.get("blocks_synthesized", 0) for r in recs),
+               "blocks_cached": sum(r.get("blocks_cached", 0) for r in recs),
+               "wall_seconds": wall, "source": src, "opts": opts, "workers": jobs if not scheduler else None,
+               "scheduler": scheduler or os.environ.get("DASK_SCHEDULER_ADDRESS") or "LocalCluster"}
+    res = {"summary": summary, "records": recs}
+    tmp = out / "results.json.tmp"
+    tmp.write_text(json.dumps(res, indent=1) + "\n")
+    tmp.replace(out / "results.json")
+    if docs:
+        from explore import report
+
+        report.write(res, out, docs_dir)
+    return res
+
+
+def _wait(futs, progress: bool, desc: str) -> None:
+    """Wait for `futs` with a progress bar; the first error is raised."""
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    with tqdm(total=len(futs), desc=desc, unit="task", file=sys.stderr, disable=not progress) as bar:
+        for f in as_completed(futs):
+            f.result()
+            bar.update()
+
+
+def _truth_task(scene: str, size: int, seed: int, hash_bits: int) -> None:
+    from model.hw.config import load_config, variant
+
+    measure.truth(scene, size, variant(load_config("full"), "truth", seed=seed, hash_bits=hash_bits))
+
+
+def main(argv=None) -> int:
+    ap = Parser(prog="python -m explore.sweep", description="the design-space sweep (make explore)")
+    ap.add_argument("--size", type=int, default=256, help="frame side of the image measurements (px)")
+    ap.add_argument("--rtl-size", type=int, default=32, help="frame side of the Verilator bit-exact check (px)")
+    ap.add_argument("--points", type=int, default=None, help="only the first N points of the plan (no refinement)")
+    ap.add_argument("--scenes", default=",".join(SCENES), help="comma-separated scenes (default: all)")
+    ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", 2)), help="LocalCluster workers")
+    ap.add_argument("--scheduler", default=None, help="a Dask scheduler address (default: DASK_SCHEDULER_ADDRESS, "
+                                                      "else a LocalCluster)")
+    ap.add_argument("--out", type=Path, default=None, help="output root (default out/explore)")
+    ap.add_argument("--no-docs", action="store_true", help="results.json only (no docs/tradeoffs.md)")
+    ap.add_argument("--no-refine", action="store_true", help="no refinement around the Pareto front")
+    ap.add_argument("--plan", choices=("full", "test"), default="full",
+                    help="full: explore/space.py's plan; test: three cheap points (the machinery's test)")
+    ap.add_argument("--docs", type=Path, default=None, help="where tradeoffs.md and its images go (default docs/)")
+    ap.add_argument("--quiet", action="store_true", help="no progress bar")
+    a = ap.parse_args(argv)
+
+    def go():
+        check_range("--size", a.size, 8, 1024)
+        check_range("--rtl-size", a.rtl_size, 2, 512)
+        check_range("--jobs", a.jobs, 1, 64)
+        if a.points is not None:
+            check_range("--points", a.points, 1, 100000)
+        scenes = tuple(s.strip() for s in a.scenes.split(",") if s.strip())
+        bad = [s for s in scenes if s not in SCENES]
+        if bad or not scenes:
+            raise UserError(f"--scenes: unknown scene '{bad[0] if bad else a.scenes}' (expected some of {', '.join(SCENES)})")
+        res = sweep(a.size, a.rtl_size, a.points, scenes, a.jobs, a.scheduler, a.out, not a.no_docs,
+                    not a.no_refine, not a.quiet, a.plan, a.docs)
+        print(json.dumps(res["summary"], indent=1))
+        return 0 if res["summary"]["points"] else 1
+
+    return run_main("explore", go)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

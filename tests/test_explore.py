@@ -1,0 +1,172 @@
+"""The design-space sweep's machinery (issue 14): a three-point sweep on a tiny frame, resumed
+from its stored points, on a named Dask scheduler; `needs`; `make fit`; bad arguments.
+
+The full sweep (`make explore`) is a command, not a test. The three points are reduced and two
+steps from it, one of them rejected by the configuration checks (explore.space.TEST_PLAN), so the
+gates, images, the Verilator check, the block cache and a failed point's record are all seen.
+"""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PY = sys.executable
+SWEEP = ["-m", "explore.sweep", "--plan", "test", "--size", "8", "--rtl-size", "4", "--scenes", "zone_plate,marble",
+         "--jobs", "1", "--quiet"]
+
+
+def _run(args, env=None, timeout=900):
+    e = {**os.environ, **(env or {})}
+    for k in ("MAKEFLAGS", "MAKELEVEL", "MFLAGS"):
+        e.pop(k, None)
+    return subprocess.run(args, cwd=ROOT, env=e, capture_output=True, text=True, timeout=timeout)
+
+
+def _ok(r):
+    assert r.returncode == 0, f"exit {r.returncode}\n{r.stdout[-3000:]}\n{r.stderr[-3000:]}"
+
+
+@pytest.fixture(scope="module")
+def swept(tmp_path_factory):
+    out = tmp_path_factory.mktemp("explore")
+    flags = " ".join(SWEEP[2:] + ["--out", str(out / "ex"), "--docs", str(out / "docs")])
+    r = _run(["make", "-s", "--no-print-directory", "explore", f"EXPLORE_FLAGS={flags}", "JOBS=1"])  # the README's command
+    _ok(r)
+    return out, json.loads((out / "ex" / "results.json").read_text()), r
+
+
+def test_sweep_records_every_point(swept):
+    out, res, _ = swept
+    recs = res["records"]
+    assert [r["label"] for r in recs] == ["reduced", "reduced div_bits-2", "reduced w_cap_log2-3"]
+    ok, step, bad = recs
+    for r in (ok, step):
+        assert r["status"] == "ok", r
+        assert r["ge_total"] > 1000 and r["ge_comb"] + r["ge_seq"] == pytest.approx(r["ge_total"], abs=1)
+        assert r["rtl"]["bit_exact"] and r["rtl"]["pixels"] > 0
+        assert set(r["scenes"]) == {"zone_plate", "marble"}
+        assert all(v["pixels_per_clock"] == 1.0 for v in r["scenes"].values())  # reduced: one pixel a clock
+        assert r["config"]["name"] if "name" in r["config"] else True
+    # the step changes only colour_map's parameters: every other block came from the cache
+    assert step["blocks_cached"] >= 3 and step["blocks_synthesized"] <= 2, step
+    assert step["config"]["div_bits"] == ok["config"]["div_bits"] - 2
+    assert bad["status"] == "failed" and "w_cap_log2" in bad["error"], bad
+    assert res["summary"]["failed"] == 1 and res["summary"]["points"] == 3
+
+
+def test_sweep_writes_tradeoffs(swept):
+    out, res, _ = swept
+    md = (out / "docs" / "tradeoffs.md").read_text()
+    assert "## The Pareto front" in md and "reduced div_bits-2" in md and "w_cap_log2" in md
+    for png in ("tradeoffs.png", "tradeoffs_knobs.png"):
+        assert (out / "docs" / "images" / png).stat().st_size > 10_000
+
+
+def test_sweep_resumes_from_stored_points_on_a_named_scheduler(swept, tmp_path):
+    """A rerun measures nothing (every point stored); the tasks go to an existing scheduler
+    named by DASK_SCHEDULER_ADDRESS."""
+    from distributed import LocalCluster
+
+    out, res, _ = swept
+    # a killed sweep: one stored point lost, the others kept
+    pts = sorted((out / "ex" / "points").glob("*.json"))
+    assert len(pts) == 3
+    lost = pts[0]
+    lost.unlink()
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cl:
+        r = _run([PY, *SWEEP, "--out", str(out / "ex"), "--no-docs"], env={"DASK_SCHEDULER_ADDRESS": cl.scheduler_address})
+    _ok(r)
+    summ = json.loads(r.stdout[r.stdout.index("{"):])
+    assert summ["scheduler"] == cl.scheduler_address
+    assert lost.exists(), "the lost point was not measured again"
+    res2 = json.loads((out / "ex" / "results.json").read_text())
+    # only the lost point was measured again: nothing new synthesized for the others
+    again = [r for r in res2["records"] if r["status"] == "ok"]
+    assert [r["ge_total"] for r in again] == [r["ge_total"] for r in res["records"] if r["status"] == "ok"]
+
+
+def test_pareto_front():
+    from explore.space import pareto
+
+    rec = lambda ge, db: {"status": "ok", "ge_total": ge, "worst_psnr_ref_db": db}  # noqa: E731
+    recs = [rec(100, 30), rec(90, 20), rec(200, 50), rec(150, 25), rec(300, 45), {"status": "failed"}]
+    assert [(r["ge_total"], r["worst_psnr_ref_db"]) for r in pareto(recs)] == [(90, 20), (100, 30), (200, 50)]
+
+
+def test_plan_has_forty_points_and_every_knob():
+    from explore.space import plan
+    from model.hw.config import _SCHEMA
+
+    pts = plan()
+    assert len(pts) >= 40
+    changed = set()
+    for p in pts:
+        base = next(q for q in pts if q["label"] == p["base"]) if p["base"] in ("full", "reduced", "compact") else None
+        if base:
+            changed |= {k for k in _SCHEMA if p["values"][k] != base["values"][k]}
+    want = {"noise_terms", "noise_units", "blend", "transform", "amplitude", "quadric", "filter", "div_bits",
+            "w_cap_log2", "s_frac", "q_frac", "t_frac", "a_frac", "p_frac", "n_frac", "f_frac", "c_frac", "j_w",
+            "norm_bits", "noise_gradient", "quadric_clocks"}
+    assert want <= changed, want - changed
+
+
+def test_needs_names_what_a_scene_uses():
+    from model.scene.needs import merge_needs, needs, needs_config
+
+    sea = needs("seascape", 32)
+    c = needs_config(sea)
+    assert c == {"noise_terms": 4, "transform": "pow2", "amplitude": "pow2", "blend": "cubic", "noise_gradient": True,
+                 "quadric": "diagonal", "filter": "sat"}
+    zp = needs_config(needs("zone_plate", 32))
+    assert zp["noise_terms"] == 0 and zp["filter"] == "sat"
+    t = next(iter(sea["textures"].values()))
+    assert t["range_w_entries"][1] > t["range_w_entries"][0] > 0 and t["range_s"][0] < 0
+    assert merge_needs([sea, needs("zone_plate", 32)])["noise_terms"] == 4
+
+
+def test_needs_command_and_bad_input():
+    r = _run([PY, "-m", "model.scene", "needs", "marble", "--size", "16"])
+    _ok(r)
+    assert "needs: noise_terms =" in r.stdout and "texture" in r.stdout
+    for args, msg in ((["needs", "no_such"], "no such scene"), (["nope"], "expected a command"),
+                      (["needs", "marble", "--size", "0"], "--size 0: expected")):
+        r = _run([PY, "-m", "model.scene", *args])
+        assert r.returncode == 2 and msg in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
+
+
+@pytest.mark.parametrize("args,msg", [
+    (["fit", "SCENE=zone_plate"], "--db"),
+    (["fit", "SCENE=nowhere", "DB=40"], "--scenes: unknown scene 'nowhere'"),
+    (["fit", "SCENE=zone_plate", "DB=400"], "--db 400: expected"),
+    (["fit", "SCENE=zone_plate", "DB=40", "PXCLK=2"], "--pxclk 2: expected"),
+    (["explore", "EXPLORE_FLAGS=--size 0"], "--size 0: expected 8..1024"),
+    (["explore", "EXPLORE_FLAGS=--scenes moon"], "--scenes: unknown scene 'moon'"),
+])
+def test_bad_arguments_one_line_exit_2(args, msg):
+    r = _run(["make", "-s", "--no-print-directory", *args])
+    lines = [x for x in r.stderr.strip().splitlines() if not x.startswith("make")]
+    assert r.returncode == 2 and len(lines) == 1 and msg in lines[0], (r.returncode, r.stderr)
+
+
+def test_fit_renders_bit_exact(tmp_path):
+    """make fit on a tiny frame: a configuration file that loads, meeting its target, rendered
+    through the RTL bit-exact."""
+    from model.hw.config import load_config
+
+    out = tmp_path / "fit"
+    r = _run(["make", "-s", "--no-print-directory", "fit", "SCENE=zone_plate", "DB=20", f"OUT={out}",
+              f"FIT_FLAGS=--size 16 --rtl-size 8 --quiet --results {tmp_path / 'ex' / 'results.json'}"])
+    _ok(r)
+    summ = json.loads(r.stdout[r.stdout.index("{"):])
+    assert summ["rtl_bit_exact"] and summ["rtl_pixels"] > 0 and summ["worst_psnr_db"] >= 20
+    cfg = load_config(ROOT / summ["config_file"]) if not Path(summ["config_file"]).is_absolute() else load_config(summ["config_file"])
+    assert cfg.noise_terms == 0  # the zone plate has no noise: the fit keeps none
+    rep = json.loads(next(out.glob("*.json")).read_text())
+    assert rep["steps"] and rep["record"]["status"] == "ok"
+    assert (out / cfg.name / "zone_plate.png").is_file()
