@@ -37,6 +37,7 @@ from hdlbuild import ROOT, block_params
 from model.hw.config import ConfigError, config_values, load_config, variant
 
 BLOCK_CACHE = ROOT / "build" / "explore" / "blocks"
+LOCK_DIR = ROOT / "build" / "explore" / "locks"
 # what a point's measurement depends on (its record is stored under a hash of these and its keys)
 SOURCE_GLOBS = ("rtl/*.v", "rtl/*.vh", "model/*.py", "model/hw/*.py", "model/scene/*.py", "scenes/*.toml",
                 "sim/frame_tb.v", "sim/frame_rtl.py", "sim/frame_cocotb.py", "synth/synth.py", "synth/run.py",
@@ -142,7 +143,8 @@ def truth(name: str, size: int, cfg) -> np.ndarray:
     lattice)."""
     from model.scene.truth import truth_image
 
-    return truth_image(name, cfg, size)
+    with _locked(LOCK_DIR / f"truth-{name}-{size}-{cfg.seed}-{cfg.hash_bits}"):  # workers wait, not redo
+        return truth_image(name, cfg, size)
 
 
 def images(cfg, scenes, size: int) -> dict:
