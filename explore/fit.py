@@ -171,9 +171,11 @@ def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 
             raise FitError(f"no configuration found that meets {db} dB on {', '.join(scenes)} "
                            f"(the start, {start['from']}, gives {q0 if q0 is None else round(q0, 2)} dB)")
     v = descend(v, scenes, db, size, log, progress)
-    name = name or f"fit-{'-'.join(scenes)}-{db:g}db" + (f"-{pxclk:g}px" if pxclk else "")
+    label = "all" if tuple(scenes) == SCENES else "-".join(scenes)
+    name = name or f"fit-{label}-{db:g}db" + (f"-{pxclk:g}px" if pxclk else "")
     cfg = measure.point_config(v, name=name.replace(".", "_"))
-    opts = {"scenes": list(scenes), "size": size, "rtl_scenes": list(scenes), "rtl_size": rtl_size, "rtl": True}
+    opts = {"scenes": list(scenes), "size": size, "rtl_scenes": list(scenes), "rtl_size": rtl_size, "rtl": True,
+            "truth_ss": measure.TRUTH_SS, "truth_band_ss": measure.TRUTH_BAND_SS}
     rec = measure.measure_cached(v, opts, results.parent / "points", label=f"fit {name}")
     if rec["status"] == "failed":
         raise FitError(f"the fitted configuration failed: {rec['error']}")
@@ -205,7 +207,7 @@ class FitError(RuntimeError):
 
 def main(argv=None) -> int:
     ap = Parser(prog="python -m explore.fit", description="the smallest-GE configuration for some scenes (make fit)")
-    ap.add_argument("--scenes", required=True, help="comma-separated scene names")
+    ap.add_argument("--scenes", required=True, help="comma-separated scene names, or all")
     ap.add_argument("--db", type=float, required=True, help="the worst scene's PSNR target against its float reference")
     ap.add_argument("--pxclk", type=float, default=0.0, help="at least this many pixels per clock on every scene")
     ap.add_argument("--size", type=int, default=256)
@@ -218,7 +220,7 @@ def main(argv=None) -> int:
     a = ap.parse_args(argv)
 
     def go():
-        scenes = tuple(s.strip() for s in a.scenes.split(",") if s.strip())
+        scenes = SCENES if a.scenes == "all" else tuple(s.strip() for s in a.scenes.split(",") if s.strip())
         bad = [s for s in scenes if s not in SCENES]
         if bad or not scenes:
             raise UserError(f"--scenes: unknown scene '{bad[0] if bad else a.scenes}' (expected some of {', '.join(SCENES)})")

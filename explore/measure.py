@@ -38,10 +38,16 @@ from model.hw.config import ConfigError, config_values, load_config, variant
 
 BLOCK_CACHE = ROOT / "build" / "explore" / "blocks"
 LOCK_DIR = ROOT / "build" / "explore" / "locks"
+# the sweep's truth: samples a pixel axis, and in the band w > N/8 (model.scene.truth), a quarter
+# of make render's 16 and 32, so that 24 truths (8 scenes, 3 lattices) take minutes, not hours;
+# they rank configurations, docs/scenes.md gives the converged figures
+TRUTH_SS, TRUTH_BAND_SS = 8, 16
 # what a point's measurement depends on (its record is stored under a hash of these and its keys)
-SOURCE_GLOBS = ("rtl/*.v", "rtl/*.vh", "model/*.py", "model/hw/*.py", "model/scene/*.py", "scenes/*.toml",
-                "sim/frame_tb.v", "sim/frame_rtl.py", "sim/frame_cocotb.py", "synth/synth.py", "synth/run.py",
-                "synth/cells.lib", "hdlbuild/*.py", "explore/measure.py")
+SOURCE_GLOBS = ("rtl/*.v", "rtl/*.vh", "model/hw/*.py", "model/reference.py", "model/texture.py", "model/imageio.py",
+                "model/scene/frontend.py", "model/scene/passes.py", "model/scene/scene.py", "model/scene/teapot.py",
+                "model/scene/quality.py", "model/scene/truth.py", "scenes/*.toml", "sim/frame_tb.v",
+                "sim/frame_rtl.py", "sim/frame_cocotb.py", "synth/synth.py", "synth/run.py", "synth/cells.lib",
+                "hdlbuild/*.py", "explore/measure.py")
 
 
 def _hash(*parts) -> str:
@@ -136,28 +142,30 @@ def gates(cfg) -> dict:
 
 # ---------------------------------------------------------------------------- images
 
-def truth(name: str, size: int, cfg) -> np.ndarray:
+def truth(name: str, size: int, cfg, ss: int | None = None, band_ss: int | None = None) -> np.ndarray:
     """The converged truth of scene `name` at `size` px for cfg's lattice, [H, W, 4] float:
     model.scene.truth.truth_image (stratified jittered supersampling, more samples where the
     filter width is large; cached on disk, keyed by the scene, the reference's source and the
     lattice)."""
     from model.scene.truth import truth_image
 
+    kw = {k: v for k, v in (("ss", ss), ("band_ss", band_ss)) if v}
     with _locked(LOCK_DIR / f"truth-{name}-{size}-{cfg.seed}-{cfg.hash_bits}"):  # workers wait, not redo
-        return truth_image(name, cfg, size)
+        return truth_image(name, cfg, size, **kw)
 
 
-def images(cfg, scenes, size: int) -> dict:
+def images(cfg, scenes, size: int, opts: dict | None = None) -> dict:
     """Per scene: pixels per clock, PSNR against the float reference and the truth, largest error."""
     from model.imageio import compare
     from model.scene.quality import scene_images
 
     out = {}
+    opts = opts or {}
     for s in scenes:
         im = scene_images(cfg, s, size)
         t = im["textured"]
         cr = compare(im["golden"][t], im["reference"][t])
-        ct = compare(im["golden"][t], truth(s, size, cfg)[t])
+        ct = compare(im["golden"][t], truth(s, size, cfg, opts.get("truth_ss"), opts.get("truth_band_ss"))[t])
         out[s] = {"pixels_per_clock": round(im["pixels"] / im["clocks"], 4) if im["clocks"] else None,
                   "psnr_ref_db": round(cr["psnr_db"], 2), "psnr_truth_db": round(ct["psnr_db"], 2),
                   "max_error_lsb": int(cr["max_abs_error_lsb"])}
@@ -242,7 +250,7 @@ def measure(values: dict, opts: dict) -> dict:
         cfg = point_config(values)
         rec["name"] = cfg.name
         rec["pixels_per_clock_all_terms"] = round(1 / clocks_per_pixel(cfg), 4)
-        rec["scenes"] = images(cfg, opts["scenes"], opts["size"])
+        rec["scenes"] = images(cfg, opts["scenes"], opts["size"], opts)
         ok = [v for v in rec["scenes"].values()]
         rec["worst_psnr_ref_db"] = min(v["psnr_ref_db"] for v in ok)
         rec["worst_psnr_truth_db"] = min(v["psnr_truth_db"] for v in ok)

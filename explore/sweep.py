@@ -33,6 +33,7 @@ from model.scene.passes import SCENES
 
 ROOT = measure.ROOT
 RTL_SCENES = ("zone_plate", "seascape")
+TRUTH_SS, TRUTH_BAND_SS = measure.TRUTH_SS, measure.TRUTH_BAND_SS
 
 
 def client_for(scheduler: str | None, jobs: int):
@@ -92,7 +93,7 @@ def sweep(size: int = 256, rtl_size: int = 32, points: int | None = None, scenes
     pdir = out / "points"
     pdir.mkdir(parents=True, exist_ok=True)
     opts = {"scenes": list(scenes), "size": size, "rtl_scenes": [s for s in RTL_SCENES if s in scenes] or list(scenes[:2]),
-            "rtl_size": rtl_size, "rtl": True}
+            "rtl_size": rtl_size, "rtl": True, "truth_ss": TRUTH_SS, "truth_band_ss": TRUTH_BAND_SS}
     src = measure.source_hash()
     pts = space.plan(plan)
     pts = pts[:points] if points else pts
@@ -100,7 +101,7 @@ def sweep(size: int = 256, rtl_size: int = 32, points: int | None = None, scenes
     try:
         # the truths first, one task per scene and lattice, so that points never compute one twice
         lattices = {(p["values"]["seed"], p["values"]["hash_bits"]) for p in pts}
-        tfuts = [client.submit(_truth_task, s, size, seed, hb, pure=False) for s in scenes for seed, hb in sorted(lattices)]
+        tfuts = [client.submit(_truth_task, s, size, seed, hb, pure=False) for s in scenes for seed, hb in sorted(lattices)]  # noqa: E501
         _wait(tfuts, progress, "explore truths")
         recs = _run_points(client, pts, opts, pdir, src, progress, "plan")
         if refine and not points and plan == "full":
@@ -143,7 +144,8 @@ def _wait(futs, progress: bool, desc: str) -> None:
 def _truth_task(scene: str, size: int, seed: int, hash_bits: int) -> None:
     from model.hw.config import load_config, variant
 
-    measure.truth(scene, size, variant(load_config("full"), "truth", seed=seed, hash_bits=hash_bits))
+    measure.truth(scene, size, variant(load_config("full"), "truth", seed=seed, hash_bits=hash_bits), TRUTH_SS,
+                  TRUTH_BAND_SS)
 
 
 def main(argv=None) -> int:
