@@ -136,7 +136,10 @@ def write(res: dict, out: Path | None = None, docs: Path | None = None) -> Path:
          "with synth/cells.lib, times its instances, plus texture_pipeline's glue; storage apart; each block's "
          "netlist cached by its parameter set), logic depth in cells, pixels per clock of each scene (its textures' "
          f"terms on the noise units), and per scene at {o['size']}x{o['size']}: PSNR of the golden model against the "
-         "float reference of the scene as written and against the converged supersampled truth (model.scene.truth), "
+         "float reference of the scene as written and against the supersampled truth (model.scene.truth, stratified "
+         f"jittered, {o.get('truth_ss', '-')}x{o.get('truth_ss', '-')} samples a pixel and "
+         f"{o.get('truth_band_ss', '-')}x{o.get('truth_band_ss', '-')} where the filter width exceeds N/8; a quarter of "
+         "the converged rates of docs/scenes.md, enough to rank configurations), "
          f"the largest error in LSB; and {', '.join(o['rtl_scenes'])} at {o['rtl_size']}x{o['rtl_size']} through the "
          "RTL under Verilator, every pixel against the golden model.", "",
          "## The plan (explore/space.py)", "",
