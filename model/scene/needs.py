@@ -70,12 +70,17 @@ def needs(scene_name: str, size: int = 256, cfg=None) -> dict:
     from model.scene.passes import frame_size
     from model.scene.scene import load_scene
 
-    cfg = cfg or load_config("full")
     name, path = resolve_scene(scene_name)
     sc = load_scene(path)
     W, H = frame_size(sc, size)
+    return needs_of_passes(name, render_passes(sc, W, H), W, H, size, cfg)
+
+
+def needs_of_passes(name: str, passes, W: int, H: int, size: int, cfg=None) -> dict:
+    """needs() from the front end's passes of a render (model.scene.frontend.render_passes)."""
+    cfg = cfg or load_config("full")
     tex: dict[str, dict] = {}
-    for ps in render_passes(sc, W, H):
+    for ps in passes:
         key = ps.texture_name or ps.name
         t = tex.setdefault(key, {**texture_needs(ps.texture), "pixels": 0, "_s": [], "_f": [], "_w": []})
         s, J = ps.s[ps.mask], ps.J[ps.mask]
