@@ -45,6 +45,13 @@ MOVES = [("s precision", {"s_w": -1, "s_frac": -1}), ("q precision", {"q_w": -1,
          ("p_frac", {"p_frac": -1}), ("n_frac", {"n_frac": -1}), ("f_frac", {"f_frac": -1}),
          ("c_frac", {"c_frac": -1}), ("j_w", {"j_w": -1}), ("je_w", {"je_w": -1}), ("norm_bits", {"norm_bits": -1}),
          ("w_cap_log2", {"w_cap_log2": -1}), ("div_bits", {"div_bits": -1})]
+# another order: the noise term's own formats first (8 of full's 10 noise terms' worth of gates
+# are in them), the coordinates after
+ORDERS = {"formats": MOVES,
+          "noise-first": [m for m in MOVES if m[0] in ("p_frac", "n_frac", "t precision", "a precision", "t range",
+                                                       "a range")]
+                         + [m for m in MOVES if m[0] not in ("p_frac", "n_frac", "t precision", "a precision",
+                                                             "t range", "a range")]}
 DIV_START = 12  # an exact division (div_bits 0) is first replaced by a 12-bit normalised one, then narrowed
 
 
@@ -108,7 +115,7 @@ def evaluate(v: dict, scenes, sizes) -> float | None:
         return None
 
 
-def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True) -> dict:
+def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True, order: str = "formats") -> dict:
     from tqdm import tqdm
 
     if v["div_bits"] == 0 and v["filter"] == "sat":
@@ -117,7 +124,7 @@ def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True)
         if q is not None and q >= db:
             log.append({"move": f"div_bits 0 -> {DIV_START}", "worst_db": round(q, 2)})
             v = w
-    bar = tqdm(MOVES, desc="fit: formats", unit="knob", file=sys.stderr, disable=not progress, leave=False)
+    bar = tqdm(ORDERS[order], desc="fit: formats", unit="knob", file=sys.stderr, disable=not progress, leave=False)
     for label, d in bar:
         while True:
             w = {**v, **{k: v[k] + x for k, x in d.items()}}
@@ -134,7 +141,7 @@ def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True)
 
 def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 64, features_of: str | None = None,
         name: str | None = None, out: Path | None = None, results: Path | None = None, progress: bool = True,
-        also: tuple = ()) -> dict:
+        also: tuple = (), order: str = "formats") -> dict:
     """`also`: more frame sides at which the target must hold (the record is measured at `size`)."""
     from model.scene.needs import merge_needs, needs
 
@@ -173,7 +180,7 @@ def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 
         if q0 is None or q0 < db:
             raise FitError(f"no configuration found that meets {db} dB on {', '.join(scenes)} "
                            f"(the start, {start['from']}, gives {q0 if q0 is None else round(q0, 2)} dB)")
-    v = descend(v, scenes, db, sizes, log, progress)
+    v = descend(v, scenes, db, sizes, log, progress, order)
     label = "all" if tuple(scenes) == SCENES else "-".join(scenes)
     name = name or f"fit-{label}-{db:g}db" + (f"-{pxclk:g}px" if pxclk else "")
     cfg = measure.point_config(v, name=name.replace(".", "_"))
@@ -216,6 +223,7 @@ def main(argv=None) -> int:
     ap.add_argument("--pxclk", type=float, default=0.0, help="at least this many pixels per clock on every scene")
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--rtl-size", type=int, default=64, help="frame side of the RTL renders (px)")
+    ap.add_argument("--order", choices=tuple(ORDERS), default="formats", help="the descent's order of moves")
     ap.add_argument("--also-size", type=int, action="append", default=[],
                     help="another frame side at which the target must hold (the descent checks both)")
     ap.add_argument("--features-of", default=None, help="keep this configuration's features; search its formats")
@@ -242,7 +250,7 @@ def main(argv=None) -> int:
             for z in a.also_size:
                 check_range("--also-size", z, 8, 1024)
             rep = fit(scenes, a.db, a.pxclk, a.size, a.rtl_size, a.features_of, a.name, a.out, a.results, not a.quiet,
-                      tuple(a.also_size))
+                      tuple(a.also_size), a.order)
         except FitError as e:
             print(f"fit: {e}", file=sys.stderr)
             return 1
