@@ -141,8 +141,9 @@ def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True,
 
 def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 64, features_of: str | None = None,
         name: str | None = None, out: Path | None = None, results: Path | None = None, progress: bool = True,
-        also: tuple = (), order: str = "formats") -> dict:
-    """`also`: more frame sides at which the target must hold (the record is measured at `size`)."""
+        also: tuple = (), order: str = "formats", fresh: bool = False) -> dict:
+    """`also`: more frame sides at which the target must hold (the record is measured at `size`);
+    `fresh`: start from a named configuration, not from the sweep's points."""
     from model.scene.needs import merge_needs, needs
 
     t0 = time.perf_counter()
@@ -155,8 +156,9 @@ def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 
         fv = config_values(load_config(features_of))
         need = {k: fv[k] for k in (*FEATURE_ORDER, "noise_terms", "noise_gradient")}
     # the start: the sweep's cheapest point that qualifies, else the cheapest named configuration with the features
-    cands = [r for r in stored_records(results) if has_features(r["config"], need) and _scene_ok(r, scenes, db, pxclk, size)
-             and (not fixed or all(r["config"][k] == need[k] for k in need))]
+    cands = [] if fresh else [
+        r for r in stored_records(results) if has_features(r["config"], need) and _scene_ok(r, scenes, db, pxclk, size)
+        and (not fixed or all(r["config"][k] == need[k] for k in need))]
     if cands:
         best = min(cands, key=lambda r: r["ge_total"])
         start = {"from": f"sweep point {best.get('label', best.get('name'))}", "ge_total": best["ge_total"],
@@ -223,6 +225,7 @@ def main(argv=None) -> int:
     ap.add_argument("--pxclk", type=float, default=0.0, help="at least this many pixels per clock on every scene")
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--rtl-size", type=int, default=64, help="frame side of the RTL renders (px)")
+    ap.add_argument("--fresh", action="store_true", help="start from a named configuration, not the sweep's points")
     ap.add_argument("--order", choices=tuple(ORDERS), default="formats", help="the descent's order of moves")
     ap.add_argument("--also-size", type=int, action="append", default=[],
                     help="another frame side at which the target must hold (the descent checks both)")
@@ -250,7 +253,7 @@ def main(argv=None) -> int:
             for z in a.also_size:
                 check_range("--also-size", z, 8, 1024)
             rep = fit(scenes, a.db, a.pxclk, a.size, a.rtl_size, a.features_of, a.name, a.out, a.results, not a.quiet,
-                      tuple(a.also_size), a.order)
+                      tuple(a.also_size), a.order, a.fresh)
         except FitError as e:
             print(f"fit: {e}", file=sys.stderr)
             return 1
