@@ -130,6 +130,15 @@ def test_needs_names_what_a_scene_uses():
     assert merge_needs([sea, needs("zone_plate", 32)])["noise_terms"] == 4
 
 
+def test_render_report_has_needs(tmp_path):
+    r = _run([PY, "-m", "model.scene.render", "--scene", "seascape", "--config", "reduced", "--size", "8",
+              "--no-truth", "--out", str(tmp_path)])
+    _ok(r)
+    rep = json.loads(next(tmp_path.rglob("report.json")).read_text())
+    assert rep["needs"]["config"]["noise_terms"] == 4 and rep["needs"]["config"]["blend"] == "cubic"
+    assert all("range_w_entries" in t for t in rep["needs"]["textures"].values())
+
+
 def test_needs_command_and_bad_input():
     r = _run([PY, "-m", "model.scene", "needs", "marble", "--size", "16"])
     _ok(r)

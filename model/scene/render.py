@@ -89,9 +89,18 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
         tr = (path, passes, truth_ss, band_ss, truth_dir(out_root)) if truth else None
         rep = _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, tr, progress)
         rep["approximations"] = approx
+        rep["needs"] = _needs(scene_name, passes, W, H, size, cfg)
         rep["seconds"] = round(time.perf_counter() - t0, 2)
         (out / "report.json").write_text(json.dumps(rep, indent=2) + "\n")
     return rep
+
+
+def _needs(scene_name, passes, W, H, size, cfg) -> dict:
+    """What the scene uses (model.scene.needs): per texture and the least configuration."""
+    from model.scene.needs import needs_config, needs_of_passes
+
+    nd = needs_of_passes(scene_name, passes, W, H, size, cfg)
+    return {"textures": nd["textures"], "config": needs_config(nd)}
 
 
 def _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, tr, progress) -> dict:
