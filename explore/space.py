@@ -25,7 +25,7 @@ NAMED = ("full", "reduced", "compact")
 GRID_BASE = "compact"
 GRID = {"noise_units": (1, 2, 3, 5), "blend": ("cubic", "linear"), "quadric_clocks": (1, 2)}
 REFINE_DB = 1.0  # a narrowing that cost its base less than this (worst scene, dB) is tried on the front
-REFINE_MAX = 4  # at most this many refinement points
+REFINE_MAX = 3  # at most this many refinement points
 
 # precision steps: (label, {key: delta}); the word and its fraction move together
 def _prec(word: str, frac: str, d: int) -> tuple[str, dict]:
@@ -37,18 +37,18 @@ def _width(key: str, d: int) -> tuple[str, dict]:
 
 
 FORMAT_STEPS = [
-    _prec("s_w", "s_frac", -2), _prec("s_w", "s_frac", +2),
+    _prec("s_w", "s_frac", -2),
     _prec("q_w", "q_frac", -2),
     _prec("t_w", "t_frac", +2),
     _prec("a_w", "a_frac", -1),
     _width("p_frac", -2),
     _width("n_frac", -2),
-    _width("f_frac", -2), _width("f_frac", +2),
+    _width("f_frac", -2),
     _width("c_frac", -1),
     _width("j_w", -1),
     _width("norm_bits", -1),
     _width("w_cap_log2", +2),
-    _width("div_bits", -2), _width("div_bits", +2),
+    _width("div_bits", -2),
 ]
 # feature steps per base: (label, {key: value})
 FEATURE_STEPS = {
@@ -65,7 +65,7 @@ FEATURE_STEPS = {
 # the format steps taken from each base (full's formats are swept by `make fit`'s search, which
 # synthesizes only what it keeps: a full-width noise term takes Yosys about 5 minutes)
 FORMAT_BASES = ("compact", "reduced")
-REDUCED_FORMAT_STEPS = {"f_frac+2", "div_bits-2"}
+REDUCED_FORMAT_STEPS: set = set()  # reduced's formats: its feature steps only (time)
 
 
 def apply(base: dict, change: dict, delta: bool) -> dict:
