@@ -217,9 +217,7 @@ def write_doc() -> None:
           "old bound on c), texture_pipeline masks the amplitudes of the terms past k_used, and the off-diagonal "
           "T entries (pow2 transforms) and B, C, F (diagonal quadric), which the blocks never read, no longer "
           "reach them, so their registers go. Against the reports of commit cdb7f89 (`git show "
-          "cdb7f89:synth/reports/reduced.json`): full +0.5% (the wider g and the k_used masks), reduced -1.8% (the registers).",
-          "", "colour_map's normalised division forms D + w + 2 h(sh) one bit wider (the div_bits = 1 wrap the "
-          "design-space search found, docs/numerics.md): reduced +115 GE, compact +5 (full divides exactly: unchanged).", ""]
+          "cdb7f89:synth/reports/reduced.json`): full +0.5% (the wider g and the k_used masks), reduced -1.8% (the registers).", ""]
     L += ["## Reproduce", "", "    make setup", "    make synth          # every configuration, synth/reports/",
           "    make synth-check    # fails when a configuration is over budget",
           "    make synth-blocks   # GE of each block for every configuration", ""]
