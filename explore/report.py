@@ -128,10 +128,12 @@ def write(res: dict, out: Path | None = None, docs: Path | None = None) -> Path:
     L = ["# Speed against error: the design-space sweep", "",
          f"Written by `make explore` (explore/sweep.py) from out/explore/results.json: {summ['points']} configurations "
          f"({summ['ok']} measured, {summ['failed']} failed, each with its reason below), measured on source "
-         f"`{summ['source']}` (explore.measure.source_hash). Wall time {summ['wall_seconds'] / 60:.1f} min on "
-         f"{summ['scheduler']} ({summ['workers']} workers; a rerun reads the stored points and measures only what "
-         f"changed); blocks synthesized {summ['blocks_synthesized']}, read from the block cache "
-         f"{summ['blocks_cached']}.", "",
+         f"`{summ['source']}` (explore.measure.source_hash). The points' own measuring time adds up to "
+         f"{summ.get('point_seconds', 0) / 60:.0f} min (one worker's time, each point once); this run took "
+         f"{summ['wall_seconds'] / 60:.1f} min on {summ['scheduler']} ({summ['workers']} workers), measuring "
+         f"{summ.get('measured_now', '?')} points and reading the others from out/explore/points/ (a rerun measures "
+         f"only what is missing or changed). Blocks synthesized {summ['blocks_synthesized']}, read from the block "
+         f"cache {summ['blocks_cached']} (each point's counts, summed).", "",
          "Each point: gate equivalents from `make synth`'s method (each block alone through synth/synth.py, Yosys "
          "with synth/cells.lib, times its instances, plus texture_pipeline's glue; storage apart; each block's "
          "netlist cached by its parameter set), logic depth in cells, pixels per clock of each scene (its textures' "

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from itertools import product
 
-from model.hw.config import config_values, load_config
+from model.hw.config import _SCHEMA, config_values, load_config
 
 NAMED = ("full", "reduced", "compact")
 GRID_BASE = "compact"
@@ -144,8 +144,9 @@ def refine(recs: list[dict], planned: list[dict]) -> list[dict]:
     for fr in front:
         for vals, basevals, step in cheap:
             ch = {k: v for k, v in vals.items() if basevals[k] != v}
-            delta = {k: ch[k] - basevals[k] for k in ch if isinstance(ch[k], int) and not isinstance(ch[k], bool)}
-            new = apply(fr["config"], delta, True) if len(delta) == len(ch) else apply(fr["config"], ch, False)
+            # a format step moves the front point's word by the same bits; a feature step sets the value
+            fmt = all(_SCHEMA[k][0] == "formats" for k in ch)
+            new = apply(fr["config"], {k: ch[k] - basevals[k] for k in ch}, True) if fmt else apply(fr["config"], ch, False)
             out.append({"label": f"refine {fr.get('label', fr['name'])} + {step}", "base": "refine", "step": step,
                         "values": new})
     known = {tuple(sorted(p["values"].items())) for p in planned}

@@ -77,7 +77,7 @@ def _run_points(client, pts: list[dict], opts: dict, pdir: Path, src: str, progr
             rec = {"config": pts[i]["values"], "opts": opts, "status": "failed", "error": f"{type(e).__name__}: {e}"}
         rec.update({"label": pts[i]["label"], "base": pts[i]["base"], "step": pts[i]["step"], "source": src})
         measure.store(todo[i], rec)
-        recs[i] = rec
+        recs[i] = {**rec, "_new": True}
         failed += rec["status"] != "ok"
         bar.update()
         bar.set_postfix(failed=failed, left=len(pts) - bar.n, stored=stored)
@@ -117,9 +117,10 @@ def sweep(size: int = 256, rtl_size: int = 32, points: int | None = None, scenes
                "failed": sum(r["status"] != "ok" for r in recs),
                "blocks_synthesized": sum(r.get("blocks_synthesized", 0) for r in recs),
                "blocks_cached": sum(r.get("blocks_cached", 0) for r in recs),
-               "wall_seconds": wall, "source": src, "opts": opts, "workers": jobs if not scheduler else None,
+               "wall_seconds": wall, "point_seconds": round(sum(r.get("seconds", 0) for r in recs), 1),
+               "measured_now": sum(1 for r in recs if r.get("_new")), "source": src, "opts": opts, "workers": jobs if not scheduler else None,
                "scheduler": scheduler or os.environ.get("DASK_SCHEDULER_ADDRESS") or "LocalCluster"}
-    res = {"summary": summary, "records": recs}
+    res = {"summary": summary, "records": [{k: v for k, v in r.items() if k != "_new"} for r in recs]}
     tmp = out / "results.json.tmp"
     tmp.write_text(json.dumps(res, indent=1) + "\n")
     tmp.replace(out / "results.json")
