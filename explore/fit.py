@@ -30,7 +30,8 @@ import time
 from pathlib import Path
 
 from explore import measure
-from model.hw.config import CONFIG_NAMES, ConfigError, clocks_per_pixel, config_toml, config_values, load_config
+from model.hw.config import (CONFIG_NAMES, SAT_FILTERS, ConfigError, clocks_per_pixel, config_toml, config_values,
+                             load_config)
 from model.hw.quantize import FormatError
 from model.scene.cli import Parser, UserError, check_range, run_main
 from model.scene.passes import SCENES
@@ -118,7 +119,7 @@ def evaluate(v: dict, scenes, sizes) -> float | None:
 def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True, order: str = "formats") -> dict:
     from tqdm import tqdm
 
-    if v["div_bits"] == 0 and v["filter"] == "sat":
+    if v["div_bits"] == 0 and v["filter"] in SAT_FILTERS:
         w = dict(v, div_bits=DIV_START)
         q = evaluate(w, scenes, sizes)
         if q is not None and q >= db:

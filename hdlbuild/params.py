@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from model.hw.config import ROOT, Config, _rel, folded
+from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, _rel, folded
 from model.hw.regmap import REGMAP, pix_width
 
 # config/<name>.toml enum values as the RTL's integer parameters
@@ -22,13 +22,14 @@ ENUMS = {
     "blend": {"linear": 0, "cubic": 1},
     "transform": {"affine": 0, "pow2": 1},
     "amplitude": {"any": 0, "pow2": 1},
-    "filter": {"none": 0, "sat": 1, "mip": 2},
+    "filter": {"none": 0, "sat": 1, "mip": 2, "sat_fc": 3},
 }
 # configuration keys that are parameters of texture_pipeline (all of them but hash.seed, which
 # reaches it as the permutation PERM)
 TOP_KEYS = ("quadric", "quadric_clocks", "noise_terms", "noise_units", "blend", "transform", "amplitude", "filter", "noise_gradient",
             "s_w", "s_frac", "q_w", "q_frac", "j_w", "je_w", "t_w", "t_frac", "a_w", "a_frac", "p_frac",
-            "hash_bits", "n_frac", "f_frac", "c_frac", "norm_bits", "w_cap_log2", "div_bits", "n_log2_max")
+            "hash_bits", "n_frac", "f_frac", "c_frac", "norm_bits", "w_cap_log2", "div_bits", "n_log2_max",
+            "fc_log_frac", "fc_knee", "fc_fade_log2")
 
 # texture_pipeline's ports: (direction, width or None for the pixel word, name)
 PORTS = (("input", 1, "clk"), ("input", 1, "rst"),
@@ -59,6 +60,8 @@ def perm_literal(cfg: Config) -> str:
 def top_params(cfg: Config) -> dict:
     """texture_pipeline's parameters for `cfg` (name -> integer, PERM a Verilog literal)."""
     out = {k.upper(): value(cfg, k) for k in TOP_KEYS}
+    # derived from the blend (model/hw/config.py fc_sigma12): sigma sqrt(12) in u.FC_KSF
+    out["FC_KS"], out["FC_KSF"] = cfg.fc_ks, FC_KSF
     out["PERM"] = perm_literal(cfg)
     return out
 
@@ -85,11 +88,19 @@ def block_params(cfg: Config, module: str) -> dict:
     if module == "filter_width":
         return {"C_W": cfg.c_w, **_pick(cfg, "c_frac", "j_w", "je_w", "norm_bits", "f_frac", "w_cap_log2",
                                         "n_log2_max")}
-    if module == "colour_map":
-        return {"F_W": cfg.f_w, **_pick(cfg, "f_frac", "w_cap_log2", "n_log2_max", "filter", "div_bits")}
+    if module == "colour_map":  # sat_fc: the box filter (the fade is before it)
+        return {"F_W": cfg.f_w, **_pick(cfg, "f_frac", "w_cap_log2", "n_log2_max", "div_bits"),
+                "FILTER": 1 if cfg.filter in SAT_FILTERS else value(cfg, "filter")}
+    if module == "fc_weight":
+        return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "j_w", "je_w", "t_w", "t_frac", "a_w", "a_frac", "f_frac",
+                                                        "w_cap_log2", "n_log2_max", "fc_log_frac", "fc_knee",
+                                                        "fc_fade_log2"),
+                "FC_KS": cfg.fc_ks, "FC_KSF": FC_KSF}
+    if module == "fc_scale":
+        return {"AN_W": cfg.an_w, "AG_W": cfg.ag_w, "AF": cfg.fc_af, "NOISE_GRADIENT": value(cfg, "noise_gradient")}
     if module == "box_divide":  # as colour_map divides: exact, or on a div_bits-bit w
         b = cfg.div_bits
-        if cfg.filter == "sat" and 0 < b < cfg.w_w:
+        if cfg.filter in SAT_FILTERS and 0 < b < cfg.w_w:
             sat = 1 if b <= 9 else 0
             return {"NUM_W": b + 8 + sat, "DEN_W": b, "Q_W": 8, "LANES": 4, "SAT": sat}
         return {"NUM_W": cfg.d_w - 1, "DEN_W": cfg.w_w, "Q_W": 8, "LANES": 4, "SAT": 0}

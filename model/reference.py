@@ -343,11 +343,67 @@ def filter_width(tex, s, J, perm, hash_bits=None) -> np.ndarray:
     return np.hypot(g[..., 0], g[..., 1])
 
 
+def mitchell_log2(x) -> np.ndarray:
+    """log2 with the mantissa taken as linear (Mitchell 1962): e + x / 2^e - 1, e = floor(log2 x),
+    for x > 0: exact at powers of two, at most 0.086 below log2 x. The fade of the
+    frequency clamp is defined on it (the hardware's fc_log2 is its floor in fixed point)."""
+    x = np.asarray(x, dtype=np.float64)
+    m, e = np.frexp(x)  # x = m 2^e, m in [0.5, 1)
+    return (e - 1) + (2.0 * m - 1.0)
+
+
+def fc_alpha(tex, J) -> list:
+    """The fade alpha_i [...] of each noise term under frequency clamping (tex.fc = (knee, fade)
+    octaves): alpha_i = clip((knee - L_i) / fade, 0, 1), L_i = mitchell_log2(max|J|) +
+    mitchell_log2(max|T_i|), the footprint of a pixel in term i's cells; 1 where J or T_i is 0."""
+    knee, fade = tex.fc
+    mj = np.max(np.abs(np.asarray(J, dtype=np.float64)).reshape(np.shape(J)[:-2] + (6,)), axis=-1)
+    lj = mitchell_log2(np.where(mj > 0, mj, 1.0))
+    out = []
+    for _a, T, _o in _terms(tex):
+        tn = float(np.max(np.abs(T)))
+        if tn == 0:
+            out.append(np.ones(mj.shape))
+            continue
+        al = np.clip((knee - (lj + mitchell_log2(tn))) / fade, 0.0, 1.0)
+        out.append(np.where(mj > 0, al, 1.0))
+    return out
+
+
+def shade_fc(tex, s, J, perm, hash_bits=None) -> np.ndarray:
+    """shade with frequency clamping (filter "sat_fc", docs/filters.md; tex.filter true):
+    f = q + sum_i alpha_i a_i n_i, grad f = grad q + sum_i alpha_i a_i (dn_i/dp) T_i (with
+    tex.noise_gradient), w = max(|grad f J|, max_i (1 - alpha_i) |a_i| sigma sqrt(12)) with
+    sigma the lattice noise's standard deviation (model.hw.config.fc_sigma12), then the box."""
+    from model.hw.config import fc_sigma12
+
+    perm = _perm_for(perm, hash_bits)
+    s = np.asarray(s, dtype=np.float64)
+    J = np.asarray(J, dtype=np.float64)
+    alphas = fc_alpha(tex, J)
+    f = quadric(tex.Q, s)
+    g = quadric_gradient(tex.Q, s)
+    wv = np.zeros(f.shape)
+    k12 = fc_sigma12(tex.blend)
+    for (a, T, o), al in zip(_terms(tex), alphas):
+        val, grad = _noise(s @ T.T + o, perm, tex.blend, tex.noise_gradient)
+        f = f + al * a * val
+        if tex.noise_gradient:
+            g = g + (al * a)[..., None] * (grad @ T)
+        wv = np.maximum(wv, (1.0 - al) * abs(a) * k12)
+    gs = np.matmul(g[..., None, :], J)[..., 0, :]
+    w = np.maximum(np.hypot(gs[..., 0], gs[..., 1]), wv)
+    return filtered_lookup(tex.clut, f, w, tex.mode)
+
+
 def shade(tex, s, J, perm, hash_bits=None) -> np.ndarray:
     """Texture colour, float64 RGBA [..., 4] in clut units (0..255).
 
-    filtered_lookup(clut, f, w, mode) if tex.filter, else unfiltered_lookup(clut, f, mode).
+    filtered_lookup(clut, f, w, mode) if tex.filter, else unfiltered_lookup(clut, f, mode);
+    with frequency clamping (tex.fc, filter "sat_fc") shade_fc.
     """
+    if tex.filter and getattr(tex, "fc", None) is not None:
+        return shade_fc(tex, s, J, perm, hash_bits)
     f = texture_f(tex, s, perm, hash_bits)
     if not tex.filter:
         return unfiltered_lookup(tex.clut, f, tex.mode)

@@ -40,6 +40,9 @@ class TextureParams:
     clut: np.ndarray = None  # uint8 [N, 4] RGBA, N a power of two (1..2^n_log2_max)
     filter: bool = True  # antialias (box filter the colour table) or point-sample it
     noise_gradient: bool = True  # include a_i grad n_i in grad f (eq. 10)
+    # frequency clamping (filter "sat_fc", docs/filters.md): (knee, fade) in octaves of the
+    # footprint, each term faded to its mean over [knee - fade, knee]; None: the box filter alone
+    fc: tuple = None
 
     def __post_init__(self):
         self.Q = np.asarray(self.Q, dtype=np.float64).reshape(10)

@@ -7,6 +7,9 @@
 //   c = dq/ds + sum_i a_i (dn_i/dp) T_i                  (the texture-space gradient of f)
 //   w = |c^T J| N                                        (filter_width, J = Jm 2^je)
 //   rgba = colour_map(f, w)                              (SAT box filter / MIP / point)
+// With the filter "sat_fc" (FILTER 3, docs/filters.md) each term is faded by its frequency
+// clamp alpha_i (fc_weight, from the pixel's footprint; fc_scale) before the sums, f = q +
+// sum_i alpha_i a_i n_i and c likewise, and w = max(|c^T J| N, wv), wv the faded terms' spread.
 //
 // Formats (every width derived from the parameters below, rtl/tex_widths.vh):
 //   s      s{S_W}.{S_FRAC}, three of them {r, t, s} (s at the LSBs)
@@ -51,7 +54,8 @@
 // a pixel enters whenever the pipeline advances.
 //
 // Latency: LATENCY = T_CM + LAT_COLOUR_MAP enabled clocks from s_axis to the colour_map output,
-// T_CM = max(T_F, T_WD) = max(LAT_FRONT + TREE_LEVELS, DLY_J + LAT_FILTER_WIDTH) (below), plus one clock in the
+// T_CM = max(T_F, T_WD) = max(LAT_FRONT + TREE_LEVELS, DLY_J + LAT_FILTER_WIDTH) (below; sat_fc:
+// LAT_FC_SCALE more in the terms and one more after filter_width), plus one clock in the
 // skid buffer. Throughput: one pixel per clock while m_axis_tready is held high.
 // Reset: synchronous, active high; clears every valid bit, the output registers, the
 // parameter registers and the staging register (no output is X after reset).
@@ -75,7 +79,8 @@ module texture_pipeline #(
     parameter BLEND          = 1,   // [blend] 0 linear, 1 cubic
     parameter TRANSFORM      = 0,   // [transform] 0 affine, 1 pow2
     parameter AMPLITUDE      = 0,   // [amplitude] 0 any, 1 pow2
-    parameter FILTER         = 1,   // [filter] 0 none (point lookup), 1 sat, 2 mip
+    parameter FILTER         = 1,   // [filter] 0 none (point lookup), 1 sat, 2 mip, 3 sat_fc (sat with
+                                    // frequency clamping: fc_weight, fc_scale; unfolded terms only)
     parameter NOISE_GRADIENT = 1,   // [noise_gradient] 1: grad f includes the noise terms'
     parameter S_W            = 24,  // [s_w] texture coordinates s{S_W}.{S_FRAC}
     parameter S_FRAC         = 16,  // [s_frac]
@@ -96,6 +101,11 @@ module texture_pipeline #(
     parameter W_CAP_LOG2     = 16,  // [w_cap_log2] w saturates at 2^W_CAP_LOG2 entries
     parameter DIV_BITS       = 0,   // [div_bits] box-filter division: 0 exact, B > 0 on B-bit w
     parameter N_LOG2_MAX     = 8,   // [n_log2_max] colour tables of up to 2^N_LOG2_MAX entries
+    parameter FC_LOG_FRAC    = 5,   // [fc_log_frac] sat_fc: log2 of the footprint in 2^-FC_LOG_FRAC octaves
+    parameter FC_KNEE        = 112, // [fc_knee] sat_fc: a term is gone at footprint 2^(FC_KNEE 2^-FC_LOG_FRAC)
+    parameter FC_FADE_LOG2   = 2,   // [fc_fade_log2] sat_fc: the fade spans 2^FC_FADE_LOG2 octaves
+    parameter FC_KS          = 328, // sat_fc: sigma sqrt(12) of the lattice noise in u.FC_KSF (derived from
+    parameter FC_KSF         = 8,   // [blend] by model/hw/config.py fc_sigma12; hdlbuild sets both)
     // [hash.seed] the lattice permutation (model/hw/config.py permutation()), entry i at
     // [i*HASH_BITS +: HASH_BITS]
     parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}
@@ -129,6 +139,9 @@ localparam CSAT_W = tw_csat_w(N_LOG2_MAX);                                     /
 localparam NL_W   = tw_bits_unsigned(N_LOG2_MAX);                              // n_log2
 localparam NLMAX  = N_LOG2_MAX;
 localparam PIX_W  = 3*S_W + 6*J_W + JE_W;                                      // pixel input word
+localparam FCL    = (FILTER == 3) && (K > 0) && !FOLD;                         // frequency clamping
+localparam CM_FILTER = (FILTER == 3) ? 1 : FILTER;                            // colour_map: the box
+localparam FC_AF  = FC_LOG_FRAC + FC_FADE_LOG2;                                // alpha u1.FC_AF
 
 input  wire             clk;
 input  wire             rst;
@@ -182,7 +195,9 @@ localparam LAT_QM      = `LAT_QUADRIC_MAC;
 localparam LAT_NT      = `LAT_NOISE_TERM;
 localparam LAT_FW      = `LAT_FILTER_WIDTH;
 localparam LAT_CM      = `LAT_COLOUR_MAP;
-localparam LAT_NS      = FOLD ? LAT_NT + 1 : LAT_NT;                     // noise leaves (noise_fold: + 1)
+localparam LAT_FCW     = `LAT_FC_WEIGHT;
+localparam LAT_FCS     = FCL ? `LAT_FC_SCALE : 0;                        // sat_fc: fc_scale after each term
+localparam LAT_NS      = FOLD ? LAT_NT + 1 : LAT_NT + LAT_FCS;           // noise leaves (noise_fold: + 1)
 localparam LAT_FRONT   = (K > 0 && LAT_NS > LAT_QM) ? LAT_NS : LAT_QM;  // q and the terms meet here
 localparam DLY_N       = LAT_FRONT - LAT_NS;                             // extra stages for an, ag
 localparam TREE_ARITY  = 4;                                              // adder tree fan-in
@@ -196,7 +211,8 @@ localparam NG          = NOISE_GRADIENT;
 localparam DLY_Q       = NG ? LAT_FRONT - LAT_QM : 0;                    // quadric input (s) delay
 localparam DLY_QO      = NG ? 0 : LAT_FRONT - LAT_QM;                    // quadric q output delay
 localparam DLY_J       = NG ? T_F : LAT_QM;                              // Jm, je to filter_width
-localparam T_WD        = DLY_J + LAT_FW;                                 // w out of filter_width
+localparam T_FW        = DLY_J + LAT_FW;                                 // w out of filter_width
+localparam T_WD        = T_FW + (FCL ? 1 : 0);                           // sat_fc: then max(w, wv), a register
 localparam T_CM        = (T_WD > T_F) ? T_WD : T_F;                       // colour_map input
 localparam DLY_F       = T_CM - T_F;                                     // f waits for w
 localparam DLY_W       = T_CM - T_WD;                                    // or w waits for f
@@ -335,6 +351,44 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------------------
+// sat_fc: the frequency-clamping weights of the pixel (fc_weight, LAT_FCW stages from the
+// front), alpha delayed to the terms' outputs (LAT_NT) and wv to filter_width's (T_FW)
+
+/* verilator lint_off UNUSEDSIGNAL */  // no sat_fc: constant, not read
+wire [KV*(FC_AF+1)-1:0] fc_alpha_d;
+wire [W_W-1:0]          fc_wv_d;
+/* verilator lint_on UNUSEDSIGNAL */
+generate
+    if (FCL) begin : g_fcw
+        if (LAT_FCW > LAT_NT || LAT_FCW > T_FW) begin : g_bad_fc_latency
+            fc_weight_latency_exceeds_the_noise_term_or_filter_width u_bad ();  // elaboration error
+        end
+        wire [K*(FC_AF+1)-1:0] alpha;
+        wire [W_W-1:0]         wv;
+        /* verilator lint_off UNUSEDSIGNAL */  // valid: the shared pipeline valid is used instead
+        wire                   fcw_valid;
+        /* verilator lint_on UNUSEDSIGNAL */
+        fc_weight #(
+            .NOISE_TERMS(K), .J_W(J_W), .JE_W(JE_W), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
+            .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .FC_LOG_FRAC(FC_LOG_FRAC),
+            .FC_KNEE(FC_KNEE), .FC_FADE_LOG2(FC_FADE_LOG2), .FC_KS(FC_KS), .FC_KSF(FC_KSF)
+        ) u_fc_weight (
+            .clk(clk), .rst(rst), .ce(ce),
+            .in_valid(px_valid), .jm_in(px_jm), .je_in(px_je),
+            .a_all(a_all_reg), .t_all(t_use), .k_used(k_used_reg), .filter_en(filter_en_reg), .n_log2(n_log2_reg),
+            .out_valid(fcw_valid), .alpha_out(alpha), .wv_out(wv)
+        );
+        delay_line #(.W(K*(FC_AF+1)), .N(LAT_NT - LAT_FCW)) u_dly_alpha (.clk(clk), .rst(rst), .ce(ce),
+                                                                         .d_in(alpha), .d_out(fc_alpha_d));
+        delay_line #(.W(W_W), .N(T_FW - LAT_FCW)) u_dly_wv (.clk(clk), .rst(rst), .ce(ce), .d_in(wv),
+                                                            .d_out(fc_wv_d));
+    end else begin : g_nofcw
+        assign fc_alpha_d = {KV*(FC_AF+1){1'b0}};
+        assign fc_wv_d    = {W_W{1'b0}};
+    end
+endgenerate
+
+// ---------------------------------------------------------------------------
 // Front: quadric_mac and K noise terms in parallel
 
 // NG: the quadric is the shorter block: its input (s and valid, narrower than its outputs)
@@ -393,6 +447,9 @@ generate
         end else begin : g_unit
             // a term past the texture's k_used contributes nothing (a = 0), as noise_fold skips it
             wire [A_W-1:0] a_k = (gi < k_used_reg) ? a_all_reg[gi*A_W +: A_W] : {A_W{1'b0}};
+            wire [LN_W-1:0]   nt_an;
+            wire [3*LG_W-1:0] nt_ag;
+            wire              nt_out_valid;
             noise_term #(
                 .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
                 .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
@@ -405,10 +462,24 @@ generate
                 .a_in(a_k),
                 .t_in(t_use[gi*9*T_W +: 9*T_W]),
                 .o_in(o_all_reg[gi*3*O_W +: 3*O_W]),
-                .out_valid(nt_valid),
-                .an_out(an),
-                .ag_out(ag)
+                .out_valid(nt_out_valid),
+                .an_out(nt_an),
+                .ag_out(nt_ag)
             );
+            if (FCL) begin : g_fc
+                // sat_fc: the term faded by its alpha (fc_weight's, delayed to the term's output)
+                fc_scale #(.AN_W(LN_W), .AG_W(LG_W), .AF(FC_AF), .NOISE_GRADIENT(NOISE_GRADIENT)) u_fc_scale (
+                    .clk(clk), .rst(rst), .ce(ce),
+                    .in_valid(nt_out_valid),
+                    .alpha(fc_alpha_d[gi*(FC_AF+1) +: FC_AF+1]),
+                    .an_in(nt_an), .ag_in(nt_ag),
+                    .out_valid(nt_valid), .an_out(an), .ag_out(ag)
+                );
+            end else begin : g_nofc
+                assign an       = nt_an;
+                assign ag       = nt_ag;
+                assign nt_valid = nt_out_valid;
+            end
         end
         // delayed to LAT_FRONT (normally DLY_N = 0)
         wire [LN_W-1:0]   an_d;
@@ -627,13 +698,36 @@ generate
     end
 endgenerate
 
+// sat_fc: w = max(w, wv), one register (T_WD = T_FW + 1)
+wire [W_W-1:0] wd_w;
+wire           wd_valid;
+generate
+    if (FCL) begin : g_wmax
+        reg [W_W-1:0] w_reg;
+        reg           v_reg;
+        always @(posedge clk) begin
+            if (rst) begin
+                v_reg <= 1'b0;
+            end else if (ce) begin
+                v_reg <= fw_valid;
+                w_reg <= (fc_wv_d > fw_w) ? fc_wv_d : fw_w;
+            end
+        end
+        assign wd_w     = w_reg;
+        assign wd_valid = v_reg;
+    end else begin : g_wdirect
+        assign wd_w     = fw_w;
+        assign wd_valid = fw_valid;
+    end
+endgenerate
+
 // f waits DLY_F stages for w, or w waits DLY_W stages for f (one of them is 0)
 wire [FC_W-1:0] f_dly;
 wire [W_W-1:0]  cm_w;
 delay_line #(.W(FC_W), .N(DLY_F)) u_dly_f (.clk(clk), .rst(rst), .ce(ce), .d_in(f_carry), .d_out(f_dly));
-delay_line #(.W(W_W), .N(DLY_W))  u_dly_w (.clk(clk), .rst(rst), .ce(ce), .d_in(fw_w), .d_out(cm_w));
+delay_line #(.W(W_W), .N(DLY_W))  u_dly_w (.clk(clk), .rst(rst), .ce(ce), .d_in(wd_w), .d_out(cm_w));
 // the later of the two paths brings the valid bit (the earlier one is delayed to match it)
-wire cm_in_valid = (DLY_W > 0) ? sum_valid : fw_valid;
+wire cm_in_valid = (DLY_W > 0) ? sum_valid : wd_valid;
 
 // ---------------------------------------------------------------------------
 // colour_map
@@ -649,7 +743,7 @@ generate
 endgenerate
 
 colour_map #(
-    .F_W(F_W), .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .FILTER(FILTER),
+    .F_W(F_W), .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .FILTER(CM_FILTER),
     .DIV_BITS(DIV_BITS)
 ) u_colour_map (
     .clk(clk), .rst(rst), .ce(ce),

@@ -25,7 +25,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from hdlbuild import ROOT, block_params, config_of
-from model.hw.config import CONFIG_NAMES, clocks_per_pixel, load_config, noise_term_instances
+from model.hw.config import CONFIG_NAMES, clocks_per_pixel, load_config, noise_term_instances, variant
 
 REPORTS = ROOT / "synth" / "reports"
 # each configuration's budget: the paper's gate count of its model (section 4.2; compact: the
@@ -37,6 +37,13 @@ BLOCKS = {"quadric": "quadric_mac", "noise_term": "noise_term", "filter_width": 
           "colour_map": "colour_map"}
 TOP = "texture_pipeline"
 GLUE = ("delay_line", "tex_regs", "axis_skid", "noise_fold")  # small modules counted with the top's glue (control), not as blocks
+# the blocks of the frequency-clamping filter (filter "sat_fc"): fc_weight once, fc_scale a term
+FC_BLOCKS = {"fc_weight": "fc_weight", "fc_scale": "fc_scale"}
+
+
+def config_blocks(cfg) -> dict:
+    """label -> module of the blocks `cfg` instantiates (the fc blocks only with sat_fc)."""
+    return {**BLOCKS, **(FC_BLOCKS if cfg.filter == "sat_fc" and cfg.noise_terms > 0 else {})}
 
 
 def _cell(v) -> str:
@@ -78,13 +85,14 @@ class SynthError(SystemExit):
 def block_jobs(cfg) -> dict:
     """label -> (module, black-box files) of every separately synthesized piece of the pipeline."""
     lib = [f for f in rtl_files() if Path(f).stem not in (TOP, *GLUE)]
-    return {**{label: (mod, ()) for label, mod in BLOCKS.items()}, "control": (TOP, tuple(lib))}
+    return {**{label: (mod, ()) for label, mod in config_blocks(cfg).items()}, "control": (TOP, tuple(lib))}
 
 
 def combine(config: str, cfg, res: dict) -> dict:
     """The pipeline's figures from its pieces' reports (`res`: label -> synth.py report): each
     block times its instance count, plus the glue."""
-    count = {"quadric": 1, "noise_term": noise_term_instances(cfg), "filter_width": 1, "colour_map": 1, "control": 1}
+    count = {"quadric": 1, "noise_term": noise_term_instances(cfg), "filter_width": 1, "colour_map": 1, "control": 1,
+             "fc_weight": 1, "fc_scale": cfg.noise_terms}
     blocks = {}
     for k, r in res.items():
         label = "noise_terms" if k == "noise_term" else k
@@ -155,7 +163,8 @@ def keeps(name: str) -> str:
     grad = "analytic noise gradient in the filter width" if c.noise_gradient else "no noise gradient in the filter width"
     filt = {"sat": "SAT box filter with every mod/clamp edge case (exact integral, "
                    + ("exact division" if c.div_bits == 0 else f"division on a {c.div_bits}-bit normalised width")
-                   + ")", "mip": "MIP-map colour-table filter", "none": "no colour-table filter"}[c.filter]
+                   + ")", "mip": "MIP-map colour-table filter", "none": "no colour-table filter"}
+    filt = filt.get(c.filter) or (filt["sat"] + " with frequency clamping of the noise terms (fc_weight, fc_scale)")
     return (f"{quad}; {c.noise_terms} noise terms, {trans}, {amp}, {c.blend} blend, {grad}; {filt}; "
             f"s{c.s_w}.{c.s_frac} coordinates, Jacobian mantissas {c.j_w} bits, colour index .{c.f_frac}, "
             f"gradient .{c.c_frac}, filter width capped at 2^{c.w_cap_log2} entries (config/{name}.toml, "
@@ -241,16 +250,31 @@ def check() -> int:
     return 1 if bad else 0
 
 
+def fc_variant(c: str):
+    """Configuration c with the frequency-clamping filter (its terms unfolded)."""
+    base = load_config(c)
+    k = base.noise_terms
+    return variant(base, f"{c}_fc", filter="sat_fc", noise_units=k, quadric_clocks=1)
+
+
 def blocks_table() -> int:
-    print(f"{'block':<16}" + "".join(f"{c:>14}" for c in CONFIG_NAMES))
+    """Each block's GE in every named configuration, and the cost of each filter: the
+    colour_map with "sat" (the configuration's own), and what "sat_fc" adds (fc_weight once,
+    fc_scale once a term, on the configuration's formats)."""
+    print(f"{'block':<22}" + "".join(f"{c:>14}" for c in CONFIG_NAMES))
     res = {c: {} for c in CONFIG_NAMES}
     for c in CONFIG_NAMES:
         with ThreadPoolExecutor(max_workers=2) as ex:
             futs = {label: ex.submit(synth_one, c, mod) for label, mod in BLOCKS.items()}
+            fcv = fc_variant(c)
+            futs.update({f"{label} (sat_fc)": ex.submit(synth_one, fcv, mod) for label, mod in FC_BLOCKS.items()})
             for label, f in futs.items():
                 res[c][label] = f.result()
-    for label in BLOCKS:
-        print(f"{label:<16}" + "".join(f"{res[c][label]['ge_total']:>14,.0f}" for c in CONFIG_NAMES))
+    for label in res[CONFIG_NAMES[0]]:
+        print(f"{label:<22}" + "".join(f"{res[c][label]['ge_total']:>14,.0f}" for c in CONFIG_NAMES))
+    print(f"{'sat_fc adds (K terms)':<22}" + "".join(
+        f"{res[c]['fc_weight (sat_fc)']['ge_total'] + load_config(c).noise_terms * res[c]['fc_scale (sat_fc)']['ge_total']:>14,.0f}"
+        for c in CONFIG_NAMES))
     print(json.dumps({c: {k: {"ge": v["ge_total"], "ge_seq": v["ge_seq"], "storage_bits": v["storage_bits"],
                               "logic_depth": v["logic_depth"]} for k, v in res[c].items()} for c in CONFIG_NAMES},
                      indent=1))

@@ -37,6 +37,7 @@ WIDTHS = {
     "e_w": f"{TOP}.u_filter_width.E_W", "w_w": f"{TOP}.u_filter_width.W_W",
     "u_w": f"{TOP}.u_colour_map.U_W", "x_w": f"{TOP}.u_colour_map.X_W", "x_frac": f"{TOP}.u_colour_map.XF",
     "csat_w": f"{TOP}.u_colour_map.CS_W", "d_w": f"{TOP}.u_colour_map.D_W",
+    "fc_af": f"{TOP}.FC_AF",
 }
 # the same word derived where it crosses between blocks: the top's copy must agree
 CROSS = {"qf_w": f"{TOP}.QF_W", "an_w": f"{TOP}.AN_W", "ag_w": f"{TOP}.AG_W", "o_w": f"{TOP}.O_W",
@@ -94,6 +95,7 @@ def test_rtl_widths_equal_python(config):
 
 # derived values the RTL has no word for: the model's own checks and bounds
 MODEL_ONLY = {
+    "fc_ks": "a value, not a width: hdlbuild passes it to the RTL as FC_KS (top_params)",
     "w_cap": "the saturated w, a value (filter_width and colour_map use W_CAP_LOG2 + F_FRAC)",
     "widest_product": "the int64 check of the golden model",
     "je_min": "the range of je (the RTL's je is a JE_W-bit word)",

@@ -26,6 +26,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]  # the repository (model/hw/config.py)
 CONFIG_DIR = ROOT / "config"
 CONFIG_NAMES = ("full", "reduced", "compact")
+SAT_FILTERS = ("sat", "sat_fc")  # the filters that read the summed-area table
 
 
 class ConfigError(ValueError):
@@ -39,7 +40,7 @@ _SCHEMA = {
     "blend": ("features", str, ("cubic", "linear")),
     "transform": ("features", str, ("affine", "pow2")),
     "amplitude": ("features", str, ("any", "pow2")),
-    "filter": ("features", str, ("sat", "mip", "none")),
+    "filter": ("features", str, ("sat", "sat_fc", "mip", "none")),
     "noise_gradient": ("features", bool, (False, True)),
     "noise_units": ("features", int, (1, 8)),
     "quadric_clocks": ("features", int, (1, 2)),
@@ -62,6 +63,12 @@ _SCHEMA = {
     "w_cap_log2": ("formats", int, (1, 20)),
     "div_bits": ("formats", int, (0, 24)),
     "n_log2_max": ("formats", int, (0, 10)),
+    # filter "sat_fc" (frequency clamping, docs/filters.md): each term fades to its mean over
+    # 2^fc_fade_log2 octaves of its footprint phi (noise cells a pixel), ending at phi =
+    # 2^(fc_knee / 2^fc_log_frac); log2 phi in fc_log_frac fraction bits
+    "fc_log_frac": ("formats", int, (1, 8)),
+    "fc_knee": ("formats", int, (-1024, 1023)),
+    "fc_fade_log2": ("formats", int, (0, 4)),
     "seed": ("hash", int, (0, 2**31 - 1)),
 }
 
@@ -120,6 +127,9 @@ class Config:
     w_cap_log2: int
     div_bits: int
     n_log2_max: int
+    fc_log_frac: int
+    fc_knee: int
+    fc_fade_log2: int
     seed: int
     path: str = ""
     perm: np.ndarray = field(default=None, repr=False)
@@ -242,7 +252,24 @@ def _derive(c: Config) -> dict:
         d["gn_w"] + c.t_w + 4,
     )
     d["widest_product"] = widest
+    # frequency clamping (filter "sat_fc", fc_weight): alpha u1.{fc_af} per term; the faded
+    # terms' spread width (2^fc_af - alpha) |a| in u.{fc_af + a_frac}, times the blend's
+    # sigma sqrt(12) (fc_ks, u.{FC_KSF}: the standard deviation of lattice noise with values
+    # uniform in [-1, 1), times sqrt(12), the width of a box of that deviation)
+    d["fc_af"] = c.fc_log_frac + c.fc_fade_log2
+    d["fc_ks"] = int(round(fc_sigma12(c.blend) * (1 << FC_KSF)))
     return d
+
+
+FC_KSF = 8  # fraction bits of fc_ks
+
+
+def fc_sigma12(blend: str) -> float:
+    """sqrt(12) x the standard deviation of lattice value noise (corner values uniform in
+    [-1, 1), variance 1/3; a blend weight s(t) per axis gives variance 1/3 E[(1-s)^2 + s^2]^3,
+    E = 2/3 linear, 26/35 cubic (s = 3t^2 - 2t^3))."""
+    e = 2.0 / 3.0 if blend == "linear" else 26.0 / 35.0
+    return math.sqrt(12.0 * e ** 3 / 3.0)
 
 
 def _shift_bound(x: int, sh: int) -> int:
@@ -256,11 +283,31 @@ def load_config(name_or_path) -> Config:
         p = CONFIG_DIR / f"{name_or_path}.toml"
     if not p.exists():
         raise ConfigError(f"{p}: no such configuration (known: {', '.join(CONFIG_NAMES)})")
+    return _from_raw(_read_raw(p), p)
+
+
+def _read_raw(p: Path, seen: tuple = ()) -> dict:
+    """A configuration file's table; `base = "<name>"` takes every key of config/<name>.toml
+    that the file does not set itself (a variant names only what it changes)."""
     try:
         raw = tomllib.loads(p.read_text())
     except tomllib.TOMLDecodeError as e:
         raise ConfigError(f"{p}: malformed TOML: {e}") from None
-    return _from_raw(raw, p)
+    base = raw.pop("base", None)
+    if base is None:
+        return raw
+    bp = CONFIG_DIR / f"{base}.toml"
+    if not isinstance(base, str) or not bp.exists():
+        raise ConfigError(f"{p}: base = {base!r}: no such configuration in config/")
+    if bp.resolve() in seen or bp.resolve() == p.resolve():
+        raise ConfigError(f"{p}: base = {base!r}: a cycle of bases")
+    out = _read_raw(bp, seen + (p.resolve(),))
+    for sec, val in raw.items():
+        if isinstance(val, dict) and isinstance(out.get(sec), dict):
+            out[sec] = {**out[sec], **val}
+        else:
+            out[sec] = val
+    return out
 
 
 def _from_raw(raw: dict, p: Path) -> Config:
@@ -312,6 +359,8 @@ def _check(c: Config, p: Path) -> None:
     need(c.w_cap_log2 >= c.n_log2_max, "formats.w_cap_log2 must be >= n_log2_max (w must reach N)")
     need(c.noise_units <= max(c.noise_terms, 1), f"features.noise_units = {c.noise_units} must be <= noise_terms "
                                                  f"= {c.noise_terms} (U noise units take the K terms U a clock)")
+    need(c.filter != "sat_fc" or not (0 < c.noise_units < c.noise_terms),
+         "features.filter = \"sat_fc\" needs unfolded noise terms (noise_units = noise_terms)")
     need(c.quadric_clocks == 1 or (c.quadric == "diagonal" and 0 < c.noise_units < c.noise_terms),
          "features.quadric_clocks = 2 needs a diagonal quadric and folded noise terms (noise_units < noise_terms)")
 
@@ -327,7 +376,7 @@ def _check_rtl(c: Config, p: Path) -> None:
                                  "filter_width normalises)")
     need(c.e_w > c.sh_w, "formats: the filter-width exponent must be wider than its normalising shift")
     need(c.r_w >= 3, "formats.norm_bits too small for the 3-stage square root")
-    if c.filter == "sat" and 0 < c.div_bits < c.w_w:
+    if c.filter in SAT_FILTERS and 0 < c.div_bits < c.w_w:
         nq_w = c.div_bits + 8 + (1 if c.div_bits <= 9 else 0)
         need(nq_w <= c.d_w - 1, f"formats.div_bits = {c.div_bits}: the normalised quotient needs {nq_w} bits, "
                                 f"the box-filter integral has {c.d_w - 1}")
@@ -415,6 +464,11 @@ def random_config(seed: int, name: str | None = None, tries: int = 1000) -> Conf
         v["noise_units"] = int(r.integers(1, max(v["noise_terms"], 1) + 1))
         v["quadric_clocks"] = int(r.choice([1, 2])) if (v["quadric"] == "diagonal"
                                                           and v["noise_units"] < v["noise_terms"]) else 1
+        if v["filter"] == "sat" and v["noise_units"] == v["noise_terms"] and r.random() < 0.5:
+            v["filter"] = "sat_fc"  # frequency clamping needs the terms unfolded
+            v["fc_log_frac"] = int(r.integers(1, 7))
+            v["fc_fade_log2"] = int(r.integers(0, 4))
+            v["fc_knee"] = int(r.integers(-2, 6)) << v["fc_log_frac"]
         try:
             return variant(base, name or f"random{seed}", **v)
         except ConfigError:

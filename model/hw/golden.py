@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from model.hw.config import Config
+from model.hw.config import FC_KSF, Config
 
 MODE_MOD, MODE_CLAMP = 0, 1
 I64 = np.int64
@@ -422,7 +422,7 @@ def colour_map(cfg: Config, tex: TexInt, f, w):
     else:
         guard = 1 << (cfg.w_cap_log2 + ff - 1)
         u = np.clip(f << n_log2, -guard, (n << ff) + guard)
-    filt = {"none": 0, "sat": 1, "mip": 2}[cfg.filter]
+    filt = {"none": 0, "sat": 1, "sat_fc": 1, "mip": 2}[cfg.filter]
     nmax = cfg.n_log2_max
     tables = host_tables(tex)
     # the point lookup clut[k], k = floor(u) mod N or clamped: mip_index at level 0
@@ -456,6 +456,61 @@ def colour_map(cfg: Config, tex: TexInt, f, w):
     return out.astype(np.uint8)
 
 
+def fc_log2(x, lf: int):
+    """Piecewise-linear log2 (Mitchell 1962) of integers x >= 1 in lf fraction bits
+    (rtl/fc_weight.v): e = bitlen(x) - 1, ((e << lf) + floor((x - 2^e) 2^lf / 2^e)), exact
+    at powers of two, at most 0.086 octave below log2 x between them. x = 0 gives -2^lf - 1
+    (callers mask it)."""
+    x = np.asarray(x, dtype=I64)
+    e = np.maximum(bitlen(x) - 1, 0)
+    m = x - (I64(1) << e)
+    frac = np.where(e >= lf, m >> np.clip(e - lf, 0, 63), m << np.clip(lf - e, 0, 63))
+    return (e << lf) + frac
+
+
+def fc_weight(cfg: Config, tex: TexInt, Jm, je):
+    """Frequency clamping (filter "sat_fc", rtl/fc_weight.v; docs/filters.md): per term i the
+    fade alpha_i u1.{fc_af} and the width wv of the faded terms' spread (u.{f_frac} entries).
+
+    The footprint of a pixel in term i's noise cells is taken as phi_i = max|J| max|T_i|
+    (J = Jm 2^je, T_i's entries, the largest of each), its log2 as L_i = fc_log2(max|Jm|) +
+    je 2^lf + fc_log2(max|T_i|) - t_frac 2^lf (2^-lf octaves, lf = fc_log_frac), and
+      alpha_i = clip(fc_knee - L_i, 0, 2^fc_af)       (1 = the term as it is, 0 = its mean, 0)
+    (so the fade spans 2^fc_fade_log2 octaves below phi = 2^(fc_knee 2^-lf)); alpha_i = 1 when
+    J or T_i is 0 or the texture is unfiltered. A faded term's spread stands in for it in the
+    filter width: sd_i = (2^fc_af - alpha_i) |a_i| (u.{fc_af + a_frac}), and
+      wv = min(shift((max_i sd_i) fc_ks 2^n_log2, f_frac - fc_af - a_frac - FC_KSF), 2^(w_cap_log2 + f_frac))
+    with fc_ks = sigma sqrt(12) of the lattice noise (config.fc_sigma12). Terms past k_used or
+    with a = 0 have alpha 2^fc_af and no spread. Returns (alpha [..., K], wv [...])."""
+    lf, af = cfg.fc_log_frac, cfg.fc_af
+    one = I64(1) << af
+    Jm = np.asarray(Jm, dtype=I64)
+    m = np.max(np.abs(Jm.reshape(Jm.shape[:-2] + (6,))), axis=-1)
+    lm = fc_log2(m, lf) + (np.asarray(je, dtype=I64) << lf)
+    K = cfg.noise_terms
+    alpha = np.full(m.shape + (K,), one, dtype=I64)
+    sd = np.zeros(m.shape, dtype=I64)
+    for i in range(min(tex.k_used, len(tex.a), K)):
+        a = int(tex.a[i])
+        tn = int(np.max(np.abs(np.asarray(tex.T[i], dtype=I64))))
+        if not tex.filter or a == 0 or tn == 0:
+            continue
+        lt = int(fc_log2(tn, lf)) - (cfg.t_frac << lf)
+        al = np.where(m > 0, np.clip(cfg.fc_knee - (lm + lt), 0, one), one)
+        alpha[..., i] = al
+        sd = np.maximum(sd, (one - al) * abs(a))
+    cap = I64(1) << (cfg.w_cap_log2 + cfg.f_frac)
+    wv = shift((sd * cfg.fc_ks) << tex.n_log2, cfg.f_frac - af - cfg.a_frac - FC_KSF)
+    return alpha, np.minimum(wv, cap)
+
+
+def fc_scale(cfg: Config, alpha, an, ag):
+    """A term's value and gradient faded: (an alpha) >> fc_af, (ag alpha) >> fc_af, floor
+    (rtl/fc_scale.v); alpha = 2^fc_af leaves them exact."""
+    alpha = np.asarray(alpha, dtype=I64)
+    return (an * alpha) >> cfg.fc_af, (ag * alpha[..., None]) >> cfg.fc_af
+
+
 def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
     """The whole pixel pipeline with its intermediate signals: f, c, w and rgba.
 
@@ -466,13 +521,20 @@ def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
     (a * anything = 0 before every floor shift), so it is skipped.
     """
     s = np.asarray(s, dtype=I64)
+    fc = cfg.filter == "sat_fc"
+    if fc:
+        alpha, wv = fc_weight(cfg, tex, Jm, je)
     f, c = quadric_mac(cfg, tex.Q, s)
     for i in range(min(tex.k_used, len(tex.a), cfg.noise_terms)):
         if tex.a[i] == 0:
             continue
         an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s)
+        if fc:
+            an, ag = fc_scale(cfg, alpha[..., i], an, ag)
         f, c = f + an, c + ag
     w = filter_width(cfg, c, np.asarray(Jm, dtype=I64), je, tex.n_log2)
+    if fc:  # the faded terms' spread widens the box (texture_pipeline: a register after filter_width)
+        w = np.maximum(w, wv)
     return {"f": f, "c": c, "w": w, "rgba": colour_map(cfg, tex, f, w)}
 
 

@@ -78,8 +78,12 @@ def check_truth_args(a) -> None:
 
 
 def check_config(name: str) -> str:
-    if name not in CONFIG_NAMES:
-        raise UserError(f"--config {name}: no such configuration (known: {', '.join(CONFIG_NAMES)})")
+    """--config: a configuration of config/ (the named ones, or a variant file such as full_fc)."""
+    from model.hw.config import CONFIG_DIR
+
+    if name not in CONFIG_NAMES and not (name.isidentifier() and (CONFIG_DIR / f"{name}.toml").is_file()):
+        known = sorted(p.stem for p in CONFIG_DIR.glob("*.toml"))
+        raise UserError(f"--config {name}: no such configuration (known: {', '.join(known)})")
     return name
 
 

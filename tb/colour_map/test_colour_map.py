@@ -37,7 +37,7 @@ from cocotb.triggers import RisingEdge
 
 import hdlbuild
 from model.hw import golden
-from model.hw.config import load_config, variant
+from model.hw.config import SAT_FILTERS, load_config, variant
 from tb import pipe
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -184,7 +184,7 @@ async def write_tables(dut, cfg, n_log2, clut, r):
     csat, mip = golden.build_tables(clut)
     cw, nmax = cfg.csat_w, cfg.n_log2_max
     writes = [(TABLE_CLUT, a, e) for a, e in enumerate(clut)]
-    if cfg.filter == "sat":
+    if cfg.filter in SAT_FILTERS:
         writes += [(TABLE_CSAT, a, e) for a, e in enumerate(csat)]
     if cfg.filter == "mip":
         writes += [(TABLE_MIP, a, e) for a, e in enumerate(mip)]
@@ -196,7 +196,7 @@ async def write_tables(dut, cfg, n_log2, clut, r):
         writes.append((TABLE_CSAT, int(r.integers(1 << nmax, 2 << nmax)), junk()))
         writes.append((TABLE_MIP, (2 << nmax) - 1, junk()))
         # tables the configuration does not build
-        if cfg.filter != "sat":
+        if cfg.filter not in SAT_FILTERS:
             writes.append((TABLE_CSAT, int(r.integers(0, 1 << n_log2)), junk()))
         if cfg.filter != "mip":
             writes.append((TABLE_MIP, int(r.integers(0, (2 << n_log2) - 1)), junk()))

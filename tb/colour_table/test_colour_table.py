@@ -29,7 +29,7 @@ from tb import pipe
 
 
 def _params(c, filter_=None, nmax=None):
-    f = {"none": 0, "sat": 1, "mip": 2}[c.filter] if filter_ is None else filter_
+    f = {"none": 0, "sat": 1, "sat_fc": 1, "mip": 2}[c.filter] if filter_ is None else filter_
     return {"FILTER": f, "NMAX": c.n_log2_max if nmax is None else nmax, "CS_W": c.csat_w, "NL_W": c.n_log2_w}
 
 
