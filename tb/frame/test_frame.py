@@ -272,3 +272,39 @@ def test_frame_noise_units(sim, base, units):
     reset_at = len(write_sequence(cfg, tex)) + 2 + int(r.integers(p * n // 4, p * n // 2))
     got_r, _, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=10, stalls=10, seed=seed + 2, reset_at=reset_at)
     _compare(cfg, tex, s, Jm, je, got_r, f"{cfg.name}, after a mid-frame reset")
+
+
+@pytest.mark.parametrize("sim,grad", [(s, g) for s in sorted({sim for sim, _ in hdlbuild.sim_params()})
+                                      for g in (False, True)])
+def test_frame_sat_fc(sim, grad):
+    """The frequency-clamping filter (sat_fc: fc_weight, fc_scale, the max of w and wv) through
+    the whole pipeline: reduced_fc, and with the noise gradient (its gradients faded too);
+    random textures, pixels whose footprints sweep every term from whole (alpha 1) through the
+    fade to gone (alpha 0), with gaps and stalls: every pixel bit-exact."""
+    run_frame_rtl = _frame_rtl()
+    base = load_config("reduced_fc")
+    cfg = variant(base, "reduced_fc_ng", noise_gradient=True) if grad else base
+    seed = _seed()
+    print(f"[frame {cfg.name} {sim}] SEED={seed}")
+    r = np.random.default_rng(seed + 23)
+    n = min(_n_pixels(sim), 2000)
+    from model.hw.golden import fc_weight
+
+    one = 1 << cfg.fc_af
+    seen = set()
+    for t, mode in enumerate((MODE_MOD, MODE_CLAMP, MODE_MOD, MODE_CLAMP)):
+        tex = random_texture(cfg, r, "real", mode=mode, filt=True)
+        if t >= 2:  # a constant quadric (the seascape's): the faded terms' spread wv is the width
+            tex.Q[:9] = 0
+        s, Jm, je = random_pixels(cfg, r, n, "real")
+        je[: n // 2] = r.integers(cfg.je_min, cfg.je_max + 1, n // 2)  # footprints of every size
+        alpha, wv = fc_weight(cfg, tex, Jm, je)
+        w_grad = texture_stages(variant(cfg, "reduced_sat", filter="sat"), tex, s, Jm, je)["w"]
+        seen |= {"wv"} if (wv > w_grad).any() else set()
+        live = alpha[:, :tex.k_used][:, np.asarray(tex.a[:tex.k_used]) != 0]
+        seen |= {"0"} if (live == 0).any() else set()
+        seen |= {"1"} if (live == one).any() else set()
+        seen |= {"fade"} if ((live > 0) & (live < one)).any() else set()
+        got, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed + t)
+        _compare(cfg, tex, s, Jm, je, got, f"{cfg.name} texture {t}, gaps 30% / stalls 40%")
+    assert seen == {"0", "1", "fade", "wv"}, f"the stimulus does not cover the fade (alpha 0, 1, between; wv > w): {sorted(seen)}"
