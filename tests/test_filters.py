@@ -1,0 +1,155 @@
+"""The frequency-clamping filter (filter "sat_fc", docs/filters.md): the golden model's fixed-point
+fade against the float reference's, with its tolerance derived here and tested at its worst case;
+the float definition itself (the fade's ends, the spread width); and the configuration files
+that name it (base = a variant of another file).
+
+Tolerance of alpha (golden fc_weight / 2^fc_af against reference fc_alpha). The two compute
+alpha = clip((knee - L) / 2^fade, 0, 1) from L = mitchell(max|J|) + mitchell(max|T|), the golden
+in 2^-lf octaves. Its differences from the float, in octaves:
+  - fc_log2(m) = floor(2^lf mitchell(m)) for the integer m = max|Jm|: exact when m has no bits
+    below its top lf + 1 (j_w - 2 <= lf: m < 2^(j_w-1)), else up to one 2^-lf below;
+  - the same for fc_log2(max|T|): exact for powers of two (transform pow2), else up to 2^-lf;
+  - J reaches the hardware as Jm 2^je, Jm = round(J / 2^je), with max|Jm| >= 2^(j_w-2)
+    (quantize_pixels takes the least je that fits; je above je_min): max|J| moves by up to half
+    a unit where mitchell's slope is 1 / 2^(j_w-2), i.e. by up to 2^-(j_w-1) octave, and rounding
+    down adds to the floors;
+  - T is given here exactly in its format (its quantization is the texture's, not the filter's).
+clip is 1-Lipschitz, so |alpha_golden - alpha_float| <= ((f_m + f_t) 2^-lf + 2^-(j_w-1)) / 2^fade,
+f_m, f_t = 1 where that floor can lose. The worst case (m just below m_int + 1/2 with the floor's
+whole LSB lost, the same for T) is built and must come within 5% of the bound.
+"""
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from model import reference as R
+from model.hw import golden as G
+from model.hw.config import ConfigError, fc_sigma12, load_config, variant
+from model.hw.quantize import quantize_pixels
+
+CONFIGS = ("full_fc", "reduced_fc")
+
+
+def alpha_bound(cfg) -> float:
+    fm = 1 if cfg.j_w - 2 > cfg.fc_log_frac else 0
+    ft = 1 if cfg.transform == "affine" else 0
+    return ((fm + ft) * 2.0 ** -cfg.fc_log_frac + 2.0 ** -(cfg.j_w - 1)) / (1 << cfg.fc_fade_log2)
+
+
+def _worst(cfg):
+    """One term and pixels at the derived worst case: m_int = max|Jm| with the largest floor loss,
+    J's largest entry just below m_int + 1/2 (rounded down), T's largest entry likewise, and je
+    over the fade."""
+    lf = cfg.fc_log_frac
+    e = cfg.j_w - 2
+    m_int = (1 << e) + ((1 << (e - lf)) - 1 if e > lf else 0)
+    if cfg.transform == "affine":
+        et = cfg.t_w - 3
+        tn = (1 << et) + ((1 << (et - lf)) - 1 if et > lf else 0)
+    else:
+        tn = 1 << (cfg.t_frac + 1)
+    T = np.zeros((1, 3, 3), dtype=np.int64)
+    T[0] = np.diag([tn, 0, 0])
+    tex = SimpleNamespace(a=np.array([1 << cfg.a_frac]), T=T, k_used=1, filter=True, n_log2=8)
+    knee = cfg.fc_knee / (1 << lf)
+    mid = knee - (1 << cfg.fc_fade_log2) / 2.0 - (math.log2(tn) - cfg.t_frac)  # log2 max|J| mid-fade
+    jes = np.arange(int(mid) - e - 3, int(mid) - e + 3)
+    J = np.zeros((len(jes), 3, 2))
+    J[:, 0, 0] = (m_int + 0.5 - 1e-9) * np.exp2(jes)
+    J[:, 1, 1] = 0.25 * np.exp2(jes)
+    ftex = SimpleNamespace(terms=[(1.0, T[0] / (1 << cfg.t_frac), np.zeros(3))],
+                           fc=(knee, float(1 << cfg.fc_fade_log2)))
+    return tex, ftex, J
+
+
+def _case(cfg, seed: int, n: int = 20000):
+    """Random terms (pow2 diagonal or general T, exact in t_w.t_frac) and Jacobians whose
+    footprints sweep every term's fade and beyond."""
+    r = np.random.default_rng(seed)
+    K = cfg.noise_terms
+    T = np.zeros((K, 3, 3), dtype=np.int64)
+    for i in range(K):
+        if cfg.transform == "pow2":
+            T[i] = np.diag([1 << int(r.integers(0, cfg.t_w - 2))] * 3)
+        else:
+            T[i] = r.integers(-(1 << (cfg.t_w - 2)), 1 << (cfg.t_w - 2), (3, 3)) >> int(r.integers(0, cfg.t_w - 3))
+    a = np.full(K, 1 << cfg.a_frac >> 1, dtype=np.int64)
+    tex = SimpleNamespace(a=a, T=T, k_used=K, filter=True, n_log2=8)
+    knee = cfg.fc_knee / (1 << cfg.fc_log_frac)
+    tnl = np.log2(np.maximum(np.abs(T).reshape(K, -1).max(-1), 1)) - cfg.t_frac
+    # log2 max|J| from below the first term's fade to beyond the last's
+    lj = r.uniform(knee - tnl.max() - (1 << cfg.fc_fade_log2) - 1, knee - tnl.min() + 1, n)
+    J = r.normal(size=(n, 3, 2))
+    J *= (np.exp2(lj) / np.abs(J).reshape(n, 6).max(-1))[:, None, None]
+    _, Jm, je = quantize_pixels(cfg, np.zeros((n, 3)), J)
+    keep = je > cfg.je_min  # the bound assumes a normalised mantissa
+    ftex = SimpleNamespace(terms=[(1.0, T[i] / (1 << cfg.t_frac), np.zeros(3)) for i in range(K)],
+                           fc=(knee, float(1 << cfg.fc_fade_log2)))
+    return tex, ftex, J[keep], Jm[keep], je[keep]
+
+
+@pytest.mark.parametrize("name", CONFIGS)
+def test_alpha_within_its_derived_bound_and_the_bound_is_met(name):
+    cfg = load_config(name)
+    tex, ftex, J, Jm, je = _case(cfg, 5)
+    ag, _ = G.fc_weight(cfg, tex, Jm, je)
+    af = np.stack(R.fc_alpha(ftex, J), axis=-1)
+    d = np.abs(ag / float(1 << cfg.fc_af) - af)
+    bound = alpha_bound(cfg)
+    assert d.max() <= bound, f"{name}: |alpha golden - float| = {d.max():.5f} > derived bound {bound:.5f}"
+    # every regime occurs: whole, fading, gone
+    assert (af == 1).any() and (af == 0).any() and ((af > 0) & (af < 1)).any()
+    # the derived worst case: within the bound, and within 5% of it
+    wtex, wftex, wJ = _worst(cfg)
+    _, wJm, wje = quantize_pixels(cfg, np.zeros((len(wJ), 3)), wJ)
+    wg, _ = G.fc_weight(cfg, wtex, wJm, wje)
+    wf = R.fc_alpha(wftex, wJ)[0]
+    inside = (wf > 0) & (wf < 1)
+    wd = np.abs(wg[:, 0] / float(1 << cfg.fc_af) - wf)[inside]
+    assert inside.any() and wd.max() <= bound, f"{name}: worst case {wd.max():.6f} > bound {bound:.6f}"
+    assert wd.max() >= 0.95 * bound, f"{name}: the worst case reaches {wd.max():.6f} of the bound {bound:.6f}"
+
+
+def test_fade_ends_and_spread_width_in_the_float_definition():
+    """alpha = 1 at footprints up to 2^(knee - fade) cells, 0 from 2^knee, linear in mitchell's
+    log2 between; a faded term's spread is (1 - alpha) |a| sigma sqrt(12)."""
+    knee, fade = 4.0, 4.0  # footprints at powers of two, where mitchell is log2
+    tex = SimpleNamespace(terms=[(0.5, np.eye(3) * 2.0, np.zeros(3))], fc=(knee, fade))
+    for l2, want in ((knee - fade - 1, 1.0), (knee - fade, 1.0), (knee, 0.0), (knee + 2, 0.0), (knee - 2, 0.5),
+                     (knee - 1, 0.25)):
+        J = np.zeros((1, 3, 2))
+        J[0, 0, 0] = 2.0 ** (l2 - 1)  # footprint max|J| max|T| = 2^l2 (T = 2)
+        assert R.fc_alpha(tex, J)[0][0] == pytest.approx(want), l2
+    # sigma sqrt(12) of the lattice noise: the variance 1/3 E[(1-s)^2 + s^2]^3 by quadrature
+    for blend, e in (("linear", lambda t: t), ("cubic", lambda t: t * t * (3 - 2 * t))):
+        t = (np.arange(200000) + 0.5) / 200000
+        m = np.mean((1 - e(t)) ** 2 + e(t) ** 2)
+        assert fc_sigma12(blend) == pytest.approx(math.sqrt(12 * m ** 3 / 3), rel=1e-9)
+
+
+def test_sat_fc_on_j_zero_and_filter_off_is_the_box():
+    """J = 0 (no footprint) and an unfiltered texture leave every term whole (alpha = 1, wv = 0)."""
+    cfg = load_config("full_fc")
+    tex, _, _, Jm, je = _case(cfg, 9, 200)
+    al, wv = G.fc_weight(cfg, tex, np.zeros_like(Jm), je)
+    assert (al == 1 << cfg.fc_af).all() and (wv == 0).all()
+    tex.filter = False
+    al, wv = G.fc_weight(cfg, tex, Jm, je)
+    assert (al == 1 << cfg.fc_af).all() and (wv == 0).all()
+
+
+def test_config_base_variant_and_its_errors(tmp_path):
+    full, fc = load_config("full"), load_config("full_fc")
+    assert fc.filter == "sat_fc" and fc.name == "full_fc"
+    for k in ("s_w", "noise_terms", "f_frac", "fc_knee"):
+        assert getattr(fc, k) == getattr(full, k)
+    p = tmp_path / "x.toml"
+    p.write_text('name = "x"\nbase = "nosuch"\n')
+    with pytest.raises(ConfigError, match="base = 'nosuch'"):
+        load_config(p)
+    with pytest.raises(ConfigError, match="unfolded"):
+        variant(load_config("compact"), "c", filter="sat_fc")
