@@ -31,7 +31,7 @@ COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 TRUTH_FLAGS = $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS)) $(if $(BAND_SS),--band-ss $(BAND_SS))
 
 .PHONY: help setup gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
-        synth synth-check synth-blocks fpga clean precision animation explore fit
+        synth synth-check synth-blocks fpga clean precision animation explore fit filters
 
 help:
 	@echo "make setup           install everything (Debian packages, pinned Python venv)"
@@ -45,6 +45,7 @@ help:
 	@echo "make frames          all scenes, both configurations, 512x512, docs/conformance.md"
 	@echo "make explore         the design-space sweep (Dask; EXPLORE_FLAGS=, e.g. --scheduler tcp://HOST:PORT): out/explore/results.json, docs/tradeoffs.md"
 	@echo "make fit SCENE=zone_plate DB=40 [PXCLK=0.25]   the smallest-GE configuration for those scenes: out/fit/, rendered through the RTL"
+	@echo "make filters [FILTERS_FLAGS=\"--configs full,full_fc --size 256\"]   the filters against the truth: docs/filters.md"
 	@echo "make precision       the precision test (Fig. 10): s_frac 6..16 on scenes/fig10/precision.toml, docs/precision.md (PRECISION_SIZE=)"
 	@echo "make animation SCENE=seascape [CONFIG=full] [FRAMES=16] [SIZE=128] [RTL=1]   section 4.4: frames vs truth, flicker, docs/animation.md"
 	@echo "make bench-sim       RTL simulation throughput"
@@ -115,6 +116,11 @@ explore: gen
 fit: gen
 	$(VENV_ENV) $(PY) -m explore.fit --scenes $(SCENE) $(if $(DB),--db $(DB)) $(if $(PXCLK),--pxclk $(PXCLK)) \
 	  $(if $(OUT),--out $(OUT)) $(FIT_FLAGS)
+
+# the colour-map filters against the truth (issue 15): every scene and the animations for each
+# configuration (default full and full_fc), their gate cost: docs/filters.md (FILTERS_FLAGS=)
+filters: gen
+	$(VENV_ENV) $(PY) -m explore.filters $(FILTERS_FLAGS)
 
 # the precision test (paper Fig. 10): every configuration at s_frac 6..16, docs/precision.md
 precision:

@@ -124,6 +124,12 @@ COMMANDS = {
     "animation (RTL)": (["animation", "SCENE=fire", "FRAMES=2", "SIZE=4", "TRUTH_SS=2", "BAND_SS=2", "RTL=1"], {},
                         lambda r, out: (_check_out("animation")(r, out), json.loads(
                             (out / "animation" / "fire" / "full-4" / "report.json").read_text())["rtl_bit_exact"])),
+    "filters": (["filters", "FILTERS_FLAGS=--configs reduced,reduced_fc --size 16 --frames 2 --anim-size 8 "
+                 "--scenes seascape,zone_plate --no-progress --docs {out}/docs --out {out}"], {},
+                lambda r, out: (_ok(r), "| seascape |" in (out / "docs" / "filters.md").read_text(),
+                                (out / "docs" / "images" / "filters.png").is_file(),
+                                json.loads((out / "docs" / "images" / "filters.json").read_text())["gates"]
+                                ["reduced_fc"]["sat_fc_adds"] > 0)),
     "bench-sim": (["bench-sim", "CONFIG=reduced"], {"PIXELS_VERILATOR": "16", "PIXELS_ICARUS": "16"},
                   lambda r, out: (_ok(r), len(_json_lines(r.stdout)) == 2,
                                   all(x["bit_exact"] for x in _json_lines(r.stdout)))),
@@ -146,7 +152,7 @@ def test_command_runs(name, tmp_path):
     tiny = tmp_path / "tiny.toml"
     tiny.write_text(TINY_SCENE)
     out = tmp_path / "out"
-    args = [a.replace("{tiny}", str(tiny)) for a in args]
+    args = [a.replace("{tiny}", str(tiny)).replace("{out}", str(out)) for a in args]
     if args[0] == PY:
         r = subprocess.run(args, cwd=ROOT, capture_output=True, text=True, timeout=300)
     else:

@@ -21,6 +21,7 @@ whole LSB lost, the same for T) is built and must come within 5% of the bound.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -153,3 +154,15 @@ def test_config_base_variant_and_its_errors(tmp_path):
         load_config(p)
     with pytest.raises(ConfigError, match="unfolded"):
         variant(load_config("compact"), "c", filter="sat_fc")
+
+
+@pytest.mark.parametrize("args,what", [(["--configs", "nosuch"], "--config nosuch"), (["--scenes", "moon"], "--scenes moon"),
+                                       (["--size", "3"], "--size"), (["--scenes", "wood"], "seascape")])
+def test_make_filters_bad_arguments_one_line_exit_2(args, what, tmp_path):
+    import subprocess
+    import sys
+
+    r = subprocess.run([sys.executable, "-m", "explore.filters", *args, "--docs", str(tmp_path)], capture_output=True,
+                       text=True, cwd=Path(__file__).resolve().parents[1], timeout=120)
+    assert r.returncode == 2 and "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert what in r.stderr and not (tmp_path / "filters.md").exists()
