@@ -142,9 +142,10 @@ def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True,
 
 def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 64, features_of: str | None = None,
         name: str | None = None, out: Path | None = None, results: Path | None = None, progress: bool = True,
-        also: tuple = (), order: str = "formats", fresh: bool = False) -> dict:
+        also: tuple = (), order: str = "formats", fresh: bool = False, start_from: str | None = None) -> dict:
     """`also`: more frame sides at which the target must hold (the record is measured at `size`);
-    `fresh`: start from a named configuration, not from the sweep's points."""
+    `fresh`: start from a named configuration, not from the sweep's points; `start_from`: start
+    from this configuration (a name of config/ or a .toml path, e.g. an earlier fit's), as it is."""
     from model.scene.needs import merge_needs, needs
 
     t0 = time.perf_counter()
@@ -157,10 +158,12 @@ def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 
         fv = config_values(load_config(features_of))
         need = {k: fv[k] for k in (*FEATURE_ORDER, "noise_terms", "noise_gradient")}
     # the start: the sweep's cheapest point that qualifies, else the cheapest named configuration with the features
-    cands = [] if fresh else [
+    cands = [] if (fresh or start_from) else [
         r for r in stored_records(results) if has_features(r["config"], need) and _scene_ok(r, scenes, db, pxclk, size)
         and (not fixed or all(r["config"][k] == need[k] for k in need))]
-    if cands:
+    if start_from:
+        start = {"from": f"configuration {start_from}", "ge_total": None, "values": config_values(load_config(start_from))}
+    elif cands:
         best = min(cands, key=lambda r: r["ge_total"])
         start = {"from": f"sweep point {best.get('label', best.get('name'))}", "ge_total": best["ge_total"],
                  "values": best["config"]}
@@ -231,6 +234,7 @@ def main(argv=None) -> int:
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--rtl-size", type=int, default=64, help="frame side of the RTL renders (px)")
     ap.add_argument("--fresh", action="store_true", help="start from a named configuration, not the sweep's points")
+    ap.add_argument("--start", default=None, help="start from this configuration (a name or a .toml path)")
     ap.add_argument("--order", choices=tuple(ORDERS), default="formats", help="the descent's order of moves")
     ap.add_argument("--also-size", type=int, action="append", default=[],
                     help="another frame side at which the target must hold (the descent checks both)")
@@ -254,11 +258,13 @@ def main(argv=None) -> int:
         check_range("--rtl-size", a.rtl_size, 2, 512)
         if a.features_of is not None and a.features_of not in CONFIG_NAMES:
             raise UserError(f"--features-of {a.features_of}: no such configuration (known: {', '.join(CONFIG_NAMES)})")
+        if a.start is not None:
+            load_config(a.start)  # a bad --start: one line, exit 2, before any work
         try:
             for z in a.also_size:
                 check_range("--also-size", z, 8, 1024)
             rep = fit(scenes, a.db, a.pxclk, a.size, a.rtl_size, a.features_of, a.name, a.out, a.results, not a.quiet,
-                      tuple(a.also_size), a.order, a.fresh)
+                      tuple(a.also_size), a.order, a.fresh, a.start)
         except FitError as e:
             print(f"fit: {e}", file=sys.stderr)
             return 1

@@ -128,12 +128,22 @@ def synth_config(config: str, jobs: int = 2) -> dict:
         futs = {label: ex.submit(synth_one, config, mod, lib) for label, (mod, lib) in block_jobs(cfg).items()}
         res = {k: f.result() for k, f in futs.items()}
     rep = combine(config, cfg, res)
-    rep.update({"budget_ge": BUDGET[config], "paper_gates": BUDGET[config] if config in PAPER_MODELS else None,
-                "within_budget": rep["ge_total"] <= BUDGET[config], "seconds": round(time.perf_counter() - t0, 1)})
+    budget = BUDGET.get(config) or BUDGET.get(_base_of(config))  # a variant file: its base's budget
+    rep.update({"budget_ge": budget, "paper_gates": budget if config in PAPER_MODELS else None,
+                "within_budget": budget is not None and rep["ge_total"] <= budget,
+                "seconds": round(time.perf_counter() - t0, 1)})
     REPORTS.mkdir(parents=True, exist_ok=True)
     (REPORTS / f"{config}.json").write_text(json.dumps(rep, indent=2) + "\n")
     (REPORTS / f"{config}.md").write_text(markdown(rep))
     return rep
+
+
+def _base_of(config: str) -> str | None:
+    """The `base` a variant file of config/ names (None for the named configurations)."""
+    import tomllib
+
+    p = ROOT / "config" / f"{config}.toml"
+    return tomllib.loads(p.read_text()).get("base") if p.is_file() else None
 
 
 def markdown(rep: dict) -> str:
@@ -283,12 +293,15 @@ def blocks_table() -> int:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m synth.run")
-    ap.add_argument("--config", choices=CONFIG_NAMES)
+    ap.add_argument("--config", help="a configuration of config/ (named, or a variant file such as full_fc)")
     ap.add_argument("--all", action="store_true")
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--blocks", action="store_true")
     ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", 2)))
     a = ap.parse_args(argv)
+    if a.config is not None and not (a.config.isidentifier() and (ROOT / "config" / f"{a.config}.toml").is_file()):
+        print(f"synth: --config {a.config}: no such configuration in config/", file=sys.stderr)
+        return 2
     if a.check:
         return check()
     if a.blocks:

@@ -154,6 +154,8 @@ def test_needs_command_and_bad_input():
     (["fit", "SCENE=nowhere", "DB=40"], "--scenes: unknown scene 'nowhere'"),
     (["fit", "SCENE=zone_plate", "DB=400"], "--db 400: expected"),
     (["fit", "SCENE=zone_plate", "DB=40", "PXCLK=2"], "--pxclk 2: expected"),
+    (["fit", "SCENE=zone_plate", "DB=40", "FIT_FLAGS=--start nosuch"], "nosuch"),
+    (["synth", "CONFIG=nosuch"], "--config nosuch: no such configuration"),
     (["explore", "EXPLORE_FLAGS=--size 0"], "--size 0: expected 8..1024"),
     (["explore", "EXPLORE_FLAGS=--scenes moon"], "--scenes: unknown scene 'moon'"),
 ])
