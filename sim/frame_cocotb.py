@@ -1,11 +1,12 @@
 """The cocotb side of the frame harness sim/frame_tb.v: runs inside the simulator, started by
-sim/frame_rtl.py (run_pass), never collected by pytest.
+sim/frame_rtl.py (run_segments), never collected by pytest.
 
 The tests `frame_run` and `frame_reset` only start the clock, reset, wait for the harness's
 `done` and check the harness's own protocol counters (tlast, spurious outputs, X); every
-pixel is driven and captured in Verilog, never from Python. sim/frame_rtl.py passes the
-run's files and counts in the environment: FRAME_NPIX, FRAME_TIMEOUT_CYCLES, FRAME_STATS,
-FRAME_OUT, FRAME_PYSTATS and (frame_reset) FRAME_RESET_AT.
+pixel is driven and captured in Verilog, never from Python, and a run of several passes
+wakes Python once. sim/frame_rtl.py passes the run's files and counts in the environment:
+FRAME_NPIX (the pixels of all its passes), FRAME_TIMEOUT_CYCLES, FRAME_STATS, FRAME_OUT,
+FRAME_PYSTATS and (frame_reset) FRAME_RESET_AT.
 """
 from __future__ import annotations
 

@@ -1,17 +1,23 @@
 """Whole frames through the RTL: texture_pipeline under Icarus or Verilator, HDL-driven.
 
-`run_frame_rtl(cfg_name, sim, texint, s_int, Jm, je)` writes the parameter writes
-and the pixel words as $readmemh files, runs the streaming harness
-sim/frame_tb.v (which does every per-pixel action inside the simulator; the
-cocotb test sim/frame_cocotb.py only clocks, resets and waits for `done`) and
-reads the colours back. One simulator run per pass (a pass: one texture's
-parameters, then its pixels); a stream longer than the harness memories
-(MAX_PIX) is split into several runs, each reloading the parameters.
+`run_passes_rtl(cfg_name, sim, passes)` runs a list of texture passes (a pass: one texture's
+parameter writes, then its pixel stream) through the streaming harness sim/frame_tb.v in as
+few simulator runs as its memories allow (one for everything that fits: a simulator start
+costs about 2 s, more than a 512x512 pass's pixels take) and returns each pass's colours.
+It writes the passes' segment list, their parameter writes and their pixel words (each
+concatenated) as $readmemh files; the harness does every per-pixel action inside the
+simulator (the cocotb test sim/frame_cocotb.py only clocks, resets and waits for `done`), pass
+after pass, and writes the colours back. When the passes exceed the harness memories
+(MEMORY: pixels, writes, passes of a run) they are split, in order, into the fewest runs
+(plan_runs: a pass longer than what a run has left is cut, each piece reloading the
+parameters). `run_frame_rtl(cfg_name, sim, texint, s_int, Jm, je)` is the one-pass case.
+`STARTS` counts the simulator starts of this process.
 
 The harness is built once per (configuration, simulator) into
 build/sim/frame_tb/<config>-<sim> and rebuilt only when a source, the generated
-configuration header or the build options change (a content stamp). Builds are
-serialized by a file lock, runs use private directories, so pytest -n is safe.
+configuration header or the build options change (a content stamp; a stale build directory
+is wiped first, so a build killed half-way cannot leave a bad precompiled header behind).
+Builds are serialized by a file lock, runs use private directories, so pytest -n is safe.
 """
 from __future__ import annotations
 
@@ -19,6 +25,7 @@ import fcntl
 import hashlib
 import itertools
 import os
+import shutil
 import sys
 import time
 from pathlib import Path
@@ -32,17 +39,31 @@ from model.hw.regmap import pack_pixels, pix_width, pixels_hex, unpack_rgba, wri
 TOPLEVEL = "frame_tb"
 HARNESS = Path(__file__).resolve().parent / "frame_tb.v"
 COCOTB_MODULE = "sim.frame_cocotb"  # its cocotb tests frame_run and frame_reset
-MAX_PIX = 262144  # frame_tb MAX_PIX (512 x 512)
-MAX_WR = 16384  # frame_tb MAX_WR
+# frame_tb's memory depths, per simulator: pixels (and colours), parameter writes and passes of
+# one run. Verilator: 2^20 pixels (a 1024x1024 frame; 16 animation frames of 128x128, filtered
+# and unfiltered) in about 25 MB; Icarus streams a few hundred pixels a second, so it keeps
+# memories small enough not to slow its start.
+MEMORY = {
+    "verilator": {"MAX_PIX": 1 << 20, "MAX_WR": 1 << 18, "MAX_SEG": 4096},
+    "icarus": {"MAX_PIX": 1 << 18, "MAX_WR": 1 << 14, "MAX_SEG": 1024},
+}
 DRAIN = 256  # frame_tb DRAIN
 VERILATOR_ARGS = ["-Wno-fatal", "--x-assign", "unique", "--x-initial", "unique", "-O3"]
 
 _built: dict[tuple[str, str], str] = {}
 _run_counter = itertools.count()
+STARTS = 0  # simulator starts (runs) in this process
 
 
 class FrameRunError(RuntimeError):
     """The harness reported a protocol error, or the simulator failed (one-line summary)."""
+
+
+def memory(sim: str) -> dict:
+    """frame_tb's memory depths for `sim` (a copy of MEMORY[sim]); FrameRunError for another simulator."""
+    if sim not in MEMORY:
+        raise FrameRunError(f"--sim {sim}: expected one of {', '.join(MEMORY)}")
+    return dict(MEMORY[sim])
 
 
 def build_dir(config, sim: str) -> Path:
@@ -64,7 +85,7 @@ def _stamp(config: str, sim: str, gdir: Path) -> str:
         if p.is_file():
             h.update(str(p.name).encode())
             h.update(p.read_bytes())
-    h.update(repr((sim, VERILATOR_ARGS, MAX_PIX, MAX_WR, DRAIN, "no-public-flat-rw")).encode())
+    h.update(repr((sim, VERILATOR_ARGS, memory(sim), DRAIN, "no-public-flat-rw")).encode())
     return h.hexdigest()
 
 
@@ -90,6 +111,15 @@ def _runner(sim: str):
     return FrameVerilator()
 
 
+def wipe_build(bdir: Path) -> None:
+    """Empty a build directory before a rebuild, but for its run directories (runs/: kept failed
+    runs): a build killed half-way can leave files behind (an invalid precompiled header, an
+    object file cut short) that the next build would trust, being newer than their sources."""
+    for p in bdir.iterdir():
+        if p.name != "runs":
+            shutil.rmtree(p) if p.is_dir() and not p.is_symlink() else p.unlink()
+
+
 def build(config, sim: str) -> Path:
     """Build the harness for (config, sim) unless the stamped build is current; its directory.
     `config`: a configuration name or a Config."""
@@ -110,12 +140,13 @@ def build(config, sim: str) -> Path:
         stamp_file = bdir / "build.stamp"
         exe = bdir / ("sim.vvp" if sim == "icarus" else TOPLEVEL)
         if not (exe.exists() and stamp_file.exists() and stamp_file.read_text() == stamp):
+            wipe_build(bdir)
             runner = _runner(sim)
             runner.build(
                 sources=_sources(gdir),
                 includes=[ROOT / "rtl"],
                 hdl_toplevel=TOPLEVEL,
-                parameters={"MAX_PIX": MAX_PIX, "MAX_WR": MAX_WR, "DRAIN": DRAIN, "PIX_W": pix_width(cfg)},
+                parameters={**memory(sim), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)},
                 build_args=VERILATOR_ARGS if sim == "verilator" else [],
                 build_dir=bdir,
                 always=True,
@@ -174,44 +205,85 @@ def read_stats(path) -> dict:
     return out
 
 
-def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 0, seed: int = 1,
-             reset_at: int | None = None, keep: bool = False, fault_hold: bool = False):
-    """One simulator run: the writes, then the pixel words (<= MAX_PIX). -> (out words, stats).
+def plan_runs(sizes, max_pix: int, max_wr: int, max_seg: int) -> list[list[tuple[int, int, int]]]:
+    """Pack passes, in order, into the fewest simulator runs the harness memories allow.
+
+    sizes: (writes, pixels) of each pass. Returns the runs, each a list of segments
+    (pass index, first pixel, end pixel): a run holds at most max_pix pixels, max_wr writes and
+    max_seg segments; a pass with no pixels gets no segment; a pass longer than what the run has
+    left is cut at the run's end, the rest continuing in the next run (each piece reloads the
+    pass's writes). Greedy is optimal here: cutting a pass only ever leaves the next run fewer
+    pixels for the same writes. ValueError: a pass with more writes than a run takes."""
+    if min(max_pix, max_wr, max_seg) < 1:
+        raise ValueError(f"run limits {max_pix} pixels, {max_wr} writes, {max_seg} passes: each must be >= 1")
+    runs: list[list[tuple[int, int, int]]] = []
+    cur: list[tuple[int, int, int]] = []
+    pix = wr = 0
+    for i, (nwr, npix) in enumerate(sizes):
+        if nwr > max_wr:
+            raise ValueError(f"pass {i}: {nwr} parameter writes: a run takes at most {max_wr}")
+        start = 0
+        while start < npix:
+            if cur and (pix == max_pix or wr + nwr > max_wr or len(cur) == max_seg):
+                runs.append(cur)
+                cur, pix, wr = [], 0, 0
+            take = min(npix - start, max_pix - pix)
+            cur.append((i, start, start + take))
+            pix, wr, start = pix + take, wr + nwr, start + take
+    if cur:
+        runs.append(cur)
+    return runs
+
+
+def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, seed: int = 1,
+                 reset_at: int | None = None, keep: bool = False, fault_hold: bool = False):
+    """One simulator run of several passes: segments [(writes, words), ...], each its parameter
+    writes and its pixel words (>= 1), within the harness memories (MEMORY[sim]).
+    -> (out words of each segment, stats): stats holds the run's totals (the harness's and the
+    cocotb test's statistics, run_seconds: the simulator run's wall time, start-up included) and
+    "segments": each segment's {"load_cycles", "stream_cycles"}.
 
     Files go to a private run directory under the build directory (hex files, statistics, the
     simulator log sim.log); it is removed after a successful run unless keep or FRAME_KEEP=1,
     and kept after a failure (the error names it and gives the harness's own reason).
+    reset_at: assert rst that many clocks into the run, then load and stream everything again.
     fault_hold: plant a fault in the harness's AXI-Stream hold check (tests of the check)."""
+    global STARTS
     from cocotb_tools.runner import get_results
 
-    if not 1 <= len(words) <= MAX_PIX:
-        raise ValueError(f"{len(words)} pixels: a run takes 1..{MAX_PIX}")
-    if len(writes) > MAX_WR:
-        raise ValueError(f"{len(writes)} parameter writes: a run takes at most {MAX_WR}")
+    mem = memory(sim)
+    n = sum(len(w) for _, w in segments)
+    nwr = sum(len(wr) for wr, _ in segments)
+    if not segments or any(len(w) < 1 for _, w in segments):
+        raise ValueError("a run takes 1 or more passes of 1 or more pixels each")
+    if not (n <= mem["MAX_PIX"] and nwr <= mem["MAX_WR"] and len(segments) <= mem["MAX_SEG"]):
+        raise ValueError(f"{len(segments)} passes, {n} pixels, {nwr} parameter writes: a {sim} run takes at most "
+                         f"{mem['MAX_SEG']}, {mem['MAX_PIX']}, {mem['MAX_WR']}")
     cfg = config_of(config)
     bdir = build(cfg, sim)
     config = cfg.name
     rdir = bdir / "runs" / f"run-{os.getpid()}-{next(_run_counter)}"
     rdir.mkdir(parents=True, exist_ok=True)
     files = {k: rdir / f"{k}.{ext}" for k, ext in
-             (("params", "hex"), ("pixels", "hex"), ("out", "hex"), ("stats", "txt"), ("pystats", "txt"))}
-    files["params"].write_text(writes_hex(writes))
-    files["pixels"].write_text(pixels_hex(cfg, words))
-    for k in ("out", "stats", "pystats"):
+             (("segs", "hex"), ("params", "hex"), ("pixels", "hex"), ("out", "hex"), ("segstats", "hex"),
+              ("stats", "txt"), ("pystats", "txt"))}
+    files["segs"].write_text("".join(f"{len(wr):08x}{len(w):08x}\n" for wr, w in segments))
+    files["params"].write_text("".join(writes_hex(wr) for wr, _ in segments))
+    files["pixels"].write_text("".join(pixels_hex(cfg, w) for _, w in segments))
+    for k in ("out", "segstats", "stats", "pystats"):
         files[k].unlink(missing_ok=True)
-    n = len(words)
     # generous: every clock stalled or idle up to 99% still finishes
-    timeout_cycles = 200 * (n + len(writes)) + 100 * (100 + DRAIN) + 100000
+    timeout_cycles = 200 * (n + nwr) + 100 * (100 + DRAIN) * len(segments) + 100000
     plusargs = [
-        f"+PARAMS={files['params']}", f"+PIXELS={files['pixels']}",
-        f"+OUT={files['out']}", f"+STATS={files['stats']}",
-        f"+NPIX={n}", f"+NWR={len(writes)}", f"+GAPS={int(gaps)}", f"+STALLS={int(stalls)}", f"+SEED={int(seed)}",
+        f"+SEGS={files['segs']}", f"+NSEG={len(segments)}", f"+PARAMS={files['params']}",
+        f"+PIXELS={files['pixels']}", f"+OUT={files['out']}", f"+SEGSTATS={files['segstats']}",
+        f"+STATS={files['stats']}", f"+GAPS={int(gaps)}", f"+STALLS={int(stalls)}", f"+SEED={int(seed)}",
         f"+FAULT_HOLD={int(bool(fault_hold))}",
     ]
     env = {
         "CONFIG": config_ref(cfg),
         "FRAME_NPIX": str(n),
-        "FRAME_NWR": str(len(writes)),
+        "FRAME_NWR": str(nwr),
         "FRAME_TIMEOUT_CYCLES": str(timeout_cycles),
         "FRAME_STATS": str(files["stats"]),
         "FRAME_OUT": str(files["out"]),
@@ -221,6 +293,7 @@ def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 
         env["FRAME_RESET_AT"] = str(int(reset_at))
     runner = _runner(sim)
     t0 = time.perf_counter()
+    STARTS += 1
     try:
         results = runner.test(
             hdl_toplevel=TOPLEVEL,
@@ -247,45 +320,82 @@ def run_pass(config: str, sim: str, writes, words, gaps: int = 0, stalls: int = 
     stats.update(read_stats(files["pystats"]))
     stats["run_seconds"] = seconds
     out = read_hex(files["out"])
-    if len(out) != n:
-        raise FrameRunError(f"frame_tb [{config} {sim}]: {len(out)} colours read back, expected {n}")
+    seg = read_hex(files["segstats"])
+    if len(out) != n or len(seg) != len(segments) or stats.get("nseg") != len(segments):
+        raise FrameRunError(f"frame_tb [{config} {sim}]: {len(out)} colours and {len(seg)} pass statistics read back, "
+                            f"expected {n} and {len(segments)} (log {rdir / 'sim.log'})")
+    stats["segments"] = [{"load_cycles": x >> 32, "stream_cycles": x & 0xFFFFFFFF} for x in seg]
     if not (keep or os.environ.get("FRAME_KEEP") == "1"):
-        for p in rdir.iterdir():
-            p.unlink()
-        rdir.rmdir()
-    return out, stats
+        shutil.rmtree(rdir)
+    ends = list(itertools.accumulate(len(w) for _, w in segments))
+    return [out[e - len(w):e] for e, (_, w) in zip(ends, segments)], stats
+
+
+def run_passes_rtl(cfg_name, sim: str, passes, gaps: int = 0, stalls: int = 0, seed: int = 1,
+                   reset_at: int | None = None, return_stats: bool = False, extra_writes=(),
+                   fault_hold: bool = False, limits: dict | None = None):
+    """RGBA8 of texture passes through the RTL, in as few simulator runs as the harness takes.
+
+    passes: [(texint, s_int, Jm, je), ...], each a texture and its quantized pixel stream
+    (model.hw.quantize; s_int [..., 3], Jm [..., 3, 2], je [...]); a pass may have no pixels.
+    Returns the list of each pass's rgba (uint8 [P_i, 4]); return_stats: (that list, info) with
+    info {"starts": simulator runs, "seconds": their wall-clock seconds (start-up included),
+    "stream_seconds": the streaming loops' wall time, "cycles": each pass's clocks from its
+    first pixel offered to its last colour taken (summed over its pieces), "runs": each run's
+    statistics (run_segments)}.
+    gaps / stalls: percent of clocks with input gaps / output stalls (pseudo-random; run i
+    seeded by seed + i); reset_at: assert rst that many clocks into each run, then load and
+    stream again. extra_writes: (address, data) writes issued after each texture's (tests:
+    unmapped addresses). fault_hold: plant a fault in the harness's AXI-Stream hold check.
+    limits: {"MAX_PIX", "MAX_WR", "MAX_SEG"} to split at, each at most the harness memory
+    (tests: several runs with few pixels)."""
+    cfg = config_of(cfg_name)
+    mem = memory(sim)
+    for k, v in (limits or {}).items():
+        if k not in mem or not 1 <= int(v) <= mem[k]:
+            raise ValueError(f"limits {k}={v}: expected one of {', '.join(mem)}, 1..its memory depth")
+        mem[k] = int(v)
+    extra = [(int(a), int(d)) for a, d in extra_writes]
+    writes, words = [], []
+    for texint, s_int, Jm, je in passes:
+        s_int = np.asarray(s_int, dtype=np.int64).reshape(-1, 3)
+        writes.append(write_sequence(cfg, texint) + extra)
+        words.append(pack_pixels(cfg, s_int, np.asarray(Jm).reshape(-1, 3, 2), np.asarray(je).reshape(-1)))
+    plan = plan_runs([(len(wr), len(w)) for wr, w in zip(writes, words)], mem["MAX_PIX"], mem["MAX_WR"], mem["MAX_SEG"])
+    out: list[list[int]] = [[] for _ in words]
+    cycles = [0] * len(words)
+    runs = []
+    for r, segs in enumerate(plan):
+        outs, st = run_segments(cfg, sim, [(writes[i], words[i][a:b]) for i, a, b in segs], gaps, stalls, seed + r,
+                                reset_at, fault_hold=fault_hold)
+        for (i, _, _), o, sst in zip(segs, outs, st["segments"]):
+            out[i] += o
+            cycles[i] += sst["stream_cycles"]
+        runs.append(st)
+    rgba = [unpack_rgba(np.array(o, dtype=np.uint64).astype(np.uint32)) if o else np.zeros((0, 4), np.uint8)
+            for o in out]
+    if not return_stats:
+        return rgba
+    return rgba, {"starts": len(runs), "seconds": sum(st["run_seconds"] for st in runs),
+                  "stream_seconds": sum(st.get("stream_wall_us", 0) for st in runs) / 1e6,
+                  "cycles": cycles, "runs": runs}
 
 
 def run_frame_rtl(cfg_name: str, sim: str, texint, s_int, Jm, je, gaps: int = 0, stalls: int = 0,
                   seed: int = 1, reset_at: int | None = None, return_stats: bool = False,
                   extra_writes=(), fault_hold: bool = False):
-    """RGBA8 of one texture pass through the RTL: (rgba uint8 [P, 4], cycles, sim_seconds).
+    """RGBA8 of one texture pass through the RTL: (rgba uint8 [P, 4], cycles, sim_seconds);
+    run_passes_rtl of the one pass (its arguments).
 
-    s_int [..., 3], Jm [..., 3, 2], je [...]: the quantized pixel stream (model.hw.quantize);
-    gaps / stalls: percent of clocks with input gaps / output stalls (pseudo-random, `seed`);
-    reset_at: assert rst that many clocks into the run, then load and stream again.
     cycles: clocks from the first pixel offered to the last colour taken (summed over runs);
     sim_seconds: wall-clock seconds of the simulator runs (including simulator start-up).
     return_stats: also return the list of per-run statistics dicts.
-    extra_writes: (address, data) writes issued after the texture's (tests: unmapped addresses).
-    fault_hold: plant a fault in the harness's AXI-Stream hold check (tests of the check).
     """
-    cfg = config_of(cfg_name)
-    writes = write_sequence(cfg, texint) + [(int(a), int(d)) for a, d in extra_writes]
-    s_int = np.asarray(s_int, dtype=np.int64).reshape(-1, 3)
-    words = pack_pixels(cfg, s_int, np.asarray(Jm).reshape(-1, 3, 2), np.asarray(je).reshape(-1))
-    out, cycles, seconds, all_stats = [], 0, 0.0, []
-    for k in range(0, len(words), MAX_PIX):
-        o, st = run_pass(cfg, sim, writes, words[k:k + MAX_PIX], gaps, stalls, seed + k, reset_at,
-                         fault_hold=fault_hold)
-        out += o
-        cycles += st["stream_cycles"]
-        seconds += st["run_seconds"]
-        all_stats.append(st)
-    rgba = unpack_rgba(np.array(out, dtype=np.uint64).astype(np.uint32)) if out else np.zeros((0, 4), np.uint8)
+    (rgba,), info = run_passes_rtl(cfg_name, sim, [(texint, s_int, Jm, je)], gaps, stalls, seed, reset_at, True,
+                                   extra_writes, fault_hold)
     if return_stats:
-        return rgba, cycles, seconds, all_stats
-    return rgba, cycles, seconds
+        return rgba, info["cycles"][0], info["seconds"], info["runs"]
+    return rgba, info["cycles"][0], info["seconds"]
 
 
 def synthetic_pass(cfg_name: str, pixels: int, seed: int = 1):

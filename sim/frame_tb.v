@@ -1,37 +1,46 @@
 // frame_tb: whole-frame streaming harness for texture_pipeline (simulation only, not RTL).
 //
 // The top of the simulation. cocotb only drives clk and rst and waits for `done`; every
-// per-pixel action happens here, in the simulator:
-//   1. $readmemh the parameter writes (+PARAMS=<file>, +NWR=<count>; one write a line,
+// per-pixel action happens here, in the simulator. A run is a list of passes (segments), each
+// one texture's parameter writes and then its pixel stream, all loaded up front:
+//   1. $readmemh the segment list (+SEGS=<file>, +NSEG=<count>; one pass a line,
+//      {nwr[31:0], npix[31:0]}, 16 hex digits: the pass's parameter writes and pixels, npix >= 1),
+//      the parameter writes of every pass concatenated (+PARAMS=<file>; one write a line,
 //      {addr[15:0], data[31:0]}, 12 hex digits, model/hw/regmap.py writes_hex) and the pixel
-//      words (+PIXELS=<file>, +NPIX=<count>; model/hw/regmap.py pixels_hex);
-//   2. after rst falls, drive the writes through the parameter port, one a clock;
-//   3. stream the pixels into s_axis (tlast on the last one) with pseudo-random input gaps
+//      words of every pass concatenated (+PIXELS=<file>; model/hw/regmap.py pixels_hex).
+//      Without +NSEG the run is one pass of +NWR=<count> writes and +NPIX=<count> pixels;
+//   2. after rst falls, for each pass in turn: drive its writes through the parameter port, one
+//      a clock (no reset between passes: every pass writes every parameter register);
+//   3. stream its pixels into s_axis (tlast on its last one) with pseudo-random input gaps
 //      (+GAPS=<percent>: the source idles on that share of the clocks where it could offer a
 //      new pixel) while the sink captures m_axis into a memory with pseudo-random stalls
 //      (+STALLS=<percent>: m_axis_tready low on that share of the clocks); two xorshift32
-//      generators seeded by +SEED=<n>;
-//   4. check tlast (set on the last pixel and on no other), count outputs beyond NPIX during a
-//      DRAIN-clock watch after the last one, count X on the outputs (4-state simulators), and
-//      check the AXI-Stream rule on the output: once m_axis_tvalid is high, tvalid, tdata and
-//      tlast hold until the sink takes the word (hold_err: clocks where they changed during a
-//      stall; +FAULT_HOLD=1 plants a fault in this check's own copy, to test the check);
-//      every error also prints a line "frame_tb: ERROR: ..." (the first of each kind) that
-//      sim/frame_rtl.py shows in its failure message;
-//   5. $writememh the NPIX colours (+OUT=<file>, one 8-hex-digit RGBA8 word a line) and a
-//      statistics file (+STATS=<file>, "key value" lines), then raise `done`.
-// A rst at any time restarts the whole sequence from step 2 (done falls).
+//      generators seeded by +SEED=<n> once a run (they run on across the passes);
+//   4. check tlast (set on the last pixel of each pass and on no other), count outputs beyond
+//      the pass's last during a DRAIN-clock watch after it and outputs while a pass loads, count
+//      X on the outputs (4-state simulators), and check the AXI-Stream rule on the output: once
+//      m_axis_tvalid is high, tvalid, tdata and tlast hold until the sink takes the word
+//      (hold_err: clocks where they changed during a stall; +FAULT_HOLD=1 plants a fault in
+//      this check's own copy, to test the check); every error also prints a line
+//      "frame_tb: ERROR: ..." (the first of each kind) that sim/frame_rtl.py shows in its
+//      failure message; then the next pass from step 2;
+//   5. after the last pass, $writememh the colours of every pass, concatenated (+OUT=<file>,
+//      one 8-hex-digit RGBA8 word a line), the cycles of each pass (+SEGSTATS=<file>, if given;
+//      one pass a line, {load_cycles[31:0], stream_cycles[31:0]}) and a statistics file
+//      (+STATS=<file>, "key value" lines, totals over the passes), then raise `done`.
+// A rst at any time restarts the whole sequence from the first pass's step 2 (done falls).
 //
 // Cycle counts in the statistics: load_cycles (parameter writes), stream_cycles (from the
-// first clock a pixel is offered to the clock the last colour is taken), total_cycles (rst
-// release to done).
+// first clock a pixel of a pass is offered to the clock its last colour is taken, summed over
+// the passes), total_cycles (rst release to done: also the DRAIN watches).
 
 `default_nettype none
 
 module frame_tb #(
-    parameter MAX_PIX = 262144,  // pixel and colour memory depth (pixels per run)
-    parameter MAX_WR  = 16384,   // parameter-write memory depth
-    parameter DRAIN   = 256,     // clocks watched for spurious outputs after the last colour
+    parameter MAX_PIX = 262144,  // pixel and colour memory depth (pixels per run, all passes)
+    parameter MAX_WR  = 16384,   // parameter-write memory depth (writes per run, all passes)
+    parameter MAX_SEG = 1024,    // segment memory depth (passes per run)
+    parameter DRAIN   = 256,     // clocks watched for spurious outputs after a pass's last colour
     parameter PIX_W   = 1        // the configuration's pixel word (model/hw/regmap.py pix_width)
 ) (
     // public for Verilator (built without --public-flat-rw): cocotb drives and watches them
@@ -43,32 +52,58 @@ module frame_tb #(
 // ---------------------------------------------------------------------------
 // Stimulus and result memories, plusargs
 
-reg [PIX_W-1:0] pix_mem [0:MAX_PIX-1];
-reg [47:0]      wr_mem  [0:MAX_WR-1];
-reg [31:0]      out_mem [0:MAX_PIX-1];
+reg [PIX_W-1:0] pix_mem      [0:MAX_PIX-1];
+reg [47:0]      wr_mem       [0:MAX_WR-1];
+reg [31:0]      out_mem      [0:MAX_PIX-1];
+reg [63:0]      seg_mem      [0:MAX_SEG-1];  // {nwr, npix} of each pass
+reg [63:0]      seg_stat_mem [0:MAX_SEG-1];  // {load_cycles, stream_cycles} of each pass
 
-reg [8*1024-1:0] params_file, pixels_file, out_file, stats_file;
-integer npix, nwr, gaps, stalls, seed, fault_hold;
+reg [8*1024-1:0] params_file, pixels_file, out_file, stats_file, segs_file, segstats_file;
+integer npix, nwr, nseg, gaps, stalls, seed, fault_hold, have_segstats, seg_bad, i;
 
 initial begin
     done = 1'b0;
-    npix = 0; nwr = 0; gaps = 0; stalls = 0; seed = 1; fault_hold = 0;
+    npix = 0; nwr = 0; nseg = 0; gaps = 0; stalls = 0; seed = 1; fault_hold = 0; seg_bad = 0;
     if (!$value$plusargs("PARAMS=%s", params_file)) params_file = "params.hex";
     if (!$value$plusargs("PIXELS=%s", pixels_file)) pixels_file = "pixels.hex";
     if (!$value$plusargs("OUT=%s", out_file))       out_file    = "out.hex";
     if (!$value$plusargs("STATS=%s", stats_file))   stats_file  = "stats.txt";
-    if (!$value$plusargs("NPIX=%d", npix))   npix   = 0;
-    if (!$value$plusargs("NWR=%d", nwr))     nwr    = 0;
+    if (!$value$plusargs("SEGS=%s", segs_file))     segs_file   = "segs.hex";
+    have_segstats = $value$plusargs("SEGSTATS=%s", segstats_file);
     if (!$value$plusargs("GAPS=%d", gaps))   gaps   = 0;
     if (!$value$plusargs("STALLS=%d", stalls)) stalls = 0;
     if (!$value$plusargs("SEED=%d", seed))   seed   = 1;
     if (!$value$plusargs("FAULT_HOLD=%d", fault_hold)) fault_hold = 0;
+    if ($value$plusargs("NSEG=%d", nseg)) begin
+        if (nseg < 1 || nseg > MAX_SEG) begin
+            $display("frame_tb: ERROR: +NSEG=%0d outside 1..%0d", nseg, MAX_SEG);
+            $finish;
+        end
+        $readmemh(segs_file, seg_mem, 0, nseg - 1);
+    end else begin  // one pass: +NWR writes, +NPIX pixels
+        if (!$value$plusargs("NPIX=%d", npix)) npix = 0;
+        if (!$value$plusargs("NWR=%d", nwr))   nwr  = 0;
+        nseg = 1;
+        seg_mem[0] = {nwr[31:0], npix[31:0]};
+    end
+    npix = 0; nwr = 0;
+    for (i = 0; i < nseg; i = i + 1) begin
+        if (seg_mem[i][31:0] < 1 || seg_mem[i][31:0] > MAX_PIX || seg_mem[i][63:32] > MAX_WR) begin
+            if (seg_bad == 0)
+                $display("frame_tb: ERROR: pass %0d: %0d writes, %0d pixels (1..%0d pixels, at most %0d writes)",
+                         i, seg_mem[i][63:32], seg_mem[i][31:0], MAX_PIX, MAX_WR);
+            seg_bad = seg_bad + 1;
+        end
+        npix = npix + seg_mem[i][31:0];
+        nwr  = nwr + seg_mem[i][63:32];
+    end
+    if (seg_bad != 0) $finish;
     if (npix < 1 || npix > MAX_PIX) begin
-        $display("frame_tb: ERROR: +NPIX=%0d outside 1..%0d", npix, MAX_PIX);
+        $display("frame_tb: ERROR: %0d pixels in %0d passes: a run takes 1..%0d", npix, nseg, MAX_PIX);
         $finish;
     end
     if (nwr < 0 || nwr > MAX_WR) begin
-        $display("frame_tb: ERROR: +NWR=%0d outside 0..%0d", nwr, MAX_WR);
+        $display("frame_tb: ERROR: %0d parameter writes in %0d passes: a run takes at most %0d", nwr, nseg, MAX_WR);
         $finish;
     end
     if (nwr > 0) $readmemh(params_file, wr_mem, 0, nwr - 1);
@@ -127,13 +162,15 @@ wire gap_now   = (gap_rng_reg % 100) < gaps;
 wire stall_now = (stall_rng_reg % 100) < stalls;
 
 // ---------------------------------------------------------------------------
-// Sequencer
+// Sequencer: pass by pass, load the writes, stream the pixels, drain; then write the results
 
 localparam [1:0] ST_LOAD = 2'd0, ST_STREAM = 2'd1, ST_DRAIN = 2'd2, ST_DONE = 2'd3;
 
 reg [1:0] state_reg /* verilator public_flat_rw */;
-integer   out_idx   /* verilator public_flat_rw */;
-integer   wr_idx, in_idx, drain_cnt;
+integer   out_idx   /* verilator public_flat_rw */;  // colours taken (all passes)
+integer   wr_idx, in_idx, drain_cnt;                  // writes driven, pixels offered (all passes)
+integer   seg_idx, wr_end, pix_end;                   // the current pass; its writes end, its pixels end
+integer   seg_load, seg_stream;                       // the current pass's load and stream clocks
 integer   load_cycles, stream_cycles, total_cycles;
 integer   tlast_err, extra_out, x_err, in_count, hold_err;
 // AXI-Stream hold check: the output word seen on a clock where it was offered and not taken
@@ -141,7 +178,11 @@ reg         hold_pending_reg;
 reg  [31:0] hold_data_reg;
 reg         hold_last_reg;
 integer   fd;
-reg       streaming_reg;  // a pixel has been offered: stream_cycles counts
+reg       streaming_reg;  // a pixel of the current pass has been offered: stream_cycles counts
+wire [31:0] seg_stream_taken = seg_stream + 1;  // the pass's stream clocks, the clock of its last colour included
+wire [31:0] seg_load_now = seg_load;
+wire        last_pass = (seg_idx == nseg - 1);
+wire [63:0] next_seg = seg_mem[last_pass ? seg_idx : seg_idx + 1];
 
 always @(posedge clk) begin
     if (rst) begin
@@ -158,6 +199,8 @@ always @(posedge clk) begin
         gap_rng_reg     <= 32'h9e3779b9 ^ seed;
         stall_rng_reg   <= 32'h7f4a7c15 ^ (seed * 3 + 1);
         wr_idx <= 0; in_idx <= 0; out_idx <= 0; drain_cnt <= 0; in_count <= 0;
+        seg_idx <= 0; wr_end <= seg_mem[0][63:32]; pix_end <= seg_mem[0][31:0];
+        seg_load <= 0; seg_stream <= 0;
         load_cycles <= 0; stream_cycles <= 0; total_cycles <= 0;
         tlast_err <= 0; extra_out <= 0; x_err <= 0; hold_err <= 0;
         hold_pending_reg <= 1'b0;
@@ -181,14 +224,15 @@ always @(posedge clk) begin
             hold_err <= hold_err + 1;
         end
         hold_pending_reg <= m_tvalid && !m_tready_reg;
-        hold_data_reg    <= m_tdata ^ {31'd0, fault_hold[0]};
+        hold_data_reg    <= m_tdata ^ {31'd0, fault_hold != 0};
         hold_last_reg    <= m_tlast;
 
-        // parameter writes
+        // parameter writes of the current pass
         cfg_wr_en_reg <= 1'b0;
         if (state_reg == ST_LOAD) begin
             load_cycles <= load_cycles + 1;
-            if (wr_idx < nwr) begin
+            seg_load    <= seg_load + 1;
+            if (wr_idx < wr_end) begin
                 cfg_wr_en_reg   <= 1'b1;
                 cfg_wr_addr_reg <= wr_mem[wr_idx][47:32];
                 cfg_wr_data_reg <= wr_mem[wr_idx][31:0];
@@ -203,10 +247,10 @@ always @(posedge clk) begin
             if (s_tvalid_reg && s_tready)
                 in_count <= in_count + 1;
             if (!s_tvalid_reg || s_tready) begin
-                if (in_idx < npix && !gap_now) begin
+                if (in_idx < pix_end && !gap_now) begin
                     s_tvalid_reg  <= 1'b1;
                     s_tdata_reg   <= pix_mem[in_idx];
-                    s_tlast_reg   <= (in_idx == npix - 1);
+                    s_tlast_reg   <= (in_idx == pix_end - 1);
                     in_idx        <= in_idx + 1;
                     streaming_reg <= 1'b1;
                 end else begin
@@ -218,39 +262,61 @@ always @(posedge clk) begin
 
         // colour sink
         if (state_reg == ST_STREAM) begin
-            if (streaming_reg)
+            if (streaming_reg) begin
                 stream_cycles <= stream_cycles + 1;
+                seg_stream    <= seg_stream + 1;
+            end
             m_tready_reg <= !stall_now;
             if (m_tvalid && m_tready_reg) begin
                 out_mem[out_idx] <= m_tdata;
-                if (m_tlast != (out_idx == npix - 1)) begin
+                if (m_tlast != (out_idx == pix_end - 1)) begin
                     if (tlast_err == 0)
-                        $display("frame_tb: ERROR: tlast %b on output %0d of %0d", m_tlast, out_idx, npix);
+                        $display("frame_tb: ERROR: tlast %b on output %0d of %0d (pass %0d)", m_tlast, out_idx, npix, seg_idx);
                     tlast_err <= tlast_err + 1;
                 end
                 out_idx <= out_idx + 1;
-                if (out_idx == npix - 1) begin
+                if (out_idx == pix_end - 1) begin
                     state_reg    <= ST_DRAIN;
                     m_tready_reg <= 1'b1;
+                    seg_stat_mem[seg_idx] <= {seg_load_now, seg_stream_taken};
                 end
             end
-        end else if (state_reg == ST_DRAIN) begin
-            m_tready_reg <= 1'b1;
+        end else if (state_reg == ST_DRAIN || state_reg == ST_LOAD) begin
+            // no output between a pass's last colour and the next pass's first pixel
             if (m_tvalid && m_tready_reg) begin
                 if (extra_out == 0)
-                    $display("frame_tb: ERROR: an output after the last of %0d pixels", npix);
+                    $display("frame_tb: ERROR: an output after the last of pass %0d's pixels (%0d of %0d taken)",
+                             seg_idx - (state_reg == ST_LOAD ? 1 : 0), out_idx, npix);
                 extra_out <= extra_out + 1;
             end
-            drain_cnt <= drain_cnt + 1;
-            if (drain_cnt == DRAIN - 1)
-                state_reg <= ST_DONE;
+            if (state_reg == ST_DRAIN) begin
+                m_tready_reg <= 1'b1;
+                drain_cnt    <= drain_cnt + 1;
+                if (drain_cnt == DRAIN - 1) begin
+                    drain_cnt <= 0;
+                    if (last_pass) begin
+                        state_reg <= ST_DONE;
+                    end else begin  // the next pass: its writes, then its pixels
+                        state_reg     <= ST_LOAD;
+                        seg_idx       <= seg_idx + 1;
+                        wr_end        <= wr_end + next_seg[63:32];
+                        pix_end       <= pix_end + next_seg[31:0];
+                        seg_load      <= 0;
+                        seg_stream    <= 0;
+                        streaming_reg <= 1'b0;
+                    end
+                end
+            end
         end else if (state_reg == ST_DONE && !done) begin
             $writememh(out_file, out_mem, 0, npix - 1);
+            if (have_segstats != 0)
+                $writememh(segstats_file, seg_stat_mem, 0, nseg - 1);
             /* verilator lint_off BLKSEQ */  // a file handle, used at once (simulation only)
             fd = $fopen(stats_file, "w");
             /* verilator lint_on BLKSEQ */
             $fdisplay(fd, "npix %0d", npix);
             $fdisplay(fd, "nwr %0d", nwr);
+            $fdisplay(fd, "nseg %0d", nseg);
             $fdisplay(fd, "in_count %0d", in_count);
             $fdisplay(fd, "out_count %0d", out_idx);
             $fdisplay(fd, "load_cycles %0d", load_cycles);

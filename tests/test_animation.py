@@ -1,5 +1,6 @@
 """The animation test (model/scene/animation.py, make animation): the camera path and the phase,
-the flicker measure, the per-frame truth cache, bad input."""
+the flicker measure, the per-frame truth cache, bad input, the RTL check (--rtl: every pass of
+every frame in one simulator start, bit-exact frame by frame)."""
 from __future__ import annotations
 
 import json
@@ -7,6 +8,7 @@ import json
 import numpy as np
 import pytest
 
+from model.hw.config import load_config
 from model.scene import animation as A
 from model.scene.passes import scene_path
 from model.scene.scene import load_scene
@@ -76,3 +78,31 @@ def test_bad_animation_file(capsys, tmp_path, body, expected):
     assert A.main(["--scene", p, "--size", "4", "--out", str(tmp_path), "--quiet", "--no-docs"]) == 2
     err = capsys.readouterr().err.strip()
     assert expected in err and "a.toml" in err and "\n" not in err, err
+
+
+def test_rtl_runs_every_frame_in_one_simulator_start_bit_exact(tmp_path, monkeypatch):
+    """--rtl: every pass of every frame, filtered and unfiltered, through Verilator in one
+    simulator start, every pixel bit-exact frame by frame; then a colour changed in the last
+    frame's RTL output (the simulator replaced by the golden model) is reported on that frame."""
+    from sim import frame_rtl as F
+
+    kw = dict(out_root=tmp_path / "o", docs=False, progress=False, truth_ss=2, band_ss=4)
+    before = F.STARTS
+    rep = A.run("seascape", "full", 3, 8, rtl=True, **kw)
+    rtl = rep["rtl"]
+    assert rtl["starts"] == 1 == F.STARTS - before, rtl
+    assert rtl["passes"] >= 2 * 3 and rtl["pixels"] > 0, rtl  # filtered and unfiltered, every frame
+    assert rep["rtl_bit_exact"] is True and [r["rtl_mismatches"] for r in rep["rows"]] == [0, 0, 0]
+    saved = json.loads((tmp_path / "o" / "animation" / "seascape" / "full-8" / "report.json").read_text())
+    assert saved["rtl"] == rtl and saved["rtl_bit_exact"] is True
+
+    from model.hw import golden
+
+    def fake(cfg, sim, passes, return_stats=False, **_):
+        out = [golden.texture_pipeline(load_config(cfg), *p).astype(np.uint8) for p in passes]
+        out[-1][0, 1] ^= 1  # one bit of one pixel of the last frame's last pass
+        return out, {"starts": 0, "seconds": 0.0, "cycles": [], "runs": []}
+
+    monkeypatch.setattr(F, "run_passes_rtl", fake)
+    with pytest.raises(A.UserError, match=r"differs from the golden model on frame\(s\) \[2\]"):
+        A.run("seascape", "full", 3, 8, rtl=True, **kw)

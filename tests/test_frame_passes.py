@@ -1,0 +1,121 @@
+"""Several texture passes in one simulator run (sim/frame_rtl.py run_passes_rtl, sim/frame_tb.v
+segments): the run plan (plan_runs: passes packed in order into the fewest runs the harness
+memories allow, a pass cut where a run fills), and the RTL under Verilator on passes split
+across runs and gathered into one, every pass's colours bit-exact against the golden model."""
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from model.hw.config import clocks_per_pixel, load_config
+from model.hw.golden import MODE_CLAMP, MODE_MOD, texture_pipeline
+from sim import frame_rtl as F
+
+
+def _check_plan(sizes, runs, max_pix, max_wr, max_seg):
+    """Every pass's pixels covered once, in order, by its segments; every run within the limits."""
+    covered = {i: [] for i in range(len(sizes))}
+    order = [seg for run in runs for seg in run]
+    assert order == sorted(order), f"segments out of order: {order}"
+    for run in runs:
+        assert run, "an empty run"
+        assert sum(b - a for _, a, b in run) <= max_pix and len(run) <= max_seg
+        assert sum(sizes[i][0] for i, _, _ in run) <= max_wr
+        for i, a, b in run:
+            assert a < b, f"an empty segment {(i, a, b)}"
+            covered[i].append((a, b))
+    for i, (_, npix) in enumerate(sizes):
+        ends = [0] + [b for _, b in covered[i]]
+        assert [a for a, _ in covered[i]] == ends[:-1] and ends[-1] == npix, f"pass {i}: {covered[i]} of {npix}"
+
+
+def test_plan_packs_passes_into_fewest_runs():
+    # everything fits: one run, every pass whole, the empty pass left out
+    assert F.plan_runs([(30, 100), (30, 0), (30, 50)], 1000, 100, 10) == [[(0, 0, 100), (2, 0, 50)]]
+    # pixels bind: a pass cut where the run fills, its rest in the next run (its writes again)
+    assert F.plan_runs([(5, 300), (5, 900), (5, 250)], 1000, 100, 10) == [
+        [(0, 0, 300), (1, 0, 700)], [(1, 700, 900), (2, 0, 250)]]
+    # a pass longer than a run: in pieces of a whole run
+    assert F.plan_runs([(5, 2500)], 1000, 100, 10) == [[(0, 0, 1000)], [(0, 1000, 2000)], [(0, 2000, 2500)]]
+    # writes bind: two passes a run
+    assert F.plan_runs([(40, 10)] * 5, 1000, 80, 10) == [[(0, 0, 10), (1, 0, 10)], [(2, 0, 10), (3, 0, 10)],
+                                                         [(4, 0, 10)]]
+    # passes a run bind
+    assert F.plan_runs([(1, 10)] * 3, 1000, 100, 2) == [[(0, 0, 10), (1, 0, 10)], [(2, 0, 10)]]
+    assert F.plan_runs([(1, 0)], 10, 10, 10) == []
+    with pytest.raises(ValueError, match="pass 1: 101 parameter writes: a run takes at most 100"):
+        F.plan_runs([(5, 10), (101, 10)], 1000, 100, 10)
+
+
+@given(st.lists(st.tuples(st.integers(0, 40), st.integers(0, 300)), max_size=12),
+       st.integers(1, 400), st.integers(40, 600), st.integers(1, 13))
+def test_plan_covers_every_pixel_within_limits(sizes, max_pix, max_wr, max_seg):
+    runs = F.plan_runs(sizes, max_pix, max_wr, max_seg)
+    _check_plan(sizes, runs, max_pix, max_wr, max_seg)
+    fewest = math.ceil(sum(n for _, n in sizes) / max_pix)
+    assert len(runs) >= fewest
+    # neither writes (at most 40 a segment) nor segments (at most one a pass in a run) bind: only
+    # the pixels do, and every run but the last is full
+    if max_wr >= 40 * max_seg and max_seg >= len(sizes):
+        assert len(runs) == fewest, runs
+
+
+def _passes(cfg, sizes, seed):
+    """Distinct passes (colour table, filter, mode and offsets differ): (texint, s, Jm, je) each."""
+    r = np.random.default_rng(seed)
+    out = []
+    for i, n in enumerate(sizes):
+        tex, s, Jm, je = F.synthetic_pass(cfg.name, max(n, 1), seed=seed + i)
+        clut = r.integers(0, 256, size=tex.clut.shape, dtype=np.int64)
+        tex = replace(tex, clut=clut, csat=None, mip=None, filter=bool(i % 2 == 0),
+                      mode=MODE_MOD if i % 3 else MODE_CLAMP)
+        out.append((tex, s[:n], Jm[:n], je[:n]))
+    return out
+
+
+def test_passes_split_across_runs_and_in_one_run_are_bit_exact():
+    """Passes of 300, 0, 900, 250 and 100 pixels, split at 1000 pixels and 2 passes a run (three
+    runs: a pass cut across two, random gaps and stalls), then all in one run: every pass's
+    colours equal the golden model's, and the counted simulator starts are the planned runs."""
+    cfg = load_config("full")
+    seed = int(os.environ.get("SEED", "5"))
+    sizes = [300, 0, 900, 250, 100]
+    passes = _passes(cfg, sizes, seed)
+    gold = [texture_pipeline(cfg, *p).astype(np.uint8) for p in passes]
+    limits = {"MAX_PIX": 1000, "MAX_SEG": 2}
+    nwr = len(F.write_sequence(cfg, passes[0][0]))
+    plan = F.plan_runs([(nwr, n) for n in sizes], 1000, F.memory("verilator")["MAX_WR"], 2)
+    assert len(plan) == 3 and (2, 0, 700) in plan[0] and (2, 700, 900) in plan[1]
+    for lim, gaps, starts in ((limits, 20, 3), (None, 0, 1)):
+        before = F.STARTS
+        got, info = F.run_passes_rtl(cfg, "verilator", passes, gaps=gaps, stalls=gaps, seed=seed,
+                                     return_stats=True, limits=lim)
+        assert info["starts"] == starts == F.STARTS - before == len(info["runs"])
+        assert [len(g) for g in got] == sizes
+        for i, (g, e) in enumerate(zip(got, gold)):
+            bad = np.nonzero(np.any(g != e, axis=-1))[0]
+            assert bad.size == 0, f"limits {lim}: pass {i}: {bad.size} of {sizes[i]} pixels differ, first {bad[:5]}"
+        assert [c > 0 for c in info["cycles"]] == [n > 0 for n in sizes], info["cycles"]
+        if not gaps:  # clocks_per_pixel clocks a pixel, pass by pass
+            p = [clocks_per_pixel(cfg, t.k_used) for t, *_ in passes]
+            assert all(k * n <= c < k * n + 100 for c, n, k in zip(info["cycles"], sizes, p) if n), info["cycles"]
+
+
+def test_wipe_build_keeps_only_the_runs(tmp_path):
+    """A stale build directory is emptied before the rebuild (a killed build's precompiled
+    header would be trusted), but for runs/, the kept failed runs."""
+    (tmp_path / "Vtop__pch.h.fast.gch").write_bytes(b"cut short")
+    (tmp_path / "obj").mkdir()
+    (tmp_path / "obj" / "Vtop.o").write_bytes(b"")
+    (tmp_path / "build.stamp").write_text("old")
+    (tmp_path / "runs" / "run-1-0").mkdir(parents=True)
+    (tmp_path / "runs" / "run-1-0" / "sim.log").write_text("kept")
+    F.wipe_build(tmp_path)
+    assert [p.name for p in tmp_path.iterdir()] == ["runs"]
+    assert (tmp_path / "runs" / "run-1-0" / "sim.log").read_text() == "kept"
