@@ -125,7 +125,7 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
          "pixel's centre, still jumps from pixel to pixel and frame to frame.",
          "- **`sat_fc`** (frequency clamping, `filter = \"sat_fc\"`; rtl/fc_weight.v, rtl/fc_scale.v; "
          "model/hw/golden.py fc_weight, fc_scale; model/reference.py shade_fc): each noise term i is faded to its "
-         "mean, 0, as its cells shrink below the pixel (frequency clamping, Gritz 1998, as issue 15 cites it; the fade is linear in the log2 of the footprint phi_i = max|J| max|T_i| cells a pixel, over "
+         "mean, 0, as its cells shrink below the pixel (frequency clamping, Gritz 1998, as issue 15 cites it; the fade is linear in the log2 of the footprint phi_i, the largest entry of |T_i| |J| (noise cells a pixel), over "
          "2^fc_fade_log2 octaves ending at 2^(fc_knee / 2^fc_log_frac), with log2 taken as Mitchell's "
          "piecewise-linear approximation, 1962), f = q + sum alpha_i a_i n_i (and its gradient likewise), and the "
          "faded part's spread moves into the box: w = max(|grad f| N, max_i (1 - alpha_i) |a_i| sigma sqrt(12) N), "

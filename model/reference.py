@@ -354,19 +354,20 @@ def mitchell_log2(x) -> np.ndarray:
 
 def fc_alpha(tex, J) -> list:
     """The fade alpha_i [...] of each noise term under frequency clamping (tex.fc = (knee, fade)
-    octaves): alpha_i = clip((knee - L_i) / fade, 0, 1), L_i = mitchell_log2(max|J|) +
-    mitchell_log2(max|T_i|), the footprint of a pixel in term i's cells; 1 where J or T_i is 0."""
+    octaves): alpha_i = clip((knee - L_i) / fade, 0, 1), L_i = max_k (mitchell_log2(max_c |J_kc|) +
+    mitchell_log2(max_j |T_i,jk|)) over the axes k where both are non-zero, the footprint of a
+    pixel in term i's cells; 1 where no axis qualifies."""
     knee, fade = tex.fc
-    mj = np.max(np.abs(np.asarray(J, dtype=np.float64)).reshape(np.shape(J)[:-2] + (6,)), axis=-1)
-    lj = mitchell_log2(np.where(mj > 0, mj, 1.0))
+    J = np.asarray(J, dtype=np.float64)
+    mk = np.max(np.abs(J), axis=-1)  # [..., 3]
+    lj = mitchell_log2(np.where(mk > 0, mk, 1.0))
     out = []
     for _a, T, _o in _terms(tex):
-        tn = float(np.max(np.abs(T)))
-        if tn == 0:
-            out.append(np.ones(mj.shape))
-            continue
-        al = np.clip((knee - (lj + mitchell_log2(tn))) / fade, 0.0, 1.0)
-        out.append(np.where(mj > 0, al, 1.0))
+        tk = np.max(np.abs(T), axis=0)
+        ok = (mk > 0) & (tk > 0)
+        L = np.max(np.where(ok, lj + mitchell_log2(np.where(tk > 0, tk, 1.0)), -np.inf), axis=-1)
+        al = np.clip((knee - L) / fade, 0.0, 1.0)
+        out.append(np.where(ok.any(axis=-1), al, 1.0))
     return out
 
 

@@ -1,33 +1,34 @@
 // fc_weight: frequency clamping for the filter "sat_fc" (docs/filters.md): per pixel, the
 // fade alpha_i of each noise term and the filter width wv that the faded terms' spread asks for.
 //
-// The bit-exact twin of model/hw/golden.py fc_weight(cfg, tex, Jm, je):
-//   m     = max_k |Jm_k|                                 (the pixel's footprint in s, J = Jm 2^je)
-//   lm    = fc_log2(m) + je 2^LF                        (log2 of it, 2^-LF octaves, LF = FC_LOG_FRAC)
-//   lt_i  = fc_log2(max_jk |T_i,jk|) - T_FRAC 2^LF       (log2 of term i's frequency; static)
-//   alpha_i = clip(FC_KNEE - lm - lt_i, 0, 2^AF)         (u1.AF, AF = FC_LOG_FRAC + FC_FADE_LOG2)
-//           = 2^AF when m = 0, T_i = 0, a_i = 0, i >= k_used or !filter_en (the term unchanged)
+// The bit-exact twin of model/hw/golden.py fc_weight(cfg, tex, Jm, je), axis by axis (k = 0..2):
+//   m_k   = max_c |Jm_kc|                                (row k of the pixel's J = Jm 2^je)
+//   lm_k  = fc_log2(m_k) + je 2^LF                       (2^-LF octaves, LF = FC_LOG_FRAC)
+//   lt_ik = fc_log2(max_j |T_i,jk|) - T_FRAC 2^LF        (column k of T_i; static)
+//   L_i   = max_k (lm_k + lt_ik) over the axes with m_k != 0 and T_i column k != 0
+//   alpha_i = clip(FC_KNEE - L_i, 0, 2^AF)               (u1.AF, AF = FC_LOG_FRAC + FC_FADE_LOG2)
+//           = 2^AF when no axis qualifies, a_i = 0, i >= k_used or !filter_en (the term unchanged)
 //   sd_i  = (2^AF - alpha_i) |a_i|                       (u.{AF + A_FRAC}: the faded part's spread)
 //   wv    = min(shift((max_i sd_i) FC_KS 2^n_log2, F_FRAC - AF - A_FRAC - FC_KSF), 2^(W_CAP_LOG2 + F_FRAC))
 // with fc_log2(x) = (e << LF) + floor((x - 2^e) 2^LF / 2^e), e = bitlen(x) - 1 (Mitchell's
 // piecewise-linear log2, exact at powers of two) and FC_KS = sigma sqrt(12) of the lattice
 // noise in u.FC_KSF (model/hw/config.py fc_sigma12: the width of the box with the noise's
-// standard deviation). The fade is linear in log2 of the footprint phi_i = max|J| max|T_i|
-// (noise cells a pixel): the term is whole up to phi = 2^((FC_KNEE - 2^AF) 2^-LF) and gone
-// (its mean, 0) from phi = 2^(FC_KNEE 2^-LF), Gritz's frequency clamping (1998); its
-// spread moves into the box width, after Heitz et al. (2013).
+// standard deviation). L_i is log2 of the largest entry of |T_i| |J|, the pixel's footprint
+// in term i's cells within a factor 3 of |T_i J|'s; the fade is linear in it: the term is whole
+// up to 2^((FC_KNEE - 2^AF) 2^-LF) cells a pixel and gone (its mean, 0) from 2^(FC_KNEE 2^-LF),
+// frequency clamping (Gritz 1998); its spread moves into the box width, after Heitz et al. (2013).
 //
 // Formats: jm_in 6 x s{J_W}.0 (element 2*k + col), je_in s{JE_W}.0; a_all K x s{A_W}.{A_FRAC},
 //   t_all K x 9 x s{T_W}.{T_FRAC} (the parameter registers, static during a pass);
 //   alpha_out K x u{AF+1}.{AF} (term i at [i*(AF+1) +: AF+1]); wv_out u{W_W}.{F_FRAC} entries.
-// Internal: m u{J_W}; lm, lt, the fade argument s{L_W}.{LF} (L_W below bounds every sum);
+// Internal: m_k u{J_W}; lm, lt, L, the fade argument s{L_W}.{LF} (L_W below bounds every sum);
 //   sd u{SD_W}.{AF + A_FRAC}; the scaled width u{PW_W}.
-// Pipeline (LATENCY = `LAT_FC_WEIGHT = 7 register stages, one pixel per enabled clock):
-//   1  m = max |Jm_k|, je     2  lm (bitlen, shift)     3  alpha_i     4  sd_i
-//   5  max_i sd_i             6  its product with FC_KS 7  wv (shifts, saturation); alpha delayed to it
-//   (alpha from stage 3 through a 4-stage delay_line)
-// The static parts (max|T_i|, then lt_i, |a_i|, t_on_i) are registered functions of the
-// parameter registers, updated every clock.
+// Pipeline (LATENCY = `LAT_FC_WEIGHT = 8 register stages, one pixel per enabled clock):
+//   1  m_k, je      2  lm_k (bitlen, shift)      3  L_i      4  alpha_i      5  sd_i
+//   6  max_i sd_i   7  its product with FC_KS    8  wv (shifts, saturation)
+//   (alpha from stage 4 through a 4-stage delay_line)
+// The static parts (the column maxima of |T_i|, then lt_ik, |a_i|, t_on_i) are registered
+// functions of the parameter registers, updated every clock.
 // Parameters a_all, t_all, k_used, filter_en, n_log2 are per-pass registers, read directly by
 // the stages (lt_i, t_on_i and |a_i| through their registered copies; no pipeline register
 // carries them). CONTRACT: stable while pixels are in flight (texture_pipeline guarantees it).
@@ -97,8 +98,8 @@ localparam signed [L_W-1:0] ONE_L  = ONE_I[L_W-1:0];      // 2^AF < 2^(L_W-1): A
 localparam integer   TF_SHI = T_FRAC << LF;                 // T_FRAC 2^LF
 localparam [L_W-1:0] TF_SH  = TF_SHI[L_W-1:0];
 
-// static: per term tn_i = max_jk |T_i,jk| (a tree of maxima), registered; then from it
-// lt_i = fc_log2(tn_i) - T_FRAC 2^LF, whether the term takes part (t_on_i), |a_i|, registered.
+// static: per term and axis tn_ik = max_j |T_i,jk| (column k), registered; then from it
+// lt_ik = fc_log2(tn_ik) - T_FRAC 2^LF and tz_ik = (tn_ik = 0), |a_i|, t_on_i, registered.
 // These registers follow the parameter registers every clock (not on ce), two clocks behind;
 // a pixel reads them at stage 3, three clocks after it enters at the earliest, and the
 // parameters are written before the pass's first pixel enters.
@@ -106,157 +107,204 @@ function [T_W-1:0] t_abs;
     input [T_W-1:0] v;
     t_abs = v[T_W-1] ? -v : v;  // |-2^(T_W-1)| = 2^(T_W-1): right as unsigned
 endfunction
-function [T_W-1:0] t_max;
-    input [T_W-1:0] x, y;
-    t_max = (x > y) ? x : y;
+function [T_W-1:0] t_max3;
+    input [T_W-1:0] x, y, z;
+    t_max3 = (x > y) ? ((x > z) ? x : z) : ((y > z) ? y : z);
 endfunction
-reg [T_W-1:0] tq [0:8];
-reg [T_W-1:0] tn_c [0:K-1];
-integer       i, j;
-always @* begin
-    for (i = 0; i < K; i = i + 1) begin
-        for (j = 0; j < 9; j = j + 1)
-            tq[j] = t_abs(t_all[(9*i + j)*T_W +: T_W]);
-        tn_c[i] = t_max(t_max(t_max(tq[0], tq[1]), t_max(tq[2], tq[3])),
-                        t_max(t_max(tq[4], tq[5]), t_max(tq[6], tq[7])));
-        tn_c[i] = t_max(tn_c[i], tq[8]);
-    end
-end
-reg [K*T_W-1:0] tn;  // tn_i at [i*T_W +: T_W]
-integer         ia;
+reg [3*K*T_W-1:0] tn;  // tn_ik at [(3*i + k)*T_W +: T_W]
+integer           ia, ka;
 always @(posedge clk) begin
     for (ia = 0; ia < K; ia = ia + 1)
-        tn[ia*T_W +: T_W] <= rst ? {T_W{1'b0}} : tn_c[ia];
+        for (ka = 0; ka < 3; ka = ka + 1)
+            tn[(3*ia + ka)*T_W +: T_W] <= rst ? {T_W{1'b0}} :
+                t_max3(t_abs(t_all[(9*ia + 0 + ka)*T_W +: T_W]), t_abs(t_all[(9*ia + 3 + ka)*T_W +: T_W]),
+                       t_abs(t_all[(9*ia + 6 + ka)*T_W +: T_W]));
 end
-reg signed [L_W-1:0] lt_c    [0:K-1];
-reg                  t_on_c  [0:K-1];
-reg        [A_W-1:0] a_abs_c [0:K-1];
-reg        [A_W-1:0] av;
-reg      [TB_W-1:0]  te;    // e = bitlen(tn) - 1 (0 for tn = 0: masked by t_on)
-/* verilator lint_off UNUSEDSIGNAL */  // above bit LF: the leading one (and zeros)
-reg    [T_W+LF-1:0]  tx;    // floor(tn 2^LF / 2^e) = 2^LF + the fraction
-/* verilator lint_on UNUSEDSIGNAL */
-wire [K*TB_W-1:0]    tbl;   // bitlen(tn_i)
+wire [3*K*TB_W-1:0]  tbl;   // bitlen(tn_ik)
 genvar               gb;
 generate
-    for (gb = 0; gb < K; gb = gb + 1) begin : g_tbl
-        /* verilator lint_off UNUSEDSIGNAL */  // tn = 0 is t_on's test
+    for (gb = 0; gb < 3*K; gb = gb + 1) begin : g_tbl
+        /* verilator lint_off UNUSEDSIGNAL */  // tn = 0 is tested directly
         wire tnz;
         /* verilator lint_on UNUSEDSIGNAL */
         bitlen #(.W(T_W), .BW(TB_W)) u_bitlen_t (.x(tn[gb*T_W +: T_W]), .bl(tbl[gb*TB_W +: TB_W]), .nz(tnz));
     end
 endgenerate
+reg signed [L_W-1:0] lt_c    [0:3*K-1];
+reg                  tz_c    [0:3*K-1];
+reg        [A_W-1:0] a_abs_c [0:K-1];
+reg                  t_on_c  [0:K-1];
+reg        [A_W-1:0] av;
+reg      [TB_W-1:0]  te;    // e = bitlen(tn) - 1 (0 for tn = 0: masked by tz)
+/* verilator lint_off UNUSEDSIGNAL */  // above bit LF: the leading one (and zeros)
+reg    [T_W+LF-1:0]  tx;    // floor(tn 2^LF / 2^e) = 2^LF + the fraction
+/* verilator lint_on UNUSEDSIGNAL */
+integer              i, j;
 always @* begin
+    for (j = 0; j < 3*K; j = j + 1) begin
+        tz_c[j] = (tn[j*T_W +: T_W] == 0);
+        te = tz_c[j] ? {TB_W{1'b0}} : tbl[j*TB_W +: TB_W] - 1'b1;
+        tx = {tn[j*T_W +: T_W], {LF{1'b0}}} >> te;
+        lt_c[j] = $signed({{(L_W-TB_W-LF){1'b0}}, te, tx[LF-1:0]}) - $signed(TF_SH);
+    end
     for (i = 0; i < K; i = i + 1) begin
-        te = (tn[i*T_W +: T_W] != 0) ? tbl[i*TB_W +: TB_W] - 1'b1 : {TB_W{1'b0}};
-        tx = {tn[i*T_W +: T_W], {LF{1'b0}}} >> te;
-        lt_c[i] = $signed({{(L_W-TB_W-LF){1'b0}}, te, tx[LF-1:0]}) - $signed(TF_SH);
         av = a_all[i*A_W +: A_W];
         a_abs_c[i] = av[A_W-1] ? -av : av;
-        t_on_c[i]  = (tn[i*T_W +: T_W] != 0) && (av != 0) && (i < k_used);
+        t_on_c[i]  = (av != 0) && (i < k_used);
     end
 end
-reg signed [L_W-1:0] lt    [0:K-1];
+reg signed [L_W-1:0] lt    [0:3*K-1];
+reg                  tz    [0:3*K-1];
 reg                  t_on  [0:K-1];
 reg        [A_W-1:0] a_abs [0:K-1];
 integer              ip;
 always @(posedge clk) begin
+    for (ip = 0; ip < 3*K; ip = ip + 1) begin
+        lt[ip] <= rst ? {L_W{1'b0}} : lt_c[ip];
+        tz[ip] <= rst ? 1'b1 : tz_c[ip];
+    end
     for (ip = 0; ip < K; ip = ip + 1) begin
-        if (rst) begin
-            lt[ip]    <= {L_W{1'b0}};
-            t_on[ip]  <= 1'b0;
-            a_abs[ip] <= {A_W{1'b0}};
-        end else begin
-            lt[ip]    <= lt_c[ip];
-            t_on[ip]  <= t_on_c[ip];
-            a_abs[ip] <= a_abs_c[ip];
-        end
+        t_on[ip]  <= rst ? 1'b0 : t_on_c[ip];
+        a_abs[ip] <= rst ? {A_W{1'b0}} : a_abs_c[ip];
     end
 end
 
-// stage 1: m = max |Jm_k| (a tree of maxima)
+// stage 1: m_k = max_c |Jm_kc|
 function [J_W-1:0] j_abs;
     input [J_W-1:0] v;
     j_abs = v[J_W-1] ? -v : v;  // |-2^(J_W-1)| = 2^(J_W-1) as unsigned
 endfunction
-function [J_W-1:0] j_max;
-    input [J_W-1:0] x, y;
-    j_max = (x > y) ? x : y;
-endfunction
-wire [J_W-1:0] m0 = j_max(j_max(j_max(j_abs(jm_in[0*J_W +: J_W]), j_abs(jm_in[1*J_W +: J_W])),
-                                j_max(j_abs(jm_in[2*J_W +: J_W]), j_abs(jm_in[3*J_W +: J_W]))),
-                          j_max(j_abs(jm_in[4*J_W +: J_W]), j_abs(jm_in[5*J_W +: J_W])));
-reg [J_W-1:0]  m1;
+reg [J_W-1:0]  m0 [0:2];
+reg [J_W-1:0]  ja, jb;
+integer        k0;
+always @* begin
+    for (k0 = 0; k0 < 3; k0 = k0 + 1) begin
+        ja = j_abs(jm_in[(2*k0)*J_W +: J_W]);
+        jb = j_abs(jm_in[(2*k0 + 1)*J_W +: J_W]);
+        m0[k0] = (ja > jb) ? ja : jb;
+    end
+end
+reg [J_W-1:0]  m1 [0:2];
 reg [JE_W-1:0] je1;
 reg            v1;
+integer        r1;
 always @(posedge clk) begin
     if (rst) begin
         v1 <= 1'b0;
     end else if (ce) begin
         v1  <= in_valid;
-        m1  <= m0;
         je1 <= je_in;
+        for (r1 = 0; r1 < 3; r1 = r1 + 1)
+            m1[r1] <= m0[r1];
     end
 end
 
-// stage 2: lm = fc_log2(m) + je 2^LF; mz = (m = 0)
-wire [JB_W-1:0] mb;
-wire            mnz;
-bitlen #(.W(J_W), .BW(JB_W)) u_bitlen_m (.x(m1), .bl(mb), .nz(mnz));
+// stage 2: lm_k = fc_log2(m_k) + je 2^LF; mz_k = (m_k = 0)
+wire [3*JB_W-1:0]    mb;
+wire [2:0]           mnz;
+genvar               gm;
+generate
+    for (gm = 0; gm < 3; gm = gm + 1) begin : g_mb
+        bitlen #(.W(J_W), .BW(JB_W)) u_bitlen_m (.x(m1[gm]), .bl(mb[gm*JB_W +: JB_W]), .nz(mnz[gm]));
+    end
+endgenerate
 reg [JB_W-1:0]       me;
 /* verilator lint_off UNUSEDSIGNAL */  // above bit LF: the leading one (and zeros)
 reg [J_W+LF-1:0]     mx;    // floor(m 2^LF / 2^e) = 2^LF + the fraction
 /* verilator lint_on UNUSEDSIGNAL */
-reg signed [L_W-1:0] lm0;
+reg signed [L_W-1:0] lm0 [0:2];
+integer              k2;
 always @* begin
-    me  = mnz ? mb - 1'b1 : {JB_W{1'b0}};
-    mx  = {m1, {LF{1'b0}}} >> me;
-    lm0 = $signed({{(L_W-JB_W-LF){1'b0}}, me, mx[LF-1:0]})
-          + $signed({{(L_W-JE_W-LF){je1[JE_W-1]}}, je1, {LF{1'b0}}});
+    for (k2 = 0; k2 < 3; k2 = k2 + 1) begin
+        me  = mnz[k2] ? mb[k2*JB_W +: JB_W] - 1'b1 : {JB_W{1'b0}};
+        mx  = {m1[k2], {LF{1'b0}}} >> me;
+        lm0[k2] = $signed({{(L_W-JB_W-LF){1'b0}}, me, mx[LF-1:0]})
+                  + $signed({{(L_W-JE_W-LF){je1[JE_W-1]}}, je1, {LF{1'b0}}});
+    end
 end
-reg signed [L_W-1:0] lm2;
-reg                  mz2, v2;
+reg signed [L_W-1:0] lm2 [0:2];
+reg        [2:0]     mz2;
+reg                  v2;
+integer              r2;
 always @(posedge clk) begin
     if (rst) begin
         v2 <= 1'b0;
     end else if (ce) begin
         v2  <= v1;
-        lm2 <= lm0;
-        mz2 <= !mnz;
+        mz2 <= ~mnz;
+        for (r2 = 0; r2 < 3; r2 = r2 + 1)
+            lm2[r2] <= lm0[r2];
     end
 end
 
-// stage 3: alpha_i = clip(FC_KNEE - lm - lt_i, 0, 2^AF)
-reg signed [L_W-1:0] x3;
-reg        [AF:0]    al0 [0:K-1];
-integer              i3;
+// stage 3: L_i = max_k (lm_k + lt_ik) over the qualifying axes (none: no footprint)
+reg signed [L_W-1:0] lsum, lmax;
+reg                  lany, ok;
+reg signed [L_W-1:0] l0   [0:K-1];
+reg                  lok0 [0:K-1];
+integer              i3, k3;
 always @* begin
     for (i3 = 0; i3 < K; i3 = i3 + 1) begin
-        x3 = KNEE_L - lm2 - lt[i3];
-        if (mz2 || !filter_en || !t_on[i3])
-            al0[i3] = ONE[AF:0];
-        else if (x3 <= $signed({L_W{1'b0}}))
-            al0[i3] = {(AF+1){1'b0}};
-        else if (x3 >= ONE_L)
-            al0[i3] = ONE[AF:0];
-        else
-            al0[i3] = x3[AF:0];
+        lany = 1'b0;
+        lmax = {L_W{1'b0}};
+        for (k3 = 0; k3 < 3; k3 = k3 + 1) begin
+            lsum = lm2[k3] + lt[3*i3 + k3];
+            ok   = !mz2[k3] && !tz[3*i3 + k3];
+            if (ok && (!lany || lsum > lmax))
+                lmax = lsum;
+            lany = lany | ok;
+        end
+        l0[i3]   = lmax;
+        lok0[i3] = lany && t_on[i3] && filter_en;
     end
 end
-reg [AF:0] al3 [0:K-1];
-reg        v3;
-integer    r3;
+reg signed [L_W-1:0] l3   [0:K-1];
+reg                  lok3 [0:K-1];
+reg                  v3;
+integer              r3;
 always @(posedge clk) begin
     if (rst) begin
         v3 <= 1'b0;
     end else if (ce) begin
         v3 <= v2;
-        for (r3 = 0; r3 < K; r3 = r3 + 1)
-            al3[r3] <= al0[r3];
+        for (r3 = 0; r3 < K; r3 = r3 + 1) begin
+            l3[r3]   <= l0[r3];
+            lok3[r3] <= lok0[r3];
+        end
     end
 end
 
-// stage 4: sd_i = (2^AF - alpha_i) |a_i|
+// stage 4: alpha_i = clip(FC_KNEE - L_i, 0, 2^AF)
+reg signed [L_W-1:0] x4;
+reg        [AF:0]    al0 [0:K-1];
+integer              i4a;
+always @* begin
+    for (i4a = 0; i4a < K; i4a = i4a + 1) begin
+        x4 = KNEE_L - l3[i4a];
+        if (!lok3[i4a])
+            al0[i4a] = ONE[AF:0];
+        else if (x4 <= $signed({L_W{1'b0}}))
+            al0[i4a] = {(AF+1){1'b0}};
+        else if (x4 >= ONE_L)
+            al0[i4a] = ONE[AF:0];
+        else
+            al0[i4a] = x4[AF:0];
+    end
+end
+reg [AF:0] al3 [0:K-1];
+reg        v4a;
+integer    r4a;
+always @(posedge clk) begin
+    if (rst) begin
+        v4a <= 1'b0;
+    end else if (ce) begin
+        v4a <= v3;
+        for (r4a = 0; r4a < K; r4a = r4a + 1)
+            al3[r4a] <= al0[r4a];
+    end
+end
+
+// stage 5: sd_i = (2^AF - alpha_i) |a_i|
 reg [AF:0]     om;
 reg [SD_W-1:0] sd0 [0:K-1];
 integer        i4;
@@ -273,13 +321,13 @@ always @(posedge clk) begin
     if (rst) begin
         v4 <= 1'b0;
     end else if (ce) begin
-        v4 <= v3;
+        v4 <= v4a;
         for (r4 = 0; r4 < K; r4 = r4 + 1)
             sd4[r4] <= sd0[r4];
     end
 end
 
-// stage 5: the widest spread (a balanced tree of maxima: node i of mt holds the larger of
+// stage 6: the widest spread (a balanced tree of maxima: node i of mt holds the larger of
 // nodes 2i and 2i + 1; the leaves KP..2KP-1 are the terms, 0 past K)
 localparam KP = 1 << $clog2(K);
 reg [SD_W-1:0] mt [1:2*KP-1];
@@ -303,7 +351,7 @@ always @(posedge clk) begin
     end
 end
 
-// stage 6: the product smax FC_KS
+// stage 7: the product smax FC_KS
 reg [SD_W+KS_W-1:0] pr6;
 reg                 v6;
 always @(posedge clk) begin
@@ -315,7 +363,7 @@ always @(posedge clk) begin
     end
 end
 
-// stage 7: wv = min(shift(pr << n_log2, C0), 2^CAPB)
+// stage 8: wv = min(shift(pr << n_log2, C0), 2^CAPB)
 reg [PW_W-1:0] pw;
 reg [W_W-1:0]  wv0;
 always @* begin
@@ -336,7 +384,7 @@ always @(posedge clk) begin
     end
 end
 assign out_valid = v7;
-// alpha, from stage 3, waits the four stages of wv (delay_line)
+// alpha, from stage 4, waits the four stages of wv (delay_line)
 wire [K*(AF+1)-1:0] al3_v;
 genvar go;
 generate

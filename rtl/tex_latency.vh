@@ -7,6 +7,6 @@
 `define LAT_NOISE_TERM   8
 `define LAT_FILTER_WIDTH 8
 `define LAT_COLOUR_MAP   14
-`define LAT_FC_WEIGHT    7
+`define LAT_FC_WEIGHT    8
 `define LAT_FC_SCALE     1
 `endif

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from model.hw.config import CONFIG_NAMES
+
 
 ROOT = Path(__file__).resolve().parents[1]
 PY = sys.executable
@@ -195,7 +195,8 @@ BAD = {
                            "--scene no_such_scene: no such scene (known: wood, marble, seascape, fire, planet, moonrise, "
                            "zone_plate, torus; or a path to a .toml file)", ("render", "frame")),
     "no such scene path": (lambda t: {"SCENE": str(t / "missing.toml")}, "no such scene file", ("render", "frame")),
-    "no such configuration": (lambda t: {"CONFIG": "nope"}, "--config nope: no such configuration (known: " + ", ".join(CONFIG_NAMES) + ")",
+    "no such configuration": (lambda t: {"CONFIG": "nope"}, "--config nope: no such configuration (known: "
+                              + ", ".join(sorted(p.stem for p in (ROOT / "config").glob("*.toml"))) + ")",
                               ("render", "frame")),
     "size 0": (lambda t: {"SIZE": "0"}, "--size 0: expected 1..", ("render", "frame")),
     "size not a number": (lambda t: {"SIZE": "big"}, "--size: invalid int value: 'big'", ("render", "frame")),

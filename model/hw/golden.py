@@ -472,31 +472,37 @@ def fc_weight(cfg: Config, tex: TexInt, Jm, je):
     """Frequency clamping (filter "sat_fc", rtl/fc_weight.v; docs/filters.md): per term i the
     fade alpha_i u1.{fc_af} and the width wv of the faded terms' spread (u.{f_frac} entries).
 
-    The footprint of a pixel in term i's noise cells is taken as phi_i = max|J| max|T_i|
-    (J = Jm 2^je, T_i's entries, the largest of each), its log2 as L_i = fc_log2(max|Jm|) +
-    je 2^lf + fc_log2(max|T_i|) - t_frac 2^lf (2^-lf octaves, lf = fc_log_frac), and
+    The footprint of a pixel in term i's noise cells is taken axis by axis: s_k moves by up to
+    m_k = max_c |J_kc| a pixel (J = Jm 2^je, row k), and term i's lattice by up to
+    t_ik = max_j |T_i,jk| cells per unit of s_k (column k of T_i), so
+      L_i = max_k (fc_log2(m_k) + je 2^lf + fc_log2(t_ik) - t_frac 2^lf)   (2^-lf octaves, lf = fc_log_frac)
+    over the axes with m_k > 0 and t_ik > 0 (log2 of the largest entry of |T_i| |J|, within a
+    factor 3 of |T_i J|'s), and
       alpha_i = clip(fc_knee - L_i, 0, 2^fc_af)       (1 = the term as it is, 0 = its mean, 0)
     (so the fade spans 2^fc_fade_log2 octaves below phi = 2^(fc_knee 2^-lf)); alpha_i = 1 when
-    J or T_i is 0 or the texture is unfiltered. A faded term's spread stands in for it in the
-    filter width: sd_i = (2^fc_af - alpha_i) |a_i| (u.{fc_af + a_frac}), and
+    no axis qualifies (J or T_i zero), a_i = 0, the term is past k_used or the texture is
+    unfiltered. A faded term's spread stands in for it in the filter width: sd_i = (2^fc_af -
+    alpha_i) |a_i| (u.{fc_af + a_frac}), and
       wv = min(shift((max_i sd_i) fc_ks 2^n_log2, f_frac - fc_af - a_frac - FC_KSF), 2^(w_cap_log2 + f_frac))
-    with fc_ks = sigma sqrt(12) of the lattice noise (config.fc_sigma12). Terms past k_used or
-    with a = 0 have alpha 2^fc_af and no spread. Returns (alpha [..., K], wv [...])."""
+    with fc_ks = sigma sqrt(12) of the lattice noise (config.fc_sigma12). Returns (alpha [..., K], wv [...])."""
     lf, af = cfg.fc_log_frac, cfg.fc_af
     one = I64(1) << af
     Jm = np.asarray(Jm, dtype=I64)
-    m = np.max(np.abs(Jm.reshape(Jm.shape[:-2] + (6,))), axis=-1)
-    lm = fc_log2(m, lf) + (np.asarray(je, dtype=I64) << lf)
+    m = np.max(np.abs(Jm), axis=-1)  # [..., 3]: per row k of J
+    lm = fc_log2(m, lf) + (np.asarray(je, dtype=I64) << lf)[..., None]
     K = cfg.noise_terms
-    alpha = np.full(m.shape + (K,), one, dtype=I64)
-    sd = np.zeros(m.shape, dtype=I64)
+    alpha = np.full(m.shape[:-1] + (K,), one, dtype=I64)
+    sd = np.zeros(m.shape[:-1], dtype=I64)
+    neg = I64(-(1 << 62))
     for i in range(min(tex.k_used, len(tex.a), K)):
         a = int(tex.a[i])
-        tn = int(np.max(np.abs(np.asarray(tex.T[i], dtype=I64))))
-        if not tex.filter or a == 0 or tn == 0:
+        if not tex.filter or a == 0:
             continue
-        lt = int(fc_log2(tn, lf)) - (cfg.t_frac << lf)
-        al = np.where(m > 0, np.clip(cfg.fc_knee - (lm + lt), 0, one), one)
+        tk = np.max(np.abs(np.asarray(tex.T[i], dtype=I64)), axis=0)  # [3]: per column k of T_i
+        lt = np.where(tk > 0, fc_log2(np.maximum(tk, 1), lf) - (cfg.t_frac << lf), neg)
+        ok = (m > 0) & (tk > 0)
+        L = np.max(np.where(ok, lm + lt, neg), axis=-1)
+        al = np.where(ok.any(axis=-1), np.clip(cfg.fc_knee - L, 0, one), one)
         alpha[..., i] = al
         sd = np.maximum(sd, (one - al) * abs(a))
     cap = I64(1) << (cfg.w_cap_log2 + cfg.f_frac)

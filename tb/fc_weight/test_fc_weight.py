@@ -63,16 +63,19 @@ def reference(cfg, tex, Jm, je):
     """(alpha list, wv) of one pixel in plain Python integers."""
     lf, af = cfg.fc_log_frac, cfg.fc_af
     one = 1 << af
-    m = max(abs(int(x)) for x in np.asarray(Jm).ravel())
+    Jm = np.asarray(Jm)
+    m = [max(abs(int(Jm[k][0])), abs(int(Jm[k][1]))) for k in range(3)]
     alphas, sd = [], 0
     for i in range(cfg.noise_terms):
         a = int(tex.a[i])
-        tn = max(abs(int(x)) for x in np.asarray(tex.T[i]).ravel())
-        if i >= tex.k_used or not tex.filter or a == 0 or tn == 0 or m == 0:
+        T = np.asarray(tex.T[i])
+        tk = [max(abs(int(T[j][k])) for j in range(3)) for k in range(3)]
+        Ls = [mitchell(m[k], lf) + (int(je) << lf) + mitchell(tk[k], lf) - (cfg.t_frac << lf)
+              for k in range(3) if m[k] and tk[k]]
+        if i >= tex.k_used or not tex.filter or a == 0 or not Ls:
             alphas.append(one)
             continue
-        L = mitchell(m, lf) + (int(je) << lf) + mitchell(tn, lf) - (cfg.t_frac << lf)
-        al = min(max(cfg.fc_knee - L, 0), one)
+        al = min(max(cfg.fc_knee - max(Ls), 0), one)
         alphas.append(al)
         sd = max(sd, (one - al) * abs(a))
     sh = cfg.f_frac - af - cfg.a_frac - FC_KSF
@@ -97,6 +100,7 @@ def make_pass(cfg, r, kind: str):
     if kind == "hard":
         T[0] = 0
         T[-1, 1, 1] = tlo
+        T[min(2, K - 1), :, 2] = 0  # a zero column: that axis does not count
         a[min(1, K - 1)] = 0
         a[-1] = alo
     return SimpleNamespace(a=a, T=T, k_used=int(r.integers(0, K + 1)) if kind == "k_used" else K,
@@ -117,6 +121,8 @@ def make_pixels(cfg, r, tex, n: int):
         Jm[j].flat[int(r.integers(0, 6))] = jhi * int(r.choice([-1, 1]))
     Jm[n // 2] = 0
     Jm[n // 2 + 1] = jlo
+    Jm[n // 2 + 4, 0] = 0  # a zero row: that axis does not count
+    Jm[n // 2 + 5, 1:] = 0
     je[n // 2 + 2], je[n // 2 + 3] = cfg.je_min, cfg.je_max
     return Jm.astype(np.int64), je.astype(np.int64)
 

@@ -296,6 +296,9 @@ def test_frame_sat_fc(sim, grad):
         tex = random_texture(cfg, r, "real", mode=mode, filt=True)
         if t >= 2:  # a constant quadric (the seascape's): the faded terms' spread wv is the width
             tex.Q[:9] = 0
+            tex.k_used = max(tex.k_used, 1)
+            if tex.a[0] == 0:  # a term that fades (any nonzero amplitude of the format)
+                tex.a[0] = 1 << cfg.a_frac
         s, Jm, je = random_pixels(cfg, r, n, "real")
         je[: n // 2] = r.integers(cfg.je_min, cfg.je_max + 1, n // 2)  # footprints of every size
         alpha, wv = fc_weight(cfg, tex, Jm, je)
