@@ -184,10 +184,10 @@ always @* begin
         m0[k0] = (ja > jb) ? ja : jb;
     end
 end
-reg [J_W-1:0]  m1 [0:2];
-reg [JE_W-1:0] je1;
-reg            v1;
-integer        r1;
+reg [3*J_W-1:0] m1;  // m_k at [k*J_W +: J_W] (a flat vector: it feeds bitlen ports)
+reg [JE_W-1:0]  je1;
+reg             v1;
+integer         r1;
 always @(posedge clk) begin
     if (rst) begin
         v1 <= 1'b0;
@@ -195,7 +195,7 @@ always @(posedge clk) begin
         v1  <= in_valid;
         je1 <= je_in;
         for (r1 = 0; r1 < 3; r1 = r1 + 1)
-            m1[r1] <= m0[r1];
+            m1[r1*J_W +: J_W] <= m0[r1];
     end
 end
 
@@ -205,7 +205,7 @@ wire [2:0]           mnz;
 genvar               gm;
 generate
     for (gm = 0; gm < 3; gm = gm + 1) begin : g_mb
-        bitlen #(.W(J_W), .BW(JB_W)) u_bitlen_m (.x(m1[gm]), .bl(mb[gm*JB_W +: JB_W]), .nz(mnz[gm]));
+        bitlen #(.W(J_W), .BW(JB_W)) u_bitlen_m (.x(m1[gm*J_W +: J_W]), .bl(mb[gm*JB_W +: JB_W]), .nz(mnz[gm]));
     end
 endgenerate
 reg [JB_W-1:0]       me;
@@ -217,7 +217,7 @@ integer              k2;
 always @* begin
     for (k2 = 0; k2 < 3; k2 = k2 + 1) begin
         me  = mnz[k2] ? mb[k2*JB_W +: JB_W] - 1'b1 : {JB_W{1'b0}};
-        mx  = {m1[k2], {LF{1'b0}}} >> me;
+        mx  = {m1[k2*J_W +: J_W], {LF{1'b0}}} >> me;
         lm0[k2] = $signed({{(L_W-JB_W-LF){1'b0}}, me, mx[LF-1:0]})
                   + $signed({{(L_W-JE_W-LF){je1[JE_W-1]}}, je1, {LF{1'b0}}});
     end
