@@ -43,7 +43,9 @@ def fc_variant(name: str):
     return variant(base, f"{base.name}_fc", filter="sat_fc", noise_terms=k, noise_units=k, quadric_clocks=1)
 
 
-CASES = [(s, c) for s in hdlbuild.SIMS for c in ("full", "reduced", "compact", "random:7", "random:31")
+# every set under Icarus (the 4-state check), the named ones under Verilator too (CI time)
+CASES = [(s, c) for s in hdlbuild.SIMS
+         for c in (("full", "reduced", "compact", "random:7", "random:31") if s == "icarus" else ("full", "reduced"))
          if not os.environ.get("SIM") or os.environ["SIM"] == s]
 
 
