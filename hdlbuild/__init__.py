@@ -31,14 +31,14 @@ from pathlib import Path
 import threading
 
 from hdlbuild.params import block_params, latency, top_params, texture_unit_source
-from model.hw.config import CONFIG_NAMES, ROOT, Config, config_toml, load_config, random_config
+from model.hw.config import CONFIG_NAMES, ROOT, Config, config_toml, load_config, random_config, variant
 
 SIMS = ("icarus", "verilator")
 CONFIGS = CONFIG_NAMES  # the named configurations the tests run (SIM= and CONFIG= narrow them)
 DEFAULT_VECTORS = 2000
 RTL_DIR = ROOT / "rtl"
 
-__all__ = ["ROOT", "RTL_DIR", "SIMS", "CONFIGS", "DEFAULT_VECTORS", "gen_dir", "config_of", "config_ref",
+__all__ = ["ROOT", "RTL_DIR", "SIMS", "CONFIGS", "FPGA_CONFIG", "DEFAULT_VECTORS", "gen_dir", "config_of", "config_ref",
            "setup_verilator_env", "need_simulator", "sim_params", "seed", "vectors", "on_sys_path", "environ",
            "run", "family_params", "block_params", "top_params", "texture_unit_source", "latency", "write_if_changed"]
 
@@ -78,9 +78,13 @@ def need_simulator(sim: str) -> str:
 
 def config_of(config) -> Config:
     """A Config from a configuration name, a path, "random:<seed>" (model.hw.config
-    random_config), or a Config."""
+    random_config), "fpga_regs:<name>" (the configuration with features.fpga_regs = true,
+    named <name>-fpga), or a Config."""
     if isinstance(config, Config):
         return config
+    if str(config).startswith("fpga_regs:"):
+        base = load_config(str(config).split(":", 1)[1])
+        return variant(base, f"{base.name}-fpga", fpga_regs=True)
     if str(config).startswith("random:"):
         seed_ = int(str(config).split(":", 1)[1])
         return random_config(seed_, name=f"random{seed_}")
@@ -130,11 +134,16 @@ def sim_params():
 RANDOM_CONFIGS = 5  # random valid configurations per family test (RANDOM_CONFIGS= overrides)
 
 
-def family_params(n_random: int | None = None):
+FPGA_CONFIG = "fpga_regs:compact"  # the named configuration a block with FPGA_REGS also runs with it set
+
+
+def family_params(n_random: int | None = None, fpga_regs: bool = False):
     """pytest parametrization over (sim, config) for the design family: the named
     configurations and n_random random valid ones ("random:<seed>", the same seeds on every
-    run so that their builds are reused; RANDOM_SEED= picks another set), narrowed by SIM=
-    and CONFIG= (CONFIG=random keeps only the random ones)."""
+    run so that their builds are reused; RANDOM_SEED= picks another set; each draws
+    features.fpga_regs too), narrowed by SIM= and CONFIG= (CONFIG=random keeps only the random
+    ones). fpga_regs: a block with an FPGA_REGS parameter also runs FPGA_CONFIG (compact with
+    fpga_regs = true) under Icarus (CONFIG=fpga_regs:NAME asks for that one)."""
     n = int(os.environ.get("RANDOM_CONFIGS", RANDOM_CONFIGS if n_random is None else n_random))
     base = int(os.environ.get("RANDOM_SEED", "12")) * 100
     sims = [os.environ["SIM"]] if os.environ.get("SIM") else list(SIMS)
@@ -142,7 +151,10 @@ def family_params(n_random: int | None = None):
     randoms = [f"random:{base + i}" for i in range(n)]
     want = os.environ.get("CONFIG")
     cfgs = randoms if want == "random" else [want] if want else named + randoms
-    return [(s, c) for s in sims for c in cfgs]
+    out = [(s, c) for s in sims for c in cfgs]
+    if fpga_regs and not want and "icarus" in sims:
+        out.append(("icarus", FPGA_CONFIG))
+    return out
 
 
 def seed() -> int:

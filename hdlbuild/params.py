@@ -14,6 +14,7 @@ from __future__ import annotations
 import re
 
 from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, _rel, folded
+from model.hw.config import latency as config_latency
 from model.hw.regmap import REGMAP, pix_width
 
 # config/<name>.toml enum values as the RTL's integer parameters
@@ -29,7 +30,7 @@ ENUMS = {
 TOP_KEYS = ("quadric", "quadric_clocks", "noise_terms", "noise_units", "blend", "transform", "amplitude", "filter", "noise_gradient",
             "s_w", "s_frac", "q_w", "q_frac", "j_w", "je_w", "t_w", "t_frac", "a_w", "a_frac", "p_frac",
             "hash_bits", "n_frac", "f_frac", "c_frac", "norm_bits", "w_cap_log2", "div_bits", "n_log2_max",
-            "fc_log_frac", "fc_knee", "fc_fade_log2")
+            "fc_log_frac", "fc_knee", "fc_fade_log2", "fpga_regs")
 
 # texture_pipeline's ports: (direction, width or None for the pixel word, name)
 PORTS = (("input", 1, "clk"), ("input", 1, "rst"),
@@ -77,10 +78,11 @@ def block_params(cfg: Config, module: str) -> dict:
         return top_params(cfg)
     if module == "quadric_mac":
         p = _pick(cfg, "s_w", "s_frac", "q_w", "q_frac", "f_frac", "c_frac")
-        return {"DIAG": value(cfg, "quadric"), "CLOCKS": cfg.quadric_clocks, **p, "C_W": cfg.c_w}
+        return {"DIAG": value(cfg, "quadric"), "CLOCKS": cfg.quadric_clocks, **p, "C_W": cfg.c_w,
+                **_pick(cfg, "fpga_regs")}
     if module == "noise_term":
         return {**_pick(cfg, "s_w", "s_frac", "t_w", "t_frac", "a_w", "a_frac", "p_frac", "hash_bits", "n_frac",
-                        "f_frac", "c_frac", "transform", "blend", "amplitude", "noise_gradient"),
+                        "f_frac", "c_frac", "transform", "blend", "amplitude", "noise_gradient", "fpga_regs"),
                 "PARAM_PIPE": 1 if folded(cfg) else 0,  # noise_fold's units take a term a clock
                 "PERM": perm_literal(cfg)}
     if module == "noise_hash":
@@ -89,7 +91,7 @@ def block_params(cfg: Config, module: str) -> dict:
         return {"C_W": cfg.c_w, **_pick(cfg, "c_frac", "j_w", "je_w", "norm_bits", "f_frac", "w_cap_log2",
                                         "n_log2_max")}
     if module == "colour_map":  # sat_fc: the box filter (the fade is before it)
-        return {"F_W": cfg.f_w, **_pick(cfg, "f_frac", "w_cap_log2", "n_log2_max", "div_bits"),
+        return {"F_W": cfg.f_w, **_pick(cfg, "f_frac", "w_cap_log2", "n_log2_max", "div_bits", "fpga_regs"),
                 "FILTER": 1 if cfg.filter in SAT_FILTERS else value(cfg, "filter")}
     if module == "fc_weight":
         return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "j_w", "je_w", "t_w", "t_frac", "a_w", "a_frac", "f_frac",
@@ -109,17 +111,13 @@ def block_params(cfg: Config, module: str) -> dict:
     if module == "axis_skid":
         return {"DATA_W": 32}
     if module == "isqrt":
-        return {"L_W": cfg.l_w, "R_W": cfg.r_w, "LATENCY": latency("filter_width") - 5}
+        return {"L_W": cfg.l_w, "R_W": cfg.r_w, "LATENCY": latency("filter_width", cfg) - 5}
     raise KeyError(f"block_params: no parameter set for module '{module}'")
 
 
-def latency(module: str) -> int:
-    """A block's latency in register stages, from rtl/tex_latency.vh (`LAT_<MODULE>)."""
-    text = (ROOT / "rtl" / "tex_latency.vh").read_text()
-    m = re.search(rf"`define\s+LAT_{module.upper()}\s+(\d+)", text)
-    if not m:
-        raise KeyError(f"rtl/tex_latency.vh: no LAT_{module.upper()}")
-    return int(m.group(1))
+def latency(module: str, cfg: Config | None = None) -> int:
+    """A block's latency in register stages under cfg (model.hw.config.latency: rtl/tex_latency.vh)."""
+    return config_latency(module, cfg)
 
 
 def texture_unit_source(cfg: Config) -> str:

@@ -57,7 +57,14 @@
 // (D + w) >> 1 (normalised: (D + w + 2 h(sh)) >> (sh + 1)), divisor | 7..14 box_divide (one
 // quotient bit per stage). mip/none: 1 u | 2-3 mip_index | 4 table reads | 5 select | 6..14
 // delay line.
-// Latency `LAT_COLOUR_MAP = 14 (register stages); throughput one pixel per enabled clock.
+// FPGA_REGS = 1 ([fpga_regs]) adds four register stages (P below): the inputs registered
+// (stage 0); the table outputs registered before the multipliers (4b: the block RAM's
+// clock-to-out off the multiplier path); sat_integral's products registered before their
+// sums (5a), beside them the normalisation split in two (5a: sh0 = bitlen(w >> B); 5b:
+// den', sh, w + 2 h(sh)); stage 6 split after D (6a: D per channel; 6b: + w, the shift,
+// the operand select). mip/none: the delay line is four stages longer.
+// Latency `LAT_COLOUR_MAP = 14 (FPGA_REGS: `LAT_COLOUR_MAP_FPGA = 18) register stages;
+// throughput one pixel per enabled clock.
 // Reset (synchronous, active high) clears the valid chain and rgba_out (no X after reset);
 // rgba_out loads only with a valid result.
 // Written for event-driven simulation speed: combinational logic in one always @* per
@@ -75,7 +82,8 @@ module colour_map #(
     parameter W_CAP_LOG2 = 16,  // [w_cap_log2] w saturates at 2^W_CAP_LOG2 entries
     parameter N_LOG2_MAX = 8,   // [n_log2_max] log2 of the largest colour table (>= 1)
     parameter FILTER     = 1,   // [filter] 0 none (point lookup), 1 sat, 2 mip
-    parameter DIV_BITS   = 0    // [div_bits] box-filter division: 0 exact, B > 0 on B-bit w
+    parameter DIV_BITS   = 0,   // [div_bits] box-filter division: 0 exact, B > 0 on B-bit w
+    parameter FPGA_REGS  = 0    // [fpga_regs] 1: the four extra register stages above
 ) (clk, rst, ce, in_valid, f_in, w_in, mode, n_log2, filter_en, wr_en, wr_table, wr_addr, wr_data,
    out_valid, rgba_out);
 
@@ -109,7 +117,8 @@ input  wire [4*CS_W-1:0]    wr_data;
 output wire                 out_valid;
 output wire [31:0]          rgba_out;
 
-localparam LAT    = `LAT_COLOUR_MAP;
+localparam LAT    = FPGA_REGS ? `LAT_COLOUR_MAP_FPGA : `LAT_COLOUR_MAP;
+localparam P      = FPGA_REGS ? 1 : 0;  // each optional register stage (delay_line of P stages)
 
 localparam KW     = X_W - XF;           // entry index of a window end (signed)
 localparam TW     = D_W - XF;           // whole-entry part of D
@@ -134,6 +143,19 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------------------
+// Stage 0 (FPGA_REGS): the inputs registered
+
+wire            in_valid_i;
+wire [F_W-1:0]  f_i;
+wire [W_W-1:0]  w_i;
+wire            mode_i;
+wire [NL_W-1:0] n_log2_i;
+wire            filter_en_i;
+delay_line #(.W(1), .N(P), .CLEAR(1)) u_dly_iv (.clk(clk), .rst(rst), .ce(ce), .d_in(in_valid), .d_out(in_valid_i));
+delay_line #(.W(F_W + W_W + 2 + NL_W), .N(P)) u_dly_in (.clk(clk), .rst(rst), .ce(ce),
+    .d_in({f_in, w_in, mode, filter_en, n_log2}), .d_out({f_i, w_i, mode_i, filter_en_i, n_log2_i}));
+
+// ---------------------------------------------------------------------------
 // Stage 1: u
 
 reg [CW-1:0]  f_c;       // f sign-extended to CW
@@ -146,11 +168,11 @@ reg [U_W-1:0] u_mod;
 reg [U_W-1:0] u_clamp;
 
 always @* begin
-    f_c = {CW{f_in[F_W-1]}};
-    f_c[F_W-1:0] = f_in;
+    f_c = {CW{f_i[F_W-1]}};
+    f_c[F_W-1:0] = f_i;
     gsh = {CW{1'b0}};
     gsh[GUARD] = 1'b1;
-    gsh = gsh >> n_log2;
+    gsh = gsh >> n_log2_i;
     lo_thr = -gsh;
     hi_thr = {CW{1'b0}};
     hi_thr[FF] = 1'b1;
@@ -159,11 +181,11 @@ always @* begin
     guard_u[GUARD] = 1'b1;
     n_u = {U_W{1'b0}};
     n_u[FF] = 1'b1;
-    n_u = n_u << n_log2;
+    n_u = n_u << n_log2_i;
     // mod: (f mod 1) N
     u_mod = {U_W{1'b0}};
-    u_mod[FF-1:0] = f_in[FF-1:0];
-    u_mod = u_mod << n_log2;
+    u_mod[FF-1:0] = f_i[FF-1:0];
+    u_mod = u_mod << n_log2_i;
     // clamp: clip(f N, -guard, N + guard); f N < -guard iff f < -(guard >> n_log2), and
     // f N > N + guard iff f > 1.0 + (guard >> n_log2); in between f N fits U_W bits
     if ($signed(f_c) < $signed(lo_thr))
@@ -171,7 +193,7 @@ always @* begin
     else if ($signed(f_c) > $signed(hi_thr))
         u_clamp = n_u + guard_u;
     else
-        u_clamp = f_c[U_W-1:0] << n_log2;
+        u_clamp = f_c[U_W-1:0] << n_log2_i;
 end
 
 reg             s1_valid_reg;
@@ -184,12 +206,12 @@ always @(posedge clk) begin
     if (rst)
         s1_valid_reg <= 1'b0;
     else if (ce)
-        s1_valid_reg <= in_valid;
+        s1_valid_reg <= in_valid_i;
     if (ce) begin
-        s1_u_reg         <= mode ? u_clamp : u_mod;
-        s1_w_reg         <= filter_en ? w_in : {W_W{1'b0}};  // filter off: w = 0
-        s1_mode_reg      <= mode;
-        s1_n_log2_reg    <= n_log2;
+        s1_u_reg         <= mode_i ? u_clamp : u_mod;
+        s1_w_reg         <= filter_en_i ? w_i : {W_W{1'b0}};  // filter off: w = 0
+        s1_mode_reg      <= mode_i;
+        s1_n_log2_reg    <= n_log2_i;
     end
 end
 
@@ -260,6 +282,24 @@ generate
         reg [XF-1:0]    s4_fr_a_reg, s4_fr_b_reg;
         reg             s4_first_a_reg, s4_first_b_reg;
 
+        // ---- stage 4b (FPGA_REGS): the table outputs and stage 4's registers registered
+        // again (x: P stages after the read; y: 2P, beside sat_integral's products)
+        wire [31:0]       clut_ax, clut_bx, clut_ay;
+        wire [4*CS_W-1:0] csat_ax, csat_bx, total_x;
+        wire [W_W-1:0]    s4x_w, s4y_w;
+        wire              s4x_mode, s4y_mode;
+        wire [KW-1:0]     s4x_k_a, s4x_k_b;
+        wire [XF-1:0]     s4x_fr_a, s4x_fr_b;
+        wire              s4x_first_a, s4x_first_b;
+        delay_line #(.W(64 + 12*CS_W), .N(P)) u_dly_tbl (.clk(clk), .rst(rst), .ce(ce),
+            .d_in({clut_a, clut_b, csat_a, csat_b, total}), .d_out({clut_ax, clut_bx, csat_ax, csat_bx, total_x}));
+        delay_line #(.W(W_W + 3 + 2*KW + 2*XF), .N(P)) u_dly_s4 (.clk(clk), .rst(rst), .ce(ce),
+            .d_in({s4_w_reg, s4_mode_reg, s4_k_a_reg, s4_k_b_reg, s4_fr_a_reg, s4_fr_b_reg, s4_first_a_reg,
+                   s4_first_b_reg}),
+            .d_out({s4x_w, s4x_mode, s4x_k_a, s4x_k_b, s4x_fr_a, s4x_fr_b, s4x_first_a, s4x_first_b}));
+        delay_line #(.W(32 + W_W + 1), .N(P)) u_dly_s4y (.clk(clk), .rst(rst), .ce(ce),
+            .d_in({clut_ax, s4x_w, s4x_mode}), .d_out({clut_ay, s4y_w, s4y_mode}));
+
         // ---- stage 5: partial integrals and whole-entry products of both ends
         // q operands: clamp clut[ka], clut[kb]; mod total >> 8 (a), total mod 2^8 (b)
         reg [4*QW-1:0] q_a, q_b;
@@ -271,12 +311,12 @@ generate
             for (qc = 0; qc < 4; qc = qc + 1) begin
                 qa = {QW{1'b0}};
                 qb = {QW{1'b0}};
-                if (s4_mode_reg) begin
-                    qa[7:0] = clut_a[8*qc +: 8];
-                    qb[7:0] = clut_b[8*qc +: 8];
+                if (s4x_mode) begin
+                    qa[7:0] = clut_ax[8*qc +: 8];
+                    qb[7:0] = clut_bx[8*qc +: 8];
                 end else begin
-                    qa[CS_W-9:0] = total[qc*CS_W+8 +: CS_W-8];
-                    qb[7:0]      = total[qc*CS_W +: 8];
+                    qa[CS_W-9:0] = total_x[qc*CS_W+8 +: CS_W-8];
+                    qb[7:0]      = total_x[qc*CS_W +: 8];
                 end
                 q_a[qc*QW +: QW] = qa;
                 q_b[qc*QW +: QW] = qb;
@@ -286,13 +326,13 @@ generate
         wire [4*D_W-1:0] p_a, p_b;
         wire [4*TW-1:0]  e_a, e_b;
 
-        sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W)) u_integral_a (
-            .clk(clk), .ce(ce), .c_in(clut_a), .before_in(csat_a), .first_in(s4_first_a_reg),
-            .fr_in(s4_fr_a_reg), .k_in(s4_k_a_reg), .q_in(q_a), .p_out(p_a), .e_out(e_a)
+        sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W), .PIPE(P)) u_integral_a (
+            .clk(clk), .ce(ce), .c_in(clut_ax), .before_in(csat_ax), .first_in(s4x_first_a),
+            .fr_in(s4x_fr_a), .k_in(s4x_k_a), .q_in(q_a), .p_out(p_a), .e_out(e_a)
         );
-        sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W)) u_integral_b (
-            .clk(clk), .ce(ce), .c_in(clut_b), .before_in(csat_b), .first_in(s4_first_b_reg),
-            .fr_in(s4_fr_b_reg), .k_in(s4_k_b_reg), .q_in(q_b), .p_out(p_b), .e_out(e_b)
+        sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W), .PIPE(P)) u_integral_b (
+            .clk(clk), .ce(ce), .c_in(clut_bx), .before_in(csat_bx), .first_in(s4x_first_b),
+            .fr_in(s4x_fr_b), .k_in(s4x_k_b), .q_in(q_b), .p_out(p_b), .e_out(e_b)
         );
 
         reg             s5_mode_reg;
@@ -335,31 +375,52 @@ generate
                 s4_first_a_reg <= first_a;
                 s4_first_b_reg <= first_b;
                 // stage 5
-                s5_mode_reg    <= s4_mode_reg;
-                s5_point_reg   <= clut_a;
+                s5_mode_reg    <= s4y_mode;
+                s5_point_reg   <= clut_ay;
                 // stage 6
                 s6_num_reg     <= num;
                 s6_den_reg     <= den;
             end
         end
 
+        // ---- stage 6a: D = (whole << XF) + p_b - p_a per channel (mod 2^D_W), whole = e_b - e_a
+        // (clamp) or e_b + (e_a << 8) (mod); FPGA_REGS: registered (6a), with the point
+        // lookup's clut[k], before stage 6b adds w and selects the divider operands
+        reg [4*D_W-1:0] d_all;
+        integer         c6;
+        reg [TW-1:0]    ea_x;   // e_a (clamp: negated) or e_a << 8 (mod)
+        reg [TW-1:0]    whole;  // whole entries of D, mod 2^TW
+        always @* begin
+            for (c6 = 0; c6 < 4; c6 = c6 + 1) begin
+                if (s5_mode_reg)
+                    ea_x = -e_a[c6*TW +: TW];
+                else
+                    ea_x = e_a[c6*TW +: TW] << 8;
+                whole = e_b[c6*TW +: TW] + ea_x;
+                d_all[c6*D_W +: D_W] = {whole, {XF{1'b0}}} + p_b[c6*D_W +: D_W] - p_a[c6*D_W +: D_W];
+            end
+        end
+        wire [4*D_W-1:0] d_6;
+        wire [31:0]      point_6;
+        delay_line #(.W(4*D_W + 32), .N(P)) u_dly_d (.clk(clk), .rst(rst), .ce(ce), .d_in({d_all, s5_point_reg}),
+                                                    .d_out({d_6, point_6}));
+
         if (!NORM) begin : g_exact
             // ---- exact division (DIV_BITS = 0): the divisor is w itself
             reg [W_W-1:0] s5_w_reg;
             always @(posedge clk) begin
                 if (ce)
-                    s5_w_reg <= s4_w_reg;
+                    s5_w_reg <= s4y_w;
             end
 
-            // ---- stage 6: divider operands; num = (D + w) >> 1, den = w, or clut[k] / 1, with
-            // D = (whole << XF) + p_b - p_a, whole = e_b - e_a (clamp) or e_b + (e_a << 8) (mod)
+            // ---- stage 6(b): divider operands; num = (D + w) >> 1, den = w, or clut[k] / 1
+            wire [W_W-1:0]      w_6;
+            delay_line #(.W(W_W), .N(P)) u_dly_w6 (.clk(clk), .rst(rst), .ce(ce), .d_in(s5_w_reg), .d_out(w_6));
             reg                 w_zero;
             reg  [D_W-1:0]      d_w;    // w zero-extended
             reg  [W_W-1:0]      den_x;
             reg  [4*(D_W-1)-1:0] num_x;
             integer             c;
-            reg  [TW-1:0]       ea_x;   // e_a (clamp: negated) or e_a << 8 (mod)
-            reg  [TW-1:0]       whole;  // whole entries of D, mod 2^TW
             // D + w (< 2^D_W); floor((D + w) / 2w) = floor(((D + w) >> 1) / w): the LSB of
             // D + w is not needed
             /* verilator lint_off UNUSEDSIGNAL */
@@ -367,21 +428,16 @@ generate
             /* verilator lint_on UNUSEDSIGNAL */
             reg  [D_W-2:0]      pt;     // clut[k] zero-extended
             always @* begin
-                w_zero = (s5_w_reg == {W_W{1'b0}});
+                w_zero = (w_6 == {W_W{1'b0}});
                 d_w = {D_W{1'b0}};
-                d_w[W_W-1:0] = s5_w_reg;
-                den_x = s5_w_reg;
+                d_w[W_W-1:0] = w_6;
+                den_x = w_6;
                 if (w_zero)
                     den_x[0] = 1'b1;
                 for (c = 0; c < 4; c = c + 1) begin
-                    if (s5_mode_reg)
-                        ea_x = -e_a[c*TW +: TW];
-                    else
-                        ea_x = e_a[c*TW +: TW] << 8;
-                    whole = e_b[c*TW +: TW] + ea_x;
-                    sum = {whole, {XF{1'b0}}} + p_b[c*D_W +: D_W] - p_a[c*D_W +: D_W] + d_w;
+                    sum = d_6[c*D_W +: D_W] + d_w;
                     pt = {(D_W-1){1'b0}};
-                    pt[7:0] = s5_point_reg[8*c +: 8];
+                    pt[7:0] = point_6[8*c +: 8];
                     num_x[c*(D_W-1) +: D_W-1] = w_zero ? pt : sum[D_W-1:1];
                 end
             end
@@ -398,6 +454,15 @@ generate
 
             reg [SH_W-1:0] sh0;    // bitlen(w >> B): leading-one detector on the HW high bits
             integer        i;
+            always @* begin
+                sh0 = {SH_W{1'b0}};
+                for (i = 0; i < HW; i = i + 1)
+                    if (s4x_w[B + i])
+                        sh0 = i[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
+            end
+            // FPGA_REGS: sh0 registered (5a), beside sat_integral's products; w is s4y_w
+            wire [SH_W-1:0] sh0_y;
+            delay_line #(.W(SH_W), .N(P)) u_dly_sh0 (.clk(clk), .rst(rst), .ce(ce), .d_in(sh0), .d_out(sh0_y));
             // 2w >> sh0: < 2^(B+1), bits B..0 are t (bitlen(w) <= B + sh0)
             /* verilator lint_off UNUSEDSIGNAL */
             reg [W_W:0]    w2s;
@@ -408,11 +473,7 @@ generate
             reg [SH_W-1:0] sh;
             reg [W_W:0]    h2;     // 2 h(sh): 2^sh, 0 when sh = 0
             always @* begin
-                sh0 = {SH_W{1'b0}};
-                for (i = 0; i < HW; i = i + 1)
-                    if (s4_w_reg[B + i])
-                        sh0 = i[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
-                w2s = {s4_w_reg, 1'b0} >> sh0;
+                w2s = {s4y_w, 1'b0} >> sh0_y;
                 t = w2s[B:0];
                 ovf = &t;
                 den_n = t[B:1] + {{(B-1){1'b0}}, t[0]};
@@ -420,7 +481,7 @@ generate
                     den_n = {B{1'b0}};
                     den_n[B-1] = 1'b1;
                 end
-                sh = sh0 + {{(SH_W-1){1'b0}}, ovf};
+                sh = sh0_y + {{(SH_W-1){1'b0}}, ovf};
                 h2 = {{W_W{1'b0}}, 1'b1} << sh;
                 if (sh == {SH_W{1'b0}})
                     h2 = {(W_W+1){1'b0}};
@@ -434,19 +495,22 @@ generate
                 if (ce) begin
                     s5_den_reg <= den_n;
                     s5_sh_reg  <= sh;
-                    s5_wn_reg  <= {1'b0, s4_w_reg} + h2;
+                    s5_wn_reg  <= {1'b0, s4y_w} + h2;
                 end
             end
 
-            // ---- stage 6: num' = (D + w + 2 h(sh)) >> (sh + 1) (< 2^NQ_W), den' (w = 0:
-            // clut[k] / 1), with D = (whole << XF) + p_b - p_a as in the exact division
+            // ---- stage 6(b): num' = (D + w + 2 h(sh)) >> (sh + 1) (< 2^NQ_W), den' (w = 0:
+            // clut[k] / 1), with D from stage 6a
+            wire [B-1:0]        den_6;
+            wire [SH_W-1:0]     sh_6;
+            wire [W_W:0]        wn_6;
+            delay_line #(.W(B + SH_W + W_W + 1), .N(P)) u_dly_n6 (.clk(clk), .rst(rst), .ce(ce),
+                .d_in({s5_den_reg, s5_sh_reg, s5_wn_reg}), .d_out({den_6, sh_6, wn_6}));
             reg                 w_zero;
             reg  [D_W-1:0]      d_wn;   // w + 2 h(sh) zero-extended
             reg  [B-1:0]        den_x;
             reg  [4*NQ_W-1:0]   num_x;
             integer             c;
-            reg  [TW-1:0]       ea_x;   // e_a (clamp: negated) or e_a << 8 (mod)
-            reg  [TW-1:0]       whole;  // whole entries of D, mod 2^TW
             // dd = D (< 2^D_W, computed mod 2^D_W); sum = D + w + 2 h(sh), one bit wider: with
             // B = 1, 2 h(sh) reaches w (w = 2^sh), and D + 2w of a whole 255-valued window is
             // 2^D_W (the make-fit sweep found it); its LSB is below the rounding; nsh = sum >>
@@ -459,23 +523,18 @@ generate
             /* verilator lint_on UNUSEDSIGNAL */
             reg  [NQ_W-1:0]     pt;     // clut[k] zero-extended
             always @* begin
-                w_zero = (s5_wn_reg == {(W_W+1){1'b0}});
+                w_zero = (wn_6 == {(W_W+1){1'b0}});
                 d_wn = {D_W{1'b0}};
-                d_wn[W_W:0] = s5_wn_reg;
-                den_x = s5_den_reg;   // 0 when w = 0
+                d_wn[W_W:0] = wn_6;
+                den_x = den_6;   // 0 when w = 0
                 if (w_zero)
                     den_x[0] = 1'b1;
                 for (c = 0; c < 4; c = c + 1) begin
-                    if (s5_mode_reg)
-                        ea_x = -e_a[c*TW +: TW];
-                    else
-                        ea_x = e_a[c*TW +: TW] << 8;
-                    whole = e_b[c*TW +: TW] + ea_x;
-                    dd = {whole, {XF{1'b0}}} + p_b[c*D_W +: D_W] - p_a[c*D_W +: D_W];
+                    dd = d_6[c*D_W +: D_W];
                     sum = {1'b0, dd} + {1'b0, d_wn};
-                    nsh = sum[D_W:1] >> s5_sh_reg;
+                    nsh = sum[D_W:1] >> sh_6;
                     pt = {NQ_W{1'b0}};
-                    pt[7:0] = s5_point_reg[8*c +: 8];
+                    pt[7:0] = point_6[8*c +: 8];
                     num_x[c*NQ_W +: NQ_W] = w_zero ? pt : nsh[NQ_W-1:0];
                 end
             end
@@ -484,13 +543,18 @@ generate
 
         end
 
-        // ---- stages 7..14: one quotient bit per stage (LAT = 6 + 8);
+        // the operands' valid: stage 6's, FPGA_REGS: three stages later (4b, 5a, 6a)
+        wire div_valid;
+        delay_line #(.W(1), .N(3*P), .CLEAR(1)) u_dly_dv (.clk(clk), .rst(rst), .ce(ce), .d_in(sv_reg[4]),
+                                                         .d_out(div_valid));
+
+        // ---- stages 7..14: one quotient bit per stage (LAT = 6 + 8, FPGA_REGS: 10 + 8);
         // exact: divisor w itself; normalised: B-bit divisors, and for B <= 9 the quotient can
         // reach 256 (up to 383), saturated to 255 (SAT)
         box_divide #(
             .NUM_W(NUM_DW), .DEN_W(DEN_DW), .Q_W(8), .LANES(4), .SAT(NORM ? SAT : 0)
         ) u_divide (
-            .clk(clk), .rst(rst), .ce(ce), .in_valid(sv_reg[4]),
+            .clk(clk), .rst(rst), .ce(ce), .in_valid(div_valid),
             .num_in(s6_num_reg), .den_in(s6_den_reg),
             .out_valid(out_valid), .q_out(rgba_out)
         );
@@ -527,7 +591,7 @@ generate
 
         // ---- stages 5..LAT: select, then a delay line to the block's latency; the last
         // register is the output register (reset, loads only a valid result)
-        localparam DL = LAT - 4;  // register stages after the table read (>= 3)
+        localparam DL = LAT - 4 - P;  // register stages after the table read (>= 3)
         reg [2:0]           sv_reg;   // valid for stages 2..4
         reg                 use_mip_reg;
         reg [DL-1:0]        dv_reg;
@@ -543,7 +607,7 @@ generate
                 dv_reg <= {dv_reg[DL-2:0], sv_reg[2]};
             end
             if (ce) begin
-                s1_filter_en_reg <= filter_en;
+                s1_filter_en_reg <= filter_en_i;
                 use_mip_reg      <= use_mip;
                 dd_reg           <= {dd_reg[(DL-2)*32-1:0], use_mip_reg ? mip_data : clut_a};
             end

@@ -1,11 +1,13 @@
-// lerp: linear interpolation y = a + floor((b - a) * t / 2^P_FRAC), combinational.
+// lerp: linear interpolation y = a + floor((b - a) * t / 2^P_FRAC), combinational, or with
+// PIPE = 1 (noise_term's FPGA_REGS) a register between the multiplier and the adder.
 //
 // The twin of model/hw/golden.py lerp(pf, a, b, t) = a + (((b - a) * t) >> pf).
 // Formats: a, b, y sW.F (any F, the same for all three); t sTW.P_FRAC, a blend
 // weight in [0, 1] (0 <= t <= 2^P_FRAC), so y lies between a and b and fits W bits
 // (the top bits of the scaled step are redundant sign bits and are dropped).
 // Rounding: floor (arithmetic shift right) of the scaled step.
-// Latency: 0 (combinational; the instantiating pipeline registers around it).
+// Latency: PIPE = 0: 0 (combinational; the instantiating pipeline registers around it);
+// PIPE = 1: 1 (the scaled step and a registered, advancing with ce; y combinational after).
 // Cost: one (W+1) x TW signed multiplier, two W-bit adders.
 // Written for event-driven simulation speed: the whole body is one always @* with
 // blocking assigns (one evaluation per input change, no net-level arithmetic).
@@ -15,8 +17,13 @@
 module lerp #(
     parameter W      = 16,  // width of a, b and y (signed)
     parameter TW     = 10,  // width of t (signed word, value in [0, 2^P_FRAC])
-    parameter P_FRAC = 8    // fraction bits of t
+    parameter P_FRAC = 8,   // fraction bits of t
+    parameter PIPE   = 0    // 1: the step and a registered (latency 1)
 ) (
+    /* verilator lint_off UNUSEDSIGNAL */  // PIPE = 0: no clock
+    input  wire                 clk,
+    input  wire                 ce,
+    /* verilator lint_on UNUSEDSIGNAL */
     input  wire signed [W-1:0]  a,
     input  wire signed [W-1:0]  b,
     input  wire signed [TW-1:0] t,
@@ -32,8 +39,15 @@ reg signed [W+TW:0] step;
 always @* begin
     diff = b - a;                       // operands sign-extended to W+1 bits: exact
     step = (diff * t) >>> P_FRAC;       // exact product: |diff * t| < 2^(W+TW)
+end
+
+// PIPE = 1: the step's W bits and a registered
+wire signed [W-1:0] a_p, step_p;
+delay_line #(.W(2*W), .N(PIPE)) u_dly (.clk(clk), .rst(1'b0), .ce(ce), .d_in({a, step[W-1:0]}), .d_out({a_p, step_p}));
+
+always @* begin
     // a + step lies between a and b, so the W-bit (mod 2^W) sum is exact
-    y    = a + step[W-1:0];
+    y = a_p + step_p;
 end
 
 endmodule

@@ -8,7 +8,8 @@
 // w in [0, 1] (3 f2 - 2 f3 reaches exactly 1.0 near fp = 1), dw in [0, 1.5].
 // All sums are taken mod 2^BW, exact because the results fit (BW >= P_FRAC + 2, and
 // P_FRAC >= 2: at P_FRAC = 1 the floored f2 lets the cubic dw reach 3.0).
-// Latency: 0 (combinational; noise_term registers around it).
+// Latency: 0 (combinational; noise_term registers around it); PIPE = 1 (noise_term's
+// FPGA_REGS): 1, fp and f2 registered between the two multipliers (advancing with ce).
 // Cost: cubic two P_FRAC x P_FRAC unsigned multipliers in series; linear none.
 // Written for event-driven simulation speed: the body is one always @* with blocking
 // assigns (one evaluation per input change, no net-level arithmetic).
@@ -18,8 +19,13 @@
 module noise_blend #(
     parameter BLEND  = 1,   // 0: linear, 1: cubic (blend)
     parameter P_FRAC = 12,  // fraction bits of fp, w and dw (p_frac)
-    parameter BW     = 14   // width of w and dw (blend_w, >= P_FRAC + 2)
+    parameter BW     = 14,  // width of w and dw (blend_w, >= P_FRAC + 2)
+    parameter PIPE   = 0    // 1: a register stage between fp^2 and f2 fp (latency 1)
 ) (
+    /* verilator lint_off UNUSEDSIGNAL */  // PIPE = 0: no clock
+    input  wire                     clk,
+    input  wire                     ce,
+    /* verilator lint_on UNUSEDSIGNAL */
     input  wire        [P_FRAC-1:0] fp,
     output reg  signed [BW-1:0]     w,
     output reg  signed [BW-1:0]     dw
@@ -29,8 +35,10 @@ localparam [BW-1:0] ONE = {{(BW-P_FRAC-1){1'b0}}, 1'b1, {P_FRAC{1'b0}}};  // 1.0
 
 generate
     if (BLEND == 0) begin : g_linear
+        wire [P_FRAC-1:0] fp_p;  // fp after PIPE stages
+        delay_line #(.W(P_FRAC), .N(PIPE)) u_dly (.clk(clk), .rst(1'b0), .ce(ce), .d_in(fp), .d_out(fp_p));
         always @* begin
-            w  = {{(BW-P_FRAC){1'b0}}, fp};
+            w  = {{(BW-P_FRAC){1'b0}}, fp_p};
             dw = ONE;
         end
     end else begin : g_cubic
@@ -39,12 +47,16 @@ generate
         reg [2*P_FRAC-1:0] sq, cube;
         /* verilator lint_on UNUSEDSIGNAL */
         reg [BW-1:0]       f2_ext, f3_ext, slope;
+        always @* sq = fp * fp;
+        // fp and f2 after PIPE stages
+        wire [P_FRAC-1:0] fp_p, f2_p;
+        delay_line #(.W(2*P_FRAC), .N(PIPE)) u_dly (.clk(clk), .rst(1'b0), .ce(ce),
+                                                    .d_in({fp, sq[2*P_FRAC-1:P_FRAC]}), .d_out({fp_p, f2_p}));
         always @* begin
-            sq     = fp * fp;
-            f2_ext = {{(BW-P_FRAC){1'b0}}, sq[2*P_FRAC-1:P_FRAC]};
-            cube   = f2_ext[P_FRAC-1:0] * fp;
+            f2_ext = {{(BW-P_FRAC){1'b0}}, f2_p};
+            cube   = f2_ext[P_FRAC-1:0] * fp_p;
             f3_ext = {{(BW-P_FRAC){1'b0}}, cube[2*P_FRAC-1:P_FRAC]};
-            slope  = {{(BW-P_FRAC){1'b0}}, fp} - f2_ext;      // fp >= f2
+            slope  = {{(BW-P_FRAC){1'b0}}, fp_p} - f2_ext;    // fp >= f2
             w      = (f2_ext << 1) + f2_ext - (f3_ext << 1);
             dw     = (slope << 2) + (slope << 1);
         end

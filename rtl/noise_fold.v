@@ -19,7 +19,8 @@
 // next pixel may be taken in the same clock (in_ready), so a pixel enters every P clocks.
 // The units' outputs are summed over the units and accumulated over the P issues (tags
 // first / last travel with the vectors); f_sum, c_sum and sum_valid appear LATENCY =
-// `LAT_NOISE_TERM + 1 enabled clocks after the pixel's px_valid.
+// `LAT_NOISE_TERM + 1 (FPGA_REGS: `LAT_NOISE_TERM_FPGA + 1) enabled clocks after the pixel's
+// px_valid.
 //
 // Formats: s_in 3 x s{S_W}.{S_FRAC}; a_all, t_all, o_all: term k's a at [k*A_W +: A_W], T at
 // [9*k*T_W +: 9*T_W], o at [3*k*O_W +: 3*O_W] (as texture_pipeline's parameter registers);
@@ -57,6 +58,7 @@ module noise_fold #(
     parameter C_W            = 24,  // c_sum element word (likewise)
     parameter SIDE_W         = 1,   // data that travel with a pixel (held, not read)
     parameter MIN_CLOCKS     = 1,   // [quadric_clocks] a pixel takes at least this many clocks (1, 2)
+    parameter FPGA_REGS      = 0,   // [fpga_regs] the noise units' extra register stages (noise_term)
     parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}  // lattice permutation
 ) (clk, rst, ce, in_valid, in_ready, s_in, side_in, k_used, a_all, t_all, o_all,
    px_valid, px_s, px_side, sum_valid, f_sum, c_sum);
@@ -72,7 +74,7 @@ localparam KU_W    = $clog2(K + 1);                      // k_used
 localparam O_W     = HASH_BITS + P_FRAC;
 localparam AN_W    = tw_an_w(A_W, A_FRAC, N_FRAC, F_FRAC);
 localparam AG_W    = tw_ag_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC);
-localparam LAT_NT  = `LAT_NOISE_TERM;
+localparam LAT_NT  = FPGA_REGS ? `LAT_NOISE_TERM_FPGA : `LAT_NOISE_TERM;
 /* verilator lint_off UNUSEDPARAM */
 localparam LATENCY = LAT_NT + 1;                          // px_valid to sum_valid (for readers)
 /* verilator lint_on UNUSEDPARAM */
@@ -180,7 +182,7 @@ generate
             .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
             .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
             .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
-            .PARAM_PIPE(1), .PERM(PERM)
+            .PARAM_PIPE(1), .FPGA_REGS(FPGA_REGS), .PERM(PERM)
         ) u_noise_term (
             .clk(clk), .rst(rst), .ce(ce),
             .in_valid(busy_reg),

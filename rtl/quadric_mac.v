@@ -26,6 +26,15 @@
  *   q_out  s{QF_W}.{F_FRAC}
  *   cq_out {cq2, cq1, cq0}, each s{C_W}.{C_FRAC} (sign-extended)
  *
+ * FPGA_REGS = 1 ([fpga_regs]; `LAT_QUADRIC_MAC_FPGA, 6 stages), diagonal: each product on
+ * mul_pipe (18x18 partial products registered before their sum) and x_k = v_k + Q_k3
+ * formed as (Q_kk s_k >>> s_frac) + 2 Q_k3 (one adder after the product, not two):
+ *   stage 1: the partials of Q_kk * s_k   stage 2: their sums (the products)
+ *   stage 3: v_k and x_k                  stage 4: the partials of s_k * x_k
+ *   stage 5: their sums                   stage 6: q, and the output shifts
+ * with CLOCKS = 2 too (the FPGA has multipliers to spare: the products are not folded, and
+ * a vector may still come every clock). Full quadric: stages 1-4 above, after two input
+ * register stages (the full quadric does not fit the 85F; docs/fpga.md).
  * Latency `LAT_QUADRIC_MAC (4) register stages; throughput one vector per
  * enabled clock (CLOCKS = 2: one every other enabled clock, on half the multipliers). ce = 0 holds every register. rst (synchronous) clears the
  * valid chain and the output registers; the output registers load only valid
@@ -67,7 +76,8 @@ module quadric_mac #(
     parameter C_FRAC = 12,  // [c_frac] cq_out fraction bits
     // cq_out element word width: at least the gradient's own bound (texture_pipeline: the
     // exact-sum width of grad f, which also holds the noise terms' gradients)
-    parameter C_W    = 31
+    parameter C_W    = 31,
+    parameter FPGA_REGS = 0  // [fpga_regs] 1: the FPGA's pipelined products (above)
 ) (clk, rst, ce, in_valid, s_in, q_coef, out_valid, q_out, cq_out);
 
 `include "tex_widths.vh"
@@ -86,11 +96,12 @@ output wire              out_valid;
 output wire [QF_W-1:0]   q_out;
 output wire [3*C_W-1:0]  cq_out;
 
-localparam LATENCY = `LAT_QUADRIC_MAC;  // this implementation has exactly 4 stages
+localparam LATENCY = FPGA_REGS ? `LAT_QUADRIC_MAC_FPGA : `LAT_QUADRIC_MAC;
+localparam XIN     = (FPGA_REGS && !DIAG) ? 2 : 0;  // input register stages (full quadric, FPGA_REGS)
 
 // elaboration fails (unknown module) if tex_latency.vh disagrees with the stages below
 generate
-    if (LATENCY != 4) begin : g_bad_latency
+    if (LATENCY != (FPGA_REGS ? 6 : 4)) begin : g_bad_latency
         quadric_mac_latency_must_be_4 u_error ();
     end
 endgenerate
@@ -114,9 +125,11 @@ localparam CX_W = V_W + CSH_L + C_W;
 // ---------------------------------------------------------------------------
 // unpack
 
-wire signed [S_W-1:0] s0 = s_in[0*S_W +: S_W];
-wire signed [S_W-1:0] s1 = s_in[1*S_W +: S_W];
-wire signed [S_W-1:0] s2 = s_in[2*S_W +: S_W];
+wire [3*S_W-1:0] s_x;  // s_in after XIN register stages
+delay_line #(.W(3*S_W), .N(XIN)) u_dly_s (.clk(clk), .rst(rst), .ce(ce), .d_in(s_in), .d_out(s_x));
+wire signed [S_W-1:0] s0 = s_x[0*S_W +: S_W];
+wire signed [S_W-1:0] s1 = s_x[1*S_W +: S_W];
+wire signed [S_W-1:0] s2 = s_x[2*S_W +: S_W];
 
 wire signed [Q_W-1:0] qa = q_coef[0*Q_W +: Q_W];
 wire signed [Q_W-1:0] qd = q_coef[3*Q_W +: Q_W];
@@ -152,11 +165,63 @@ wire signed [V_W-1:0] q13_x = {{(V_W-Q_W){qg[Q_W-1]}}, qg};
 wire signed [V_W-1:0] q23_x = {{(V_W-Q_W){qi[Q_W-1]}}, qi};
 wire signed [V_W-1:0] q33_x = {{(V_W-Q_W){qj[Q_W-1]}}, qj};
 
+// (p >>> S_FRAC) + q mod 2^V_W: a product's floor shift plus a V_W-bit term (g_diag_pipe)
+function signed [V_W-1:0] floor_add;
+    input signed [P1_W-1:0] p;
+    input signed [V_W-1:0]  q;
+    /* verilator lint_off UNUSEDSIGNAL */  // as in g_diag: low S_FRAC bits dropped, top sign copies
+    reg signed [P1_W+1:0]   m;
+    /* verilator lint_on UNUSEDSIGNAL */
+    begin
+        m = {{2{p[P1_W-1]}}, p};
+        floor_add = m[S_FRAC +: V_W] + q;
+    end
+endfunction
+
 generate
     if (CLOCKS != 1 && (CLOCKS != 2 || DIAG == 0)) begin : g_bad_clocks
         quadric_mac_clocks_must_be_1_or_2_diagonal u_error ();
     end
-    if (DIAG != 0 && CLOCKS == 2) begin : g_diag_fold
+    if (DIAG != 0 && FPGA_REGS != 0) begin : g_diag_pipe
+        // stages 1-2: Q_kk * s_k on mul_pipe (partials, then their sums registered)
+        wire [P1_W-1:0] y0, y1, y2;
+        mul_pipe #(.A_W(Q_W), .B_W(S_W)) u_mul_p0 (.clk(clk), .ce(ce), .a(qa), .b(s0), .p(y0));
+        mul_pipe #(.A_W(Q_W), .B_W(S_W)) u_mul_p1 (.clk(clk), .ce(ce), .a(qe), .b(s1), .p(y1));
+        mul_pipe #(.A_W(Q_W), .B_W(S_W)) u_mul_p2 (.clk(clk), .ce(ce), .a(qh), .b(s2), .p(y2));
+        reg signed [P1_W-1:0] p00_reg, p11_reg, p22_reg;  // A s, E t, H r
+        reg signed [S_W-1:0]  s0_1_reg, s1_1_reg, s2_1_reg, s0_2_reg, s1_2_reg, s2_2_reg;
+
+        // stage 3: v_k = (p >>> S_FRAC) + Q_k3 and x_k = v_k + Q_k3 = (p >>> S_FRAC) + 2 Q_k3
+        // (mod 2^V_W, where both fit, as in g_diag)
+        wire signed [V_W-1:0] v0 = floor_add(p00_reg, q03_x),  x0 = floor_add(p00_reg, q03_x <<< 1);
+        wire signed [V_W-1:0] v1 = floor_add(p11_reg, q13_x),  x1 = floor_add(p11_reg, q13_x <<< 1);
+        wire signed [V_W-1:0] v2 = floor_add(p22_reg, q23_x),  x2 = floor_add(p22_reg, q23_x <<< 1);
+        reg signed [V_W-1:0] v0_reg, v1_reg, v2_reg, x0_reg, x1_reg, x2_reg, v0_4_reg, v1_4_reg, v2_4_reg;
+        reg signed [S_W-1:0] s0_3_reg, s1_3_reg, s2_3_reg;
+
+        // stages 4-5: s_k * x_k on mul_pipe; J stands in for v3
+        wire [P2_W-1:0] z0, z1, z2;
+        mul_pipe #(.A_W(S_W), .B_W(V_W)) u_mul_r0 (.clk(clk), .ce(ce), .a(s0_3_reg), .b(x0_reg), .p(z0));
+        mul_pipe #(.A_W(S_W), .B_W(V_W)) u_mul_r1 (.clk(clk), .ce(ce), .a(s1_3_reg), .b(x1_reg), .p(z1));
+        mul_pipe #(.A_W(S_W), .B_W(V_W)) u_mul_r2 (.clk(clk), .ce(ce), .a(s2_3_reg), .b(x2_reg), .p(z2));
+
+        always @(posedge clk) begin
+            if (ce) begin
+                // stages 1-2
+                s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
+                p00_reg <= y0;  p11_reg <= y1;  p22_reg <= y2;
+                s0_2_reg <= s0_1_reg;  s1_2_reg <= s1_1_reg;  s2_2_reg <= s2_1_reg;
+                // stage 3
+                v0_reg <= v0;  v1_reg <= v1;  v2_reg <= v2;
+                x0_reg <= x0;  x1_reg <= x1;  x2_reg <= x2;
+                s0_3_reg <= s0_2_reg;  s1_3_reg <= s1_2_reg;  s2_3_reg <= s2_2_reg;
+                // stages 4-5
+                v0_4_reg <= v0_reg;  v1_4_reg <= v1_reg;  v2_4_reg <= v2_reg;
+                r0_reg <= z0;  r1_reg <= z1;  r2_reg <= z2;
+                v0_3_reg <= v0_4_reg;  v1_3_reg <= v1_4_reg;  v2_3_reg <= v2_4_reg;  v3_3_reg <= q33_x;
+            end
+        end
+    end else if (DIAG != 0 && CLOCKS == 2) begin : g_diag_fold
         // The same arithmetic as g_diag below, stage by stage, with one multiplier per k:
         // in the clock after a vector enters (valid_reg[0]), the multiplier takes
         // s_k x_k (x_k from stage 1's product, combinationally) instead of Q_kk s_k; the

@@ -13,8 +13,10 @@
 // (channel c at [c*TW +: TW]), both modulo a power of two on purpose: colour_map uses
 // only D = I(b) - I(a), 0 <= D <= 255 * 2w < 2^D_W, and + - * commute with mod 2^D_W, so D
 // comes out exact.
-// Latency 1 (outputs registered, not reset: an internal stage of colour_map);
-// one vector per enabled clock.
+// Latency 1 + PIPE (outputs registered, not reset: an internal stage of colour_map); PIPE = 1
+// (colour_map's FPGA_REGS) registers the products fr clut[kk] and k q and csat[kk-1] before the
+// sum p (the multipliers' outputs, not their sum, end the first stage); one vector per
+// enabled clock.
 // Written for event-driven simulation speed: the four channels in one always @* and one
 // clocked process, no bus driven piecewise.
 
@@ -26,6 +28,7 @@ module sat_integral #(
     parameter QW   = 8,                      // width of q_in (colour_map: max(8, CSAT_W - 8))
     parameter CS_W = 16,                     // csat channel width
     parameter D_W  = 41,                     // width of p (mod 2^D_W); D_W >= CS_W + XF, XF + 8
+    parameter PIPE = 0,                      // 1: a register stage between the products and p
     parameter TW   = D_W - XF                // width of e (derived: do not override)
 ) (
     input  wire              clk,
@@ -40,8 +43,9 @@ module sat_integral #(
     output wire [4*TW-1:0]   e_out
 );
 
-// next values of the output registers, all four channels
-reg        [4*D_W-1:0] p_nx;
+// the products and csat[kk-1] << XF (stage 1 of PIPE = 1), all four channels
+reg        [4*D_W-1:0] b_nx;
+reg        [4*D_W-1:0] m_nx;
 reg        [4*TW-1:0]  e_nx;
 // loop temporaries
 integer              ch;
@@ -52,7 +56,8 @@ reg signed [TW-1:0]  k_x;   // k sign-extended
 reg signed [TW-1:0]  q_x;   // q zero-extended
 
 always @* begin
-    p_nx = {(4*D_W){1'b0}};
+    b_nx = {(4*D_W){1'b0}};
+    m_nx = {(4*D_W){1'b0}};
     e_nx = {(4*TW){1'b0}};
     fr_x = {D_W{1'b0}};
     fr_x[XF-1:0] = fr_in;
@@ -66,9 +71,24 @@ always @* begin
         c_x[7:0] = c_in[8*ch +: 8];
         q_x = {TW{1'b0}};
         q_x[QW-1:0] = q_in[ch*QW +: QW];
-        p_nx[ch*D_W +: D_W] = b_x + fr_x * c_x;
+        b_nx[ch*D_W +: D_W] = b_x;
+        m_nx[ch*D_W +: D_W] = fr_x * c_x;
         e_nx[ch*TW +: TW]   = k_x * q_x;
     end
+end
+
+// PIPE = 1: the products and csat[kk-1] registered (PIPE = 0: wires)
+wire [4*D_W-1:0] b_p, m_p;
+wire [4*TW-1:0]  e_p;
+delay_line #(.W(4*D_W), .N(PIPE)) u_dly_b (.clk(clk), .rst(1'b0), .ce(ce), .d_in(b_nx), .d_out(b_p));
+delay_line #(.W(4*D_W), .N(PIPE)) u_dly_m (.clk(clk), .rst(1'b0), .ce(ce), .d_in(m_nx), .d_out(m_p));
+delay_line #(.W(4*TW), .N(PIPE))  u_dly_e (.clk(clk), .rst(1'b0), .ce(ce), .d_in(e_nx), .d_out(e_p));
+
+reg [4*D_W-1:0] p_nx;
+integer         cs;
+always @* begin
+    for (cs = 0; cs < 4; cs = cs + 1)
+        p_nx[cs*D_W +: D_W] = b_p[cs*D_W +: D_W] + m_p[cs*D_W +: D_W];
 end
 
 reg [4*D_W-1:0] p_reg;
@@ -77,7 +97,7 @@ reg [4*TW-1:0]  e_reg;
 always @(posedge clk) begin
     if (ce) begin
         p_reg <= p_nx;
-        e_reg <= e_nx;
+        e_reg <= e_p;
     end
 end
 

@@ -1,12 +1,20 @@
 // Latencies (register stages, counted in enabled clock edges) of the pipeline blocks.
 // Each block's own header restates its value; the block is built to exactly this depth,
 // its testbench checks it, and texture_pipeline aligns its delay lines with it.
+// LAT_<BLOCK>_FPGA: the same block with its FPGA_REGS parameter set (the configuration key
+// features.fpga_regs): the extra register stages that let an FPGA build close its clock
+// (docs/fpga.md); each block's header says where they are. model/hw/config.py latency() reads
+// this file (the one copy of these numbers).
 `ifndef TEX_LATENCY_VH
 `define TEX_LATENCY_VH
-`define LAT_QUADRIC_MAC  4
-`define LAT_NOISE_TERM   8
-`define LAT_FILTER_WIDTH 8
-`define LAT_COLOUR_MAP   14
-`define LAT_FC_WEIGHT    8
-`define LAT_FC_SCALE     1
+`define LAT_QUADRIC_MAC       4
+`define LAT_QUADRIC_MAC_FPGA  6
+`define LAT_NOISE_TERM        8
+`define LAT_NOISE_TERM_FPGA   12
+`define LAT_FILTER_WIDTH      8
+`define LAT_FILTER_WIDTH_FPGA 8
+`define LAT_COLOUR_MAP        14
+`define LAT_COLOUR_MAP_FPGA   18
+`define LAT_FC_WEIGHT         8
+`define LAT_FC_SCALE          1
 `endif

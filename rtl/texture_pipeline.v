@@ -82,6 +82,8 @@ module texture_pipeline #(
     parameter FILTER         = 1,   // [filter] 0 none (point lookup), 1 sat, 2 mip, 3 sat_fc (sat with
                                     // frequency clamping: fc_weight, fc_scale; unfolded terms only)
     parameter NOISE_GRADIENT = 1,   // [noise_gradient] 1: grad f includes the noise terms'
+    parameter FPGA_REGS      = 0,   // [fpga_regs] 1: the blocks' extra register stages for an FPGA
+                                    // (rtl/tex_latency.vh `LAT_*_FPGA; docs/fpga.md)
     parameter S_W            = 24,  // [s_w] texture coordinates s{S_W}.{S_FRAC}
     parameter S_FRAC         = 16,  // [s_frac]
     parameter Q_W            = 24,  // [q_w] quadric coefficients s{Q_W}.{Q_FRAC}
@@ -191,10 +193,11 @@ function integer tree_levels_of;
     end
 endfunction
 
-localparam LAT_QM      = `LAT_QUADRIC_MAC;
-localparam LAT_NT      = `LAT_NOISE_TERM;
-localparam LAT_FW      = `LAT_FILTER_WIDTH;
-localparam LAT_CM      = `LAT_COLOUR_MAP;
+// each block's latency under FPGA_REGS (the block picks the same value from the same parameter)
+localparam LAT_QM      = FPGA_REGS ? `LAT_QUADRIC_MAC_FPGA  : `LAT_QUADRIC_MAC;
+localparam LAT_NT      = FPGA_REGS ? `LAT_NOISE_TERM_FPGA   : `LAT_NOISE_TERM;
+localparam LAT_FW      = FPGA_REGS ? `LAT_FILTER_WIDTH_FPGA : `LAT_FILTER_WIDTH;
+localparam LAT_CM      = FPGA_REGS ? `LAT_COLOUR_MAP_FPGA   : `LAT_COLOUR_MAP;
 localparam LAT_FCW     = `LAT_FC_WEIGHT;
 localparam LAT_FCS     = FCL ? `LAT_FC_SCALE : 0;                        // sat_fc: fc_scale after each term
 localparam LAT_NS      = FOLD ? LAT_NT + 1 : LAT_NT + LAT_FCS;           // noise leaves (noise_fold: + 1)
@@ -325,7 +328,7 @@ generate
             .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
             .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
             .NOISE_TERMS(K), .NOISE_UNITS(U), .F_W(F_W), .C_W(C_W), .SIDE_W(JM_W + JE_W + 1),
-            .MIN_CLOCKS(QUADRIC_CLOCKS), .PERM(PERM)
+            .MIN_CLOCKS(QUADRIC_CLOCKS), .FPGA_REGS(FPGA_REGS), .PERM(PERM)
         ) u_noise_fold (
             .clk(clk), .rst(rst), .ce(ce),
             .in_valid(in_valid), .in_ready(fold_ready),
@@ -404,7 +407,7 @@ wire             qm_valid;
 
 quadric_mac #(
     .DIAG(DIAG), .CLOCKS(QUADRIC_CLOCKS), .S_W(S_W), .S_FRAC(S_FRAC), .Q_W(Q_W), .Q_FRAC(Q_FRAC),
-    .F_FRAC(F_FRAC), .C_FRAC(C_FRAC), .C_W(C_W)
+    .F_FRAC(F_FRAC), .C_FRAC(C_FRAC), .C_W(C_W), .FPGA_REGS(FPGA_REGS)
 ) u_quadric_mac (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(qs_valid),
@@ -454,7 +457,7 @@ generate
                 .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
                 .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
                 .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
-                .PERM(PERM)
+                .FPGA_REGS(FPGA_REGS), .PERM(PERM)
             ) u_noise_term (
                 .clk(clk), .rst(rst), .ce(ce),
                 .in_valid(px_valid),
@@ -744,7 +747,7 @@ endgenerate
 
 colour_map #(
     .F_W(F_W), .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .FILTER(CM_FILTER),
-    .DIV_BITS(DIV_BITS)
+    .DIV_BITS(DIV_BITS), .FPGA_REGS(FPGA_REGS)
 ) u_colour_map (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(cm_in_valid),

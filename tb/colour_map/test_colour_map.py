@@ -41,12 +41,14 @@ from model.hw.config import SAT_FILTERS, load_config, variant
 from tb import pipe
 
 ROOT = Path(__file__).resolve().parents[2]
-SOURCES = ["colour_map.v", "colour_table.v", "sat_index.v", "sat_integral.v", "box_divide.v", "mip_index.v"]
+SOURCES = ["colour_map.v", "colour_table.v", "sat_index.v", "sat_integral.v", "box_divide.v", "mip_index.v",
+           "delay_line.v"]
 TABLE_CLUT, TABLE_CSAT, TABLE_MIP = 0, 1, 2
 
 
-def latency() -> int:
-    return hdlbuild.latency("colour_map")
+def latency(cfg) -> int:
+    """`LAT_COLOUR_MAP (fpga_regs: `LAT_COLOUR_MAP_FPGA) from rtl/tex_latency.vh."""
+    return hdlbuild.latency("colour_map", cfg)
 
 
 # ---------------------------------------------------------------------------
@@ -219,7 +221,7 @@ async def write_tables(dut, cfg, n_log2, clut, r):
 async def colour_map_vs_golden(dut):
     cfg = pipe.cfg()
     r = pipe.rng(11)
-    lat = latency()
+    lat = latency(cfg)
     dut.wr_en.value = 0
     await pipe.start(dut)
     # after reset, before any table or vector: outputs resolved and 0 (no X)
@@ -274,7 +276,7 @@ async def colour_map_vs_golden(dut):
 # pytest side
 
 
-@pytest.mark.parametrize("sim,config", hdlbuild.family_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.family_params(fpga_regs=True))
 def test_colour_map_rtl(sim, config):
     hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim, config=config,
                   test_dir=Path(__file__).parent)

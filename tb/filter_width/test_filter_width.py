@@ -39,9 +39,9 @@ from tb import pipe
 SOURCES = ["filter_width.v", "isqrt.v", "bitlen.v"]
 
 
-def latency() -> int:
-    """`LAT_FILTER_WIDTH from rtl/tex_latency.vh (the block must match it)."""
-    return hdlbuild.latency("filter_width")
+def latency(cfg) -> int:
+    """`LAT_FILTER_WIDTH (fpga_regs: `LAT_FILTER_WIDTH_FPGA) from rtl/tex_latency.vh (the block must match it)."""
+    return hdlbuild.latency("filter_width", cfg)
 
 
 @pytest.mark.parametrize("sim,config", hdlbuild.family_params())
@@ -358,7 +358,7 @@ async def vectors_bit_exact(dut):
         return int(dut.w_out.value)
 
     await pipe.start(dut)
-    got = await pipe.run_vectors(dut, apply, sample, n, latency=latency(), seed=int(os.environ.get("SEED", "1")))
+    got = await pipe.run_vectors(dut, apply, sample, n, latency=latency(cfg), seed=int(os.environ.get("SEED", "1")))
     got = np.array(got, dtype=np.int64)
     bad = np.flatnonzero(got != exp)
     for i in bad[:10]:

@@ -311,3 +311,37 @@ def test_frame_sat_fc(sim, grad):
         got, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed + t)
         _compare(cfg, tex, s, Jm, je, got, f"{cfg.name} texture {t}, gaps 30% / stalls 40%")
     assert seen == {"0", "1", "fade", "wv"}, f"the stimulus does not cover the fade (alpha 0, 1, between; wv > w): {sorted(seen)}"
+
+
+def _fpga_params():
+    """(sim, base): reduced and compact with features.fpga_regs = true, under Verilator (SIM=
+    narrows; CONFIG= picks one base)."""
+    sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["verilator"]
+    bases = [os.environ["CONFIG"]] if os.environ.get("CONFIG") in ("reduced", "compact") else ["reduced", "compact"]
+    return [(sim, base) for sim in sims for base in bases]
+
+
+@pytest.mark.parametrize("sim,base", _fpga_params())
+def test_frame_fpga_regs(sim, base):
+    """features.fpga_regs (the blocks' extra register stages, the longer latencies of
+    rtl/tex_latency.vh `LAT_*_FPGA) changes no pixel: a random texture and stream through the
+    fpga_regs build with random input gaps and output stalls, then without (still one pixel
+    per clocks_per_pixel clocks), every pixel equal to the golden model."""
+    run_frame_rtl = _frame_rtl()
+    cfg = hdlbuild.config_of(f"fpga_regs:{base}")
+    assert cfg.fpga_regs
+    seed = _seed()
+    print(f"[frame {cfg.name} {sim}] SEED={seed}")
+    r = np.random.default_rng(seed + 13)
+    n = min(_n_pixels(sim), 2000)
+    for t, (tkind, over) in enumerate((("real", dict(mode=MODE_MOD, filt=True)),
+                                       ("real", dict(mode=MODE_CLAMP, filt=True)), ("full", dict()))):
+        tex = random_texture(cfg, r, tkind, **over)
+        s, Jm, je = random_pixels(cfg, r, n, tkind)
+        got, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed + t)
+        _compare(cfg, tex, s, Jm, je, got, f"{cfg.name} texture {t} ({tkind}), gaps 30% / stalls 40%")
+        if t == 0:
+            got0, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, seed=seed + 99)
+            assert np.array_equal(got, got0), "gaps/stalls changed the pixels"
+            p = clocks_per_pixel(cfg, tex.k_used)
+            assert p * n <= cycles < p * n + 100, f"{cycles} cycles for {n} pixels, expected {p} a pixel"

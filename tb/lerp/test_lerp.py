@@ -32,7 +32,7 @@ def _sets():
 
 
 # every set under Icarus; under Verilator (a build costs 10-40 s) the widest
-test_lerp_rtl = pipe.block_test("lerp", _sets(), ("wide",), __file__)
+test_lerp_rtl = pipe.block_test("lerp", _sets(), ("wide",), __file__, sources=["lerp.v", "delay_line.v"])
 
 
 @cocotb.test()

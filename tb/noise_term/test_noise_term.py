@@ -49,12 +49,12 @@ from tb import pipe
 SOURCES = ["noise_term.v", "noise_hash.v", "noise_blend.v", "lerp.v", "delay_line.v"]
 
 
-def latency() -> int:
-    """`LAT_NOISE_TERM from rtl/tex_latency.vh (the block must match it)."""
-    return hdlbuild.latency("noise_term")
+def latency(cfg) -> int:
+    """`LAT_NOISE_TERM (fpga_regs: `LAT_NOISE_TERM_FPGA) from rtl/tex_latency.vh (the block must match it)."""
+    return hdlbuild.latency("noise_term", cfg)
 
 
-@pytest.mark.parametrize("sim,config", hdlbuild.family_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.family_params(fpga_regs=True))
 def test_noise_term_rtl(sim, config):
     hdlbuild.run("noise_term", sources=SOURCES, test_module="test_noise_term", sim=sim, config=config,
                   test_dir=Path(__file__).parent)
@@ -393,7 +393,7 @@ async def vectors_bit_exact(dut):
 
     await pipe.start(dut)
     got = await pipe.run_batches(
-        dut, bs, params, {"s_in": s_p}, sample, latency(),
+        dut, bs, params, {"s_in": s_p}, sample, latency(cfg),
         junk={"s_in": 3 * cfg.s_w, "a_in": cfg.a_w, "t_in": 9 * cfg.t_w, "o_in": 3 * cfg.o_w},
         seed=int(os.environ.get("SEED", "1")))
     assert len(got) == n

@@ -41,16 +41,17 @@ import hdlbuild
 from model.hw import golden as G
 from tb import pipe
 
-SOURCES = ["quadric_mac.v"]
+SOURCES = ["quadric_mac.v", "mul_pipe.v", "delay_line.v"]
 MAX_BATCH = 256  # random batches: 1..MAX_BATCH vectors, log-uniform
 
 
-def latency() -> int:
-    """`LAT_QUADRIC_MAC from rtl/tex_latency.vh (the block must match it)."""
-    return hdlbuild.latency("quadric_mac")
+def latency(cfg) -> int:
+    """`LAT_QUADRIC_MAC (fpga_regs: `LAT_QUADRIC_MAC_FPGA) from rtl/tex_latency.vh (the block must
+    match it)."""
+    return hdlbuild.latency("quadric_mac", cfg)
 
 
-@pytest.mark.parametrize("sim,config", hdlbuild.family_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.family_params(fpga_regs=True))
 def test_quadric_mac_rtl(sim, config):
     hdlbuild.run("quadric_mac", sources=SOURCES, test_module="test_quadric_mac", sim=sim, config=config,
                   test_dir=Path(__file__).parent)
@@ -297,7 +298,7 @@ async def vectors_bit_exact(dut):
 
     await pipe.start(dut)
     got = await pipe.run_batches(
-        dut, bs, params, {"s_in": s_p}, sample, latency(),
+        dut, bs, params, {"s_in": s_p}, sample, latency(cfg),
         junk={"s_in": 3 * cfg.s_w, "q_coef": 10 * cfg.q_w},
         seed=int(os.environ.get("SEED", "1")), spacing=cfg.quadric_clocks)  # CLOCKS = 2: every other clock
     assert len(got) == n

@@ -1,10 +1,11 @@
-"""sat_integral (rtl/sat_integral.v, latency 1) bit-exact against golden sat_integral
+"""sat_integral (rtl/sat_integral.v, latency 1 + PIPE) bit-exact against golden sat_integral
 with the RTL's words (d_w): p = (csat[kk-1] << XF) + fr clut[kk] mod 2^D_W, e = k q mod
 2^(D_W - XF), four channels.
 
 Parameter sets (XF, KW, QW, CS_W, D_W): colour_map's instances (KW = x_w - XF, QW =
 max(8, csat_w - 8), CS_W = csat_w, D_W = d_w) under full, reduced, three random valid
-configurations, the extremes of the colour-map formats (small, wide), and QW wider than 8.
+configurations, the extremes of the colour-map formats (small, wide), QW wider than 8, and
+reduced's with PIPE = 1 (colour_map's FPGA_REGS: latency 2).
 Vectors: the edges (fr, k, q, before, clut at 0 and their extremes, first 0 and 1, the
 largest p and the most negative e, which wrap mod 2^D_W / 2^TW), then VECTORS random
 (each field uniform over its word); streamed with ce stalls.
@@ -26,11 +27,13 @@ def _sets():
                   "D_W": c.d_w}
            for name, c in pipe.configs(1241, 1242, 1243, colour_edges=True)}
     out["wide_q"] = {"XF": 9, "KW": 12, "QW": 11, "CS_W": 19, "D_W": 30}
+    out["reduced_pipe"] = {**out["reduced"], "PIPE": 1}
     return out
 
 
 # every set under Icarus, two under Verilator (a build costs 10-40 s)
-test_sat_integral_rtl = pipe.block_test("sat_integral", _sets(), ("full", "wide"), __file__)
+test_sat_integral_rtl = pipe.block_test("sat_integral", _sets(), ("full", "wide", "reduced_pipe"), __file__,
+                                       sources=["sat_integral.v", "delay_line.v"])
 
 
 @cocotb.test()
@@ -66,5 +69,5 @@ async def sat_integral_bit_exact(dut):
                      + pipe.unpack(int(dut.e_out.value), tw, 4, signed=False))
 
     await pipe.start(dut, reset=False, valid=False)
-    got = await pipe.run_stream(dut, apply, sample, len(v), latency=1, seed=int(r.integers(1 << 30)))
+    got = await pipe.run_stream(dut, apply, sample, len(v), latency=1 + p.get("PIPE", 0), seed=int(r.integers(1 << 30)))
     pipe.check_equal(dut, got, exp, lambda i: f"inputs {v[i].tolist()}", f"sat_integral {p}")
