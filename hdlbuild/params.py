@@ -89,7 +89,7 @@ def block_params(cfg: Config, module: str) -> dict:
         return {"H": cfg.hash_bits, "N_FRAC": cfg.n_frac, "N_W": cfg.n_w, "PERM": perm_literal(cfg)}
     if module == "filter_width":
         return {"C_W": cfg.c_w, **_pick(cfg, "c_frac", "j_w", "je_w", "norm_bits", "f_frac", "w_cap_log2",
-                                        "n_log2_max")}
+                                        "n_log2_max", "fpga_regs")}
     if module == "colour_map":  # sat_fc: the box filter (the fade is before it)
         return {"F_W": cfg.f_w, **_pick(cfg, "f_frac", "w_cap_log2", "n_log2_max", "div_bits", "fpga_regs"),
                 "FILTER": 1 if cfg.filter in SAT_FILTERS else value(cfg, "filter")}
@@ -111,7 +111,7 @@ def block_params(cfg: Config, module: str) -> dict:
     if module == "axis_skid":
         return {"DATA_W": 32}
     if module == "isqrt":
-        return {"L_W": cfg.l_w, "R_W": cfg.r_w, "LATENCY": latency("filter_width", cfg) - 5}
+        return {"L_W": cfg.l_w, "R_W": cfg.r_w, "LATENCY": latency("filter_width") - 5}  # with or without fpga_regs
     raise KeyError(f"block_params: no parameter set for module '{module}'")
 
 

@@ -37,6 +37,10 @@
  *   stage 4:       L = ax^2 + ay^2, e
  *   stages 5..N-1: isqrt (N - 5 stages)
  *   stage N:       scale by 2^e, saturate
+ *
+ * FPGA_REGS = 1 ([fpga_regs]; `LAT_FILTER_WIDTH_FPGA = `LAT_FILTER_WIDTH + 1): stage 3 in
+ * two, the leading-one detector's sh registered (with ax, ay) before the normalising shift;
+ * the isqrt keeps its `LAT_FILTER_WIDTH - 5 stages.
  */
 
 `include "tex_latency.vh"
@@ -53,7 +57,8 @@ module filter_width #(
     parameter NORM_BITS  = 12,  // [norm_bits] |g| normalised to this many bits
     parameter F_FRAC     = 16,  // [f_frac] w fraction bits
     parameter W_CAP_LOG2 = 16,  // [w_cap_log2] w saturates at 2^W_CAP_LOG2 entries
-    parameter N_LOG2_MAX = 8    // [n_log2_max] log2 of the largest colour table
+    parameter N_LOG2_MAX = 8,   // [n_log2_max] log2 of the largest colour table
+    parameter FPGA_REGS  = 0    // [fpga_regs] 1: stage 3 in two (above)
 ) (clk, rst, ce, in_valid, c_in, jm_in, je_in, n_log2, out_valid, w_out);
 
 `include "tex_widths.vh"
@@ -78,8 +83,10 @@ input  wire [N_LOG2_W-1:0] n_log2;
 output wire                out_valid;
 output wire [W_W-1:0]      w_out;
 
-localparam LATENCY  = `LAT_FILTER_WIDTH;
-localparam SQ_LAT   = LATENCY - 5;           // isqrt stages
+localparam LATENCY  = FPGA_REGS ? `LAT_FILTER_WIDTH_FPGA : `LAT_FILTER_WIDTH;
+localparam P        = FPGA_REGS ? 1 : 0;     // the optional register stage (stage 3a)
+localparam SQ_LAT   = `LAT_FILTER_WIDTH - 5; // isqrt stages
+localparam VR       = 4 + P;                 // valid bits of stages 1..4 (3a)
 localparam CAP_BITS = W_CAP_LOG2 + F_FRAC;   // w saturates at 2^CAP_BITS
 localparam MH_W     = GABS_W - NORM_BITS;    // bits of |g| above the normalised window
 localparam BLR_W    = $clog2(R_W + 1);       // bitlen(r), 0..R_W
@@ -92,7 +99,7 @@ localparam PJ_W     = C_W + J_W;             // product c_k Jm[k][col]
 
 // elaboration fails (unknown module) on an unsupported configuration
 generate
-    if (SQ_LAT < 1 || SQ_LAT > R_W || MH_W < 1 || $clog2(MH_W + 1) != SH_W || E_W <= SH_W
+    if (LATENCY != `LAT_FILTER_WIDTH + P || SQ_LAT < 1 || SQ_LAT > R_W || MH_W < 1 || $clog2(MH_W + 1) != SH_W || E_W <= SH_W
         || G_W < C_W + J_W) begin : g_bad_params
         filter_width_unsupported_latency_or_widths u_error ();
     end
@@ -106,7 +113,7 @@ endgenerate
 // e without sh: je + n_log2 + F_FRAC - C_FRAC (modulo 2^E_W; the final e fits)
 localparam signed [E_W-1:0] E_CONST = F_FRAC - C_FRAC;
 
-reg [3:0] valid_reg;  // stages 1..4
+reg [VR-1:0] valid_reg;  // stages 1..4 (and 3a)
 reg       out_valid_reg;
 wire      sq_valid;   // valid out of the isqrt (stage LATENCY - 1)
 
@@ -178,9 +185,16 @@ bitlen #(.W(MH_W), .BW(SH_W)) u_bitlen_mh (.x(mh), .bl(sh), .nz(mh_nz));
 reg [GABS_W-1:0] ax_sh, ay_sh;
 /* verilator lint_on UNUSEDSIGNAL */
 
+// FPGA_REGS: sh, ax, ay (and the exponent beside them) registered before the shift (3a)
+wire [SH_W-1:0]       sh_p;
+wire [GABS_W-1:0]     ax_p, ay_p;
+wire signed [E_W-1:0] ek_2_p;
+delay_line #(.W(SH_W + 2*GABS_W + E_W), .N(P)) u_dly_3a (.clk(clk), .rst(rst), .ce(ce),
+    .d_in({sh, ax_reg, ay_reg, ek_2_reg}), .d_out({sh_p, ax_p, ay_p, ek_2_p}));
+
 always @* begin
-    ax_sh = ax_reg >> sh;
-    ay_sh = ay_reg >> sh;
+    ax_sh = ax_p >> sh_p;
+    ay_sh = ay_p >> sh_p;
 end
 
 // ---------------------------------------------------------------------------
@@ -196,7 +210,7 @@ isqrt #(
     .clk(clk),
     .rst(rst),
     .ce(ce),
-    .in_valid(valid_reg[3]),
+    .in_valid(valid_reg[VR-1]),
     .l_in(l_reg),
     .out_valid(sq_valid),
     .r_out(r)
@@ -254,8 +268,8 @@ always @(posedge clk) begin
         // stage 3
         axn_reg  <= ax_sh[NORM_BITS-1:0];
         ayn_reg  <= ay_sh[NORM_BITS-1:0];
-        sh_reg   <= sh;
-        ek_3_reg <= ek_2_reg;
+        sh_reg   <= sh_p;
+        ek_3_reg <= ek_2_p;
         // stage 4: e = sh + ek
         l_reg    <= l_x[L_W-1:0];
         e_4_reg  <= $signed({{(E_W-SH_W){1'b0}}, sh_reg}) + ek_3_reg;
@@ -263,11 +277,11 @@ always @(posedge clk) begin
         e_dly_reg <= e_dly_cat[SQ_LAT*E_W-1:0];
     end
     if (rst) begin
-        valid_reg     <= 4'b0;
+        valid_reg     <= {VR{1'b0}};
         out_valid_reg <= 1'b0;
         w_reg         <= {W_W{1'b0}};
     end else if (ce) begin
-        valid_reg     <= {valid_reg[2:0], in_valid};
+        valid_reg     <= {valid_reg[VR-2:0], in_valid};
         out_valid_reg <= sq_valid;
         if (sq_valid) begin
             w_reg <= over ? W_CAP : w_sh[W_W-1:0];

@@ -12,7 +12,7 @@
 `define LAT_NOISE_TERM        8
 `define LAT_NOISE_TERM_FPGA   12
 `define LAT_FILTER_WIDTH      8
-`define LAT_FILTER_WIDTH_FPGA 8
+`define LAT_FILTER_WIDTH_FPGA 9
 `define LAT_COLOUR_MAP        14
 `define LAT_COLOUR_MAP_FPGA   18
 `define LAT_FC_WEIGHT         8

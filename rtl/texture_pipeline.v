@@ -666,7 +666,7 @@ wire           fw_valid;
 
 filter_width #(
     .C_W(C_W), .C_FRAC(C_FRAC), .J_W(J_W), .JE_W(JE_W), .NORM_BITS(NORM_BITS), .F_FRAC(F_FRAC),
-    .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX)
+    .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .FPGA_REGS(FPGA_REGS)
 ) u_filter_width (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(NG ? sum_valid : qm_valid),

@@ -61,7 +61,7 @@ FPGA_STAGES = (
                     "folded (6 multiplier sets instead of 3); full quadric: two input stages"),
     ("noise_term", "noise_blend's f2 registered between its two multipliers (the hash's corner values beside it); "
                    "every lerp's scaled step registered between its multiplier and adder"),
-    ("filter_width", "none"),
+    ("filter_width", "stage 3 in two: the leading-one detector's shift registered before the normalising shift"),
     ("colour_map", "the inputs; the table outputs (the DP16KD clock-to-out off the multiplier path); sat_integral's "
                    "products before their sums, beside them the w normalisation split in two; D before the "
                    "divider operands"),

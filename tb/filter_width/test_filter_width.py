@@ -36,7 +36,7 @@ import hdlbuild
 from model.hw import golden as G
 from tb import pipe
 
-SOURCES = ["filter_width.v", "isqrt.v", "bitlen.v"]
+SOURCES = ["filter_width.v", "isqrt.v", "bitlen.v", "delay_line.v"]
 
 
 def latency(cfg) -> int:
@@ -44,7 +44,7 @@ def latency(cfg) -> int:
     return hdlbuild.latency("filter_width", cfg)
 
 
-@pytest.mark.parametrize("sim,config", hdlbuild.family_params())
+@pytest.mark.parametrize("sim,config", hdlbuild.family_params(fpga_regs=True))
 def test_filter_width_rtl(sim, config):
     hdlbuild.run("filter_width", sources=SOURCES, test_module="test_filter_width", sim=sim, config=config,
                   test_dir=Path(__file__).parent)
