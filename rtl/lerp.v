@@ -1,5 +1,6 @@
-// lerp: linear interpolation y = a + floor((b - a) * t / 2^P_FRAC), combinational, or with
-// PIPE = 1 (noise_term's FPGA_REGS) a register between the multiplier and the adder.
+// lerp: linear interpolation y = a + floor((b - a) * t / 2^P_FRAC), combinational, or
+// pipelined (noise_term's FPGA_REGS): PIPE = 1 a register between the multiplier and the
+// adder, PIPE = 2 also one between the subtraction and the multiplier.
 //
 // The twin of model/hw/golden.py lerp(pf, a, b, t) = a + (((b - a) * t) >> pf).
 // Formats: a, b, y sW.F (any F, the same for all three); t sTW.P_FRAC, a blend
@@ -7,7 +8,8 @@
 // (the top bits of the scaled step are redundant sign bits and are dropped).
 // Rounding: floor (arithmetic shift right) of the scaled step.
 // Latency: PIPE = 0: 0 (combinational; the instantiating pipeline registers around it);
-// PIPE = 1: 1 (the scaled step and a registered, advancing with ce; y combinational after).
+// PIPE = 1, 2: PIPE (b - a, t and a registered; the scaled step and a registered; advancing
+// with ce; y combinational after the last).
 // Cost: one (W+1) x TW signed multiplier, two W-bit adders.
 // Written for event-driven simulation speed: the whole body is one always @* with
 // blocking assigns (one evaluation per input change, no net-level arithmetic).
@@ -18,7 +20,7 @@ module lerp #(
     parameter W      = 16,  // width of a, b and y (signed)
     parameter TW     = 10,  // width of t (signed word, value in [0, 2^P_FRAC])
     parameter P_FRAC = 8,   // fraction bits of t
-    parameter PIPE   = 0    // 1: the step and a registered (latency 1)
+    parameter PIPE   = 0    // 0..2: register stages (above)
 ) (
     /* verilator lint_off UNUSEDSIGNAL */  // PIPE = 0: no clock
     input  wire                 clk,
@@ -36,14 +38,23 @@ reg signed [W:0]    diff;   // b - a needs W+1 bits
 reg signed [W+TW:0] step;
 /* verilator lint_on UNUSEDSIGNAL */
 
-always @* begin
-    diff = b - a;                       // operands sign-extended to W+1 bits: exact
-    step = (diff * t) >>> P_FRAC;       // exact product: |diff * t| < 2^(W+TW)
-end
+always @* diff = b - a;                 // operands sign-extended to W+1 bits: exact
 
-// PIPE = 1: the step's W bits and a registered
+// PIPE = 2: b - a, t and a registered before the multiplier
+localparam P1 = (PIPE > 1) ? 1 : 0;
+localparam P2 = (PIPE > 0) ? 1 : 0;
+wire signed [W:0]    diff_p;
+wire signed [TW-1:0] t_p;
+wire signed [W-1:0]  a_1;
+delay_line #(.W(2*W + 1 + TW), .N(P1)) u_dly1 (.clk(clk), .rst(1'b0), .ce(ce), .d_in({a, diff, t}),
+                                              .d_out({a_1, diff_p, t_p}));
+
+always @* step = (diff_p * t_p) >>> P_FRAC;  // exact product: |diff * t| < 2^(W+TW)
+
+// PIPE >= 1: the step's W bits and a registered after the multiplier
 wire signed [W-1:0] a_p, step_p;
-delay_line #(.W(2*W), .N(PIPE)) u_dly (.clk(clk), .rst(1'b0), .ce(ce), .d_in({a, step[W-1:0]}), .d_out({a_p, step_p}));
+delay_line #(.W(2*W), .N(P2)) u_dly2 (.clk(clk), .rst(1'b0), .ce(ce), .d_in({a_1, step[W-1:0]}),
+                                     .d_out({a_p, step_p}));
 
 always @* begin
     // a + step lies between a and b, so the W-bit (mod 2^W) sum is exact

@@ -50,11 +50,11 @@
 //   6  z lerp -> n; gradient: g = (. dw) >> P_FRAC (cubic; linear: dw = 1, a wire)
 //   7  h = (g T) >> H_SHIFT (pow2: shifts); n delayed
 //   8  an = (a n) >> AN_SHIFT, ag = (a h) >> A_FRAC (pow2: shifts; output registers)
-// FPGA_REGS = 1 ([fpga_regs]; `LAT_NOISE_TERM_FPGA = 12 stages): four more, P below: in
-// stage 3 noise_blend's f2 registered between its two multipliers (the hash's corner values
-// wait beside it), and in stages 4, 5, 6 every lerp's scaled step registered between its
-// multiplier and its adder (the weights, slopes and the gradient's g wait beside them);
-// the parameters of PARAM_PIPE travel 4 stages further (T 10, a 11).
+// FPGA_REGS = 1 ([fpga_regs]; `LAT_NOISE_TERM_FPGA = 15 stages): seven more: in stage 3
+// noise_blend's f2 registered between its two multipliers (P; the hash's corner values wait
+// beside it), and in stages 4, 5, 6 every lerp in three (LP = 2: b - a registered before
+// the multiplier, the scaled step before the adder; the weights, slopes and the gradient's
+// g wait beside them); the parameters of PARAM_PIPE travel 7 stages further (T 13, a 14).
 //
 // Parameters (PARAM_PIPE = 0): a_in, t_in, o_in are per-pass parameters, not per-vector
 // data. No register carries them down the pipeline: each is read directly by the stage that
@@ -108,7 +108,7 @@ module noise_term #(
     // directly by the stage that needs them; 1: they belong to the vector entering with
     // in_valid and travel down the pipeline with it (noise_fold: another term every clock)
     parameter PARAM_PIPE     = 0,
-    parameter FPGA_REGS      = 0,   // [fpga_regs] 1: the four extra register stages above
+    parameter FPGA_REGS      = 0,   // [fpga_regs] 1: the seven extra register stages above
     // the lattice permutation, entry i at [i*HASH_BITS +: HASH_BITS] (noise_hash)
     parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}
 ) (clk, rst, ce, in_valid, s_in, a_in, t_in, o_in, out_valid, an_out, ag_out);
@@ -118,8 +118,9 @@ module noise_term #(
 // ---------------------------------------------------------------------------
 // Formats and derived widths (model/hw/config.py derives the same; tb/test_widths.py)
 
-localparam P        = FPGA_REGS ? 1 : 0;    // each optional register stage (delay_line of P stages)
-localparam STAGES   = 8 + 4*P;              // register stages of this implementation
+localparam P        = FPGA_REGS ? 1 : 0;    // noise_blend's optional register stage
+localparam LP       = FPGA_REGS ? 2 : 0;    // each lerp's optional register stages
+localparam STAGES   = 8 + P + 3*LP;         // register stages of this implementation
 localparam LATENCY  = FPGA_REGS ? `LAT_NOISE_TERM_FPGA : `LAT_NOISE_TERM;  // must equal STAGES (checked below)
 localparam AFFINE   = (TRANSFORM == 0);
 localparam CUBIC    = (BLEND == 1);
@@ -251,9 +252,9 @@ wire [AC_W-1:0]  ac_s8;
 generate
     if (PARAM_PIPE != 0) begin : g_param_pipe
         delay_line #(.W(3*O_W), .N(1)) u_dly_o  (.clk(clk), .rst(rst), .ce(ce), .d_in(o_in),  .d_out(o_s2));
-        delay_line #(.W(AC_W),  .N(7 + 4*P)) u_dly_ac (.clk(clk), .rst(rst), .ce(ce), .d_in(ac_in), .d_out(ac_s8));
+        delay_line #(.W(AC_W),  .N(7 + P + 3*LP)) u_dly_ac (.clk(clk), .rst(rst), .ce(ce), .d_in(ac_in), .d_out(ac_s8));
         if (GRAD) begin : g_t
-            delay_line #(.W(TC_W), .N(6 + 4*P)) u_dly_tc (.clk(clk), .rst(rst), .ce(ce), .d_in(tc_in), .d_out(tc_s7));
+            delay_line #(.W(TC_W), .N(6 + P + 3*LP)) u_dly_tc (.clk(clk), .rst(rst), .ce(ce), .d_in(tc_in), .d_out(tc_s7));
         end else begin : g_no_t
             assign tc_s7 = {TC_W{1'b0}};
         end
@@ -375,8 +376,8 @@ delay_line #(.W(8*N_W), .N(P)) u_dly_v (.clk(clk), .rst(rst), .ce(ce), .d_in(v_h
 
 // the weights beside the lerps' extra registers (FPGA_REGS), stages 4 and 5
 wire signed [BW-1:0] wy_p, wz_p, wz4_p;
-delay_line #(.W(2*BW), .N(P)) u_dly_w3 (.clk(clk), .rst(rst), .ce(ce), .d_in({wy_reg, wz_reg}), .d_out({wy_p, wz_p}));
-delay_line #(.W(BW), .N(P))   u_dly_w4 (.clk(clk), .rst(rst), .ce(ce), .d_in(wz4_reg), .d_out(wz4_p));
+delay_line #(.W(2*BW), .N(LP)) u_dly_w3 (.clk(clk), .rst(rst), .ce(ce), .d_in({wy_reg, wz_reg}), .d_out({wy_p, wz_p}));
+delay_line #(.W(BW), .N(LP))   u_dly_w4 (.clk(clk), .rst(rst), .ce(ce), .d_in(wz4_reg), .d_out(wz4_p));
 
 noise_blend #(.BLEND(BLEND), .P_FRAC(P_FRAC), .BW(BW), .PIPE(P)) u_blend_x (
     .clk(clk), .ce(ce), .fp(fpx_reg), .w(wx_next), .dw(dwx_next)
@@ -393,16 +394,16 @@ noise_blend #(.BLEND(BLEND), .P_FRAC(P_FRAC), .BW(BW), .PIPE(P)) u_blend_z (
 
 wire signed [N_W-1:0] e00_next, e01_next, e10_next, e11_next;
 
-lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_x00 (
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_x00 (
     .clk(clk), .ce(ce), .a(v000_reg), .b(v100_reg), .t(wx_reg), .y(e00_next)
 );
-lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_x01 (
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_x01 (
     .clk(clk), .ce(ce), .a(v001_reg), .b(v101_reg), .t(wx_reg), .y(e01_next)
 );
-lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_x10 (
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_x10 (
     .clk(clk), .ce(ce), .a(v010_reg), .b(v110_reg), .t(wx_reg), .y(e10_next)
 );
-lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_x11 (
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_x11 (
     .clk(clk), .ce(ce), .a(v011_reg), .b(v111_reg), .t(wx_reg), .y(e11_next)
 );
 
@@ -411,10 +412,10 @@ lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_x11 (
 
 wire signed [N_W-1:0] fz0_next, fz1_next;
 
-lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_y0 (
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_y0 (
     .clk(clk), .ce(ce), .a(e00_reg), .b(e10_reg), .t(wy4_reg), .y(fz0_next)
 );
-lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_y1 (
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_y1 (
     .clk(clk), .ce(ce), .a(e01_reg), .b(e11_reg), .t(wy4_reg), .y(fz1_next)
 );
 
@@ -424,7 +425,7 @@ lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_y1 (
 
 wire signed [N_W-1:0] n_next;
 
-lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_z (
+lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_z (
     .clk(clk), .ce(ce), .a(fz0_reg), .b(fz1_reg), .t(wz5_reg), .y(n_next)
 );
 
@@ -524,10 +525,10 @@ generate
             dx11 = v111_reg - v011_reg;
         end
         wire signed [D_W-1:0] dxy0_next, dxy1_next;
-        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_dxy0 (
+        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_dxy0 (
             .clk(clk), .ce(ce), .a(dx00), .b(dx10), .t(wy_reg), .y(dxy0_next)
         );
-        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_dxy1 (
+        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_dxy1 (
             .clk(clk), .ce(ce), .a(dx01), .b(dx11), .t(wy_reg), .y(dxy1_next)
         );
 
@@ -538,10 +539,10 @@ generate
             ey1 = e11_reg - e01_reg;
         end
         wire signed [D_W-1:0] gxl_next, gyl_next;
-        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_gx (
+        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_gx (
             .clk(clk), .ce(ce), .a(dxy0_reg), .b(dxy1_reg), .t(wz4_reg), .y(gxl_next)
         );
-        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(P)) u_lerp_gy (
+        lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_gy (
             .clk(clk), .ce(ce), .a(ey0), .b(ey1), .t(wz4_reg), .y(gyl_next)
         );
 
@@ -576,9 +577,9 @@ generate
         // beside the z lerp's (stage 6)
         wire [3*BW-1:0]        dw3_p, dw4_p;
         wire signed [GN_W-1:0] gx_p, gy_p, gz_p;
-        delay_line #(.W(3*BW), .N(P))   u_dly_dw3 (.clk(clk), .rst(rst), .ce(ce), .d_in(dw3_reg), .d_out(dw3_p));
-        delay_line #(.W(3*BW), .N(P))   u_dly_dw4 (.clk(clk), .rst(rst), .ce(ce), .d_in(dw4_reg), .d_out(dw4_p));
-        delay_line #(.W(3*GN_W), .N(P)) u_dly_g (.clk(clk), .rst(rst), .ce(ce), .d_in({gx_next, gy_next, gz_next}),
+        delay_line #(.W(3*BW), .N(LP))   u_dly_dw3 (.clk(clk), .rst(rst), .ce(ce), .d_in(dw3_reg), .d_out(dw3_p));
+        delay_line #(.W(3*BW), .N(LP))   u_dly_dw4 (.clk(clk), .rst(rst), .ce(ce), .d_in(dw4_reg), .d_out(dw4_p));
+        delay_line #(.W(3*GN_W), .N(LP)) u_dly_g (.clk(clk), .rst(rst), .ce(ce), .d_in({gx_next, gy_next, gz_next}),
                                                  .d_out({gx_p, gy_p, gz_p}));
 
         // stage 7: h_k = (sum_j g_j T_jk) >> H_SHIFT; h fits H_W bits (model/hw/config.py

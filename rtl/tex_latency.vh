@@ -10,7 +10,7 @@
 `define LAT_QUADRIC_MAC       4
 `define LAT_QUADRIC_MAC_FPGA  6
 `define LAT_NOISE_TERM        8
-`define LAT_NOISE_TERM_FPGA   12
+`define LAT_NOISE_TERM_FPGA   15
 `define LAT_FILTER_WIDTH      8
 `define LAT_FILTER_WIDTH_FPGA 9
 `define LAT_COLOUR_MAP        14

@@ -60,7 +60,7 @@ FPGA_STAGES = (
                     "x_k = (Q_kk s_k >>> s_frac) + 2 Q_k3 in one adder; with quadric_clocks = 2 the products are not "
                     "folded (6 multiplier sets instead of 3); full quadric: two input stages"),
     ("noise_term", "noise_blend's f2 registered between its two multipliers (the hash's corner values beside it); "
-                   "every lerp's scaled step registered between its multiplier and adder"),
+                   "every lerp in three (b - a registered before the multiplier, the scaled step before the adder)"),
     ("filter_width", "stage 3 in two: the leading-one detector's shift registered before the normalising shift"),
     ("colour_map", "the inputs; the table outputs (the DP16KD clock-to-out off the multiplier path); sat_integral's "
                    "products before their sums, beside them the w normalisation split in two; D before the "
