@@ -57,8 +57,8 @@
 // (D + w) >> 1 (normalised: (D + w + 2 h(sh)) >> (sh + 1)), divisor | 7..14 box_divide (one
 // quotient bit per stage). mip/none: 1 u | 2-3 mip_index | 4 table reads | 5 select | 6..14
 // delay line.
-// FPGA_REGS = 1 ([fpga_regs]) adds four register stages (P below): the inputs registered
-// (stage 0); the table outputs registered before the multipliers (4b: the block RAM's
+// FPGA_REGS = 1 ([fpga_regs]) adds four register stages (P below): stage 1 in two (1a:
+// the clamp thresholds and the shifted f, registered; 1b: the comparisons); the table outputs registered before the multipliers (4b: the block RAM's
 // clock-to-out off the multiplier path); sat_integral's products registered before their
 // sums (5a), beside them the normalisation split in two (5a: sh0 = bitlen(w >> B); 5b:
 // den', sh, w + 2 h(sh)); stage 6 split after D (6a: D per channel; 6b: + w, the shift,
@@ -143,20 +143,8 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------------------
-// Stage 0 (FPGA_REGS): the inputs registered
-
-wire            in_valid_i;
-wire [F_W-1:0]  f_i;
-wire [W_W-1:0]  w_i;
-wire            mode_i;
-wire [NL_W-1:0] n_log2_i;
-wire            filter_en_i;
-delay_line #(.W(1), .N(P), .CLEAR(1)) u_dly_iv (.clk(clk), .rst(rst), .ce(ce), .d_in(in_valid), .d_out(in_valid_i));
-delay_line #(.W(F_W + W_W + 2 + NL_W), .N(P)) u_dly_in (.clk(clk), .rst(rst), .ce(ce),
-    .d_in({f_in, w_in, mode, filter_en, n_log2}), .d_out({f_i, w_i, mode_i, filter_en_i, n_log2_i}));
-
-// ---------------------------------------------------------------------------
-// Stage 1: u
+// Stage 1: u (FPGA_REGS: in two, 1a the thresholds and shifted values, registered; 1b the
+// comparisons and the selection)
 
 reg [CW-1:0]  f_c;       // f sign-extended to CW
 reg [CW-1:0]  gsh;       // guard >> n_log2
@@ -165,14 +153,14 @@ reg [CW-1:0]  hi_thr;    // 1.0 + (guard >> n_log2)
 reg [U_W-1:0] guard_u;   // guard
 reg [U_W-1:0] n_u;       // N << FF
 reg [U_W-1:0] u_mod;
-reg [U_W-1:0] u_clamp;
+reg [U_W-1:0] u_sh;      // f N (clamp, between the thresholds)
 
 always @* begin
-    f_c = {CW{f_i[F_W-1]}};
-    f_c[F_W-1:0] = f_i;
+    f_c = {CW{f_in[F_W-1]}};
+    f_c[F_W-1:0] = f_in;
     gsh = {CW{1'b0}};
     gsh[GUARD] = 1'b1;
-    gsh = gsh >> n_log2_i;
+    gsh = gsh >> n_log2;
     lo_thr = -gsh;
     hi_thr = {CW{1'b0}};
     hi_thr[FF] = 1'b1;
@@ -181,19 +169,37 @@ always @* begin
     guard_u[GUARD] = 1'b1;
     n_u = {U_W{1'b0}};
     n_u[FF] = 1'b1;
-    n_u = n_u << n_log2_i;
+    n_u = n_u << n_log2;
     // mod: (f mod 1) N
     u_mod = {U_W{1'b0}};
-    u_mod[FF-1:0] = f_i[FF-1:0];
-    u_mod = u_mod << n_log2_i;
+    u_mod[FF-1:0] = f_in[FF-1:0];
+    u_mod = u_mod << n_log2;
+    u_sh = f_c[U_W-1:0] << n_log2;
+end
+
+// FPGA_REGS: stage 1a's values and the inputs stage 1b reads, registered
+wire            in_valid_i;
+wire [CW-1:0]   f_i, lo_thr_i, hi_thr_i;
+wire [U_W-1:0]  n_u_i, u_mod_i, u_sh_i;
+wire [W_W-1:0]  w_i;
+wire            mode_i;
+wire [NL_W-1:0] n_log2_i;
+wire            filter_en_i;
+delay_line #(.W(1), .N(P), .CLEAR(1)) u_dly_iv (.clk(clk), .rst(rst), .ce(ce), .d_in(in_valid), .d_out(in_valid_i));
+delay_line #(.W(3*CW + 3*U_W + W_W + 2 + NL_W), .N(P)) u_dly_1a (.clk(clk), .rst(rst), .ce(ce),
+    .d_in({f_c, lo_thr, hi_thr, n_u, u_mod, u_sh, w_in, mode, filter_en, n_log2}),
+    .d_out({f_i, lo_thr_i, hi_thr_i, n_u_i, u_mod_i, u_sh_i, w_i, mode_i, filter_en_i, n_log2_i}));
+
+reg [U_W-1:0] u_clamp;
+always @* begin
     // clamp: clip(f N, -guard, N + guard); f N < -guard iff f < -(guard >> n_log2), and
     // f N > N + guard iff f > 1.0 + (guard >> n_log2); in between f N fits U_W bits
-    if ($signed(f_c) < $signed(lo_thr))
+    if ($signed(f_i) < $signed(lo_thr_i))
         u_clamp = -guard_u;
-    else if ($signed(f_c) > $signed(hi_thr))
-        u_clamp = n_u + guard_u;
+    else if ($signed(f_i) > $signed(hi_thr_i))
+        u_clamp = n_u_i + guard_u;
     else
-        u_clamp = f_c[U_W-1:0] << n_log2_i;
+        u_clamp = u_sh_i;
 end
 
 reg             s1_valid_reg;
@@ -208,7 +214,7 @@ always @(posedge clk) begin
     else if (ce)
         s1_valid_reg <= in_valid_i;
     if (ce) begin
-        s1_u_reg         <= mode_i ? u_clamp : u_mod;
+        s1_u_reg         <= mode_i ? u_clamp : u_mod_i;
         s1_w_reg         <= filter_en_i ? w_i : {W_W{1'b0}};  // filter off: w = 0
         s1_mode_reg      <= mode_i;
         s1_n_log2_reg    <= n_log2_i;
@@ -472,6 +478,9 @@ generate
             reg [B-1:0]    den_n;  // den' = round(w / 2^sh)
             reg [SH_W-1:0] sh;
             reg [W_W:0]    h2;     // 2 h(sh): 2^sh, 0 when sh = 0
+            // FPGA_REGS: w + 2 h(sh) from the two candidates sh = sh0 and sh0 + 1, formed
+            // beside the shift that decides between them (the same value)
+            reg [W_W:0]    wn_0, wn_1, wn_f;
             always @* begin
                 w2s = {s4y_w, 1'b0} >> sh0_y;
                 t = w2s[B:0];
@@ -485,6 +494,11 @@ generate
                 h2 = {{W_W{1'b0}}, 1'b1} << sh;
                 if (sh == {SH_W{1'b0}})
                     h2 = {(W_W+1){1'b0}};
+                wn_0 = {1'b0, s4y_w};
+                if (sh0_y != {SH_W{1'b0}})
+                    wn_0 = wn_0 + ({{W_W{1'b0}}, 1'b1} << sh0_y);
+                wn_1 = {1'b0, s4y_w} + ({{(W_W-1){1'b0}}, 2'b10} << sh0_y);
+                wn_f = ovf ? wn_1 : wn_0;
             end
 
             reg [B-1:0]    s5_den_reg;
@@ -495,7 +509,7 @@ generate
                 if (ce) begin
                     s5_den_reg <= den_n;
                     s5_sh_reg  <= sh;
-                    s5_wn_reg  <= {1'b0, s4y_w} + h2;
+                    s5_wn_reg  <= FPGA_REGS ? wn_f : {1'b0, s4y_w} + h2;
                 end
             end
 

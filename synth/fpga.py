@@ -62,9 +62,9 @@ FPGA_STAGES = (
     ("noise_term", "noise_blend's f2 registered between its two multipliers (the hash's corner values beside it); "
                    "every lerp in three (b - a registered before the multiplier, the scaled step before the adder)"),
     ("filter_width", "stage 3 in two: the leading-one detector's shift registered before the normalising shift"),
-    ("colour_map", "the inputs; the table outputs (the DP16KD clock-to-out off the multiplier path); sat_integral's "
-                   "products before their sums, beside them the w normalisation split in two; D before the "
-                   "divider operands"),
+    ("colour_map", "stage 1 in two (the clamp thresholds and f N registered before the comparisons); the table "
+                   "outputs (the DP16KD clock-to-out off the multiplier path); sat_integral's products before "
+                   "their sums, beside them the w normalisation split in two; D before the divider operands"),
 )
 # printed as progress (the rest only in the log)
 YOSYS_PHASE = re.compile(r"^(\d+\. Executing (?!Verilog)|\d+\.\d+\. Executing (PROC|FLATTEN|ALUMACC|MEMORY_LIBMAP|DFFLEGALIZE|ABC9) "
