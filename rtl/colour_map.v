@@ -466,9 +466,19 @@ generate
                     if (s4x_w[B + i])
                         sh0 = i[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
             end
-            // FPGA_REGS: sh0 registered (5a), beside sat_integral's products; w is s4y_w
+            // FPGA_REGS: sh0 and the two candidates of 2 h(sh), h_0 = 2^sh0 (0 when sh0 = 0)
+            // and h_1 = 2^(sh0 + 1), registered (5a), beside sat_integral's products; w is s4y_w
+            reg [W_W:0]     h_0, h_1;
+            always @* begin
+                h_0 = {{W_W{1'b0}}, 1'b1} << sh0;
+                if (sh0 == {SH_W{1'b0}})
+                    h_0 = {(W_W+1){1'b0}};
+                h_1 = {{(W_W-1){1'b0}}, 2'b10} << sh0;
+            end
             wire [SH_W-1:0] sh0_y;
-            delay_line #(.W(SH_W), .N(P)) u_dly_sh0 (.clk(clk), .rst(rst), .ce(ce), .d_in(sh0), .d_out(sh0_y));
+            wire [W_W:0]    h_0y, h_1y;
+            delay_line #(.W(SH_W + 2*W_W + 2), .N(P)) u_dly_sh0 (.clk(clk), .rst(rst), .ce(ce),
+                .d_in({sh0, h_0, h_1}), .d_out({sh0_y, h_0y, h_1y}));
             // 2w >> sh0: < 2^(B+1), bits B..0 are t (bitlen(w) <= B + sh0)
             /* verilator lint_off UNUSEDSIGNAL */
             reg [W_W:0]    w2s;
@@ -494,10 +504,8 @@ generate
                 h2 = {{W_W{1'b0}}, 1'b1} << sh;
                 if (sh == {SH_W{1'b0}})
                     h2 = {(W_W+1){1'b0}};
-                wn_0 = {1'b0, s4y_w};
-                if (sh0_y != {SH_W{1'b0}})
-                    wn_0 = wn_0 + ({{W_W{1'b0}}, 1'b1} << sh0_y);
-                wn_1 = {1'b0, s4y_w} + ({{(W_W-1){1'b0}}, 2'b10} << sh0_y);
+                wn_0 = {1'b0, s4y_w} + h_0y;
+                wn_1 = {1'b0, s4y_w} + h_1y;
                 wn_f = ovf ? wn_1 : wn_0;
             end
 

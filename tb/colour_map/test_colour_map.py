@@ -313,3 +313,13 @@ def test_colour_map_div_variants_rtl(sim, config, bits):
     cfg = variant(load_config(config), f"{config}_div{bits}", div_bits=bits)
     hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim, config=cfg,
                   test_dir=Path(__file__).parent)
+
+
+@pytest.mark.parametrize("bits", (1, 9))
+def test_colour_map_fpga_div_variants_rtl(bits):
+    """reduced with fpga_regs (the normalisation split across stages 5a/5b, w + 2 h(sh) from its
+    two candidates) and div_bits switched to the narrowest divisor and a saturating one, under
+    Icarus (SIM= picks the simulator)."""
+    cfg = variant(load_config("reduced"), f"reduced_fpga_div{bits}", div_bits=bits, fpga_regs=True)
+    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=os.environ.get("SIM", "icarus"),
+                 config=cfg, test_dir=Path(__file__).parent)
