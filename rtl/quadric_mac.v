@@ -126,7 +126,13 @@ localparam CX_W = V_W + CSH_L + C_W;
 // unpack
 
 wire [3*S_W-1:0] s_x;  // s_in after XIN register stages
-delay_line #(.W(3*S_W), .N(XIN)) u_dly_s (.clk(clk), .rst(rst), .ce(ce), .d_in(s_in), .d_out(s_x));
+generate
+    if (XIN > 0) begin : g_xin
+        delay_line #(.W(3*S_W), .N(XIN)) u_dly_s (.clk(clk), .rst(rst), .ce(ce), .d_in(s_in), .d_out(s_x));
+    end else begin : g_noxin
+        assign s_x = s_in;
+    end
+endgenerate
 wire signed [S_W-1:0] s0 = s_x[0*S_W +: S_W];
 wire signed [S_W-1:0] s1 = s_x[1*S_W +: S_W];
 wire signed [S_W-1:0] s2 = s_x[2*S_W +: S_W];
