@@ -179,28 +179,47 @@ end
 
 // FPGA_REGS: stage 1a's values and the inputs stage 1b reads, registered
 wire            in_valid_i;
+/* verilator lint_off UNUSEDSIGNAL */  // without FPGA_REGS stage 1 compares f_c itself
 wire [CW-1:0]   f_i, lo_thr_i, hi_thr_i;
-wire [U_W-1:0]  n_u_i, u_mod_i, u_sh_i;
+wire [U_W-1:0]  n_u_i, u_sh_i;
+/* verilator lint_on UNUSEDSIGNAL */
+wire [U_W-1:0]  u_mod_i;
 wire [W_W-1:0]  w_i;
 wire            mode_i;
 wire [NL_W-1:0] n_log2_i;
 wire            filter_en_i;
 delay_line #(.W(1), .N(P), .CLEAR(1)) u_dly_iv (.clk(clk), .rst(rst), .ce(ce), .d_in(in_valid), .d_out(in_valid_i));
-delay_line #(.W(3*CW + 3*U_W + W_W + 2 + NL_W), .N(P)) u_dly_1a (.clk(clk), .rst(rst), .ce(ce),
-    .d_in({f_c, lo_thr, hi_thr, n_u, u_mod, u_sh, w_in, mode, filter_en, n_log2}),
-    .d_out({f_i, lo_thr_i, hi_thr_i, n_u_i, u_mod_i, u_sh_i, w_i, mode_i, filter_en_i, n_log2_i}));
+// (two lines: stage 1b reads only the first, whose words all change together)
+delay_line #(.W(3*CW + 3*U_W), .N(P)) u_dly_1a (.clk(clk), .rst(rst), .ce(ce),
+    .d_in({f_c, lo_thr, hi_thr, n_u, u_mod, u_sh}), .d_out({f_i, lo_thr_i, hi_thr_i, n_u_i, u_mod_i, u_sh_i}));
+delay_line #(.W(W_W + 2 + NL_W), .N(P)) u_dly_1i (.clk(clk), .rst(rst), .ce(ce),
+    .d_in({w_in, mode, filter_en, n_log2}), .d_out({w_i, mode_i, filter_en_i, n_log2_i}));
 
 reg [U_W-1:0] u_clamp;
-always @* begin
-    // clamp: clip(f N, -guard, N + guard); f N < -guard iff f < -(guard >> n_log2), and
-    // f N > N + guard iff f > 1.0 + (guard >> n_log2); in between f N fits U_W bits
-    if ($signed(f_i) < $signed(lo_thr_i))
-        u_clamp = -guard_u;
-    else if ($signed(f_i) > $signed(hi_thr_i))
-        u_clamp = n_u_i + guard_u;
-    else
-        u_clamp = u_sh_i;
-end
+// clamp: clip(f N, -guard, N + guard); f N < -guard iff f < -(guard >> n_log2), and
+// f N > N + guard iff f > 1.0 + (guard >> n_log2); in between f N fits U_W bits
+generate
+    if (P != 0) begin : g_1b
+        always @* begin
+            if ($signed(f_i) < $signed(lo_thr_i))
+                u_clamp = -guard_u;
+            else if ($signed(f_i) > $signed(hi_thr_i))
+                u_clamp = n_u_i + guard_u;
+            else
+                u_clamp = u_sh_i;
+        end
+    end else begin : g_1
+        // in stage 1's own always @* (the same comparisons, one block a clock)
+        always @* begin
+            if ($signed(f_c) < $signed(lo_thr))
+                u_clamp = -guard_u;
+            else if ($signed(f_c) > $signed(hi_thr))
+                u_clamp = n_u + guard_u;
+            else
+                u_clamp = u_sh;
+        end
+    end
+endgenerate
 
 reg             s1_valid_reg;
 reg [U_W-1:0]   s1_u_reg;
@@ -392,24 +411,38 @@ generate
         // ---- stage 6a: D = (whole << XF) + p_b - p_a per channel (mod 2^D_W), whole = e_b - e_a
         // (clamp) or e_b + (e_a << 8) (mod); FPGA_REGS: registered (6a), with the point
         // lookup's clut[k], before stage 6b adds w and selects the divider operands
-        reg [4*D_W-1:0] d_all;
-        integer         c6;
-        reg [TW-1:0]    ea_x;   // e_a (clamp: negated) or e_a << 8 (mod)
-        reg [TW-1:0]    whole;  // whole entries of D, mod 2^TW
-        always @* begin
-            for (c6 = 0; c6 < 4; c6 = c6 + 1) begin
-                if (s5_mode_reg)
-                    ea_x = -e_a[c6*TW +: TW];
-                else
-                    ea_x = e_a[c6*TW +: TW] << 8;
-                whole = e_b[c6*TW +: TW] + ea_x;
-                d_all[c6*D_W +: D_W] = {whole, {XF{1'b0}}} + p_b[c6*D_W +: D_W] - p_a[c6*D_W +: D_W];
+        // D of channel c (one function for both forms: stage 6a, or inside stage 6's always @*)
+        function [D_W-1:0] d_of;
+            input          mode_c;
+            input [TW-1:0] ea, eb;
+            input [D_W-1:0] pa, pb;
+            reg   [TW-1:0] ea_x;   // e_a (clamp: negated) or e_a << 8 (mod)
+            reg   [TW-1:0] whole;  // whole entries of D, mod 2^TW
+            begin
+                ea_x  = mode_c ? -ea : ea << 8;
+                whole = eb + ea_x;
+                d_of  = {whole, {XF{1'b0}}} + pb - pa;
             end
-        end
-        wire [4*D_W-1:0] d_6;
+        endfunction
+        wire [4*D_W-1:0] d_6;      // FPGA_REGS: D of the four channels, registered (else 0)
+        // (without FPGA_REGS these stage-6a words are constant 0 and stage 6 reads the stage-5
+        // registers themselves: an always @* reading a register and a delayed copy of another
+        // would run twice a clock in an event-driven simulator)
         wire [31:0]      point_6;
-        delay_line #(.W(4*D_W + 32), .N(P)) u_dly_d (.clk(clk), .rst(rst), .ce(ce), .d_in({d_all, s5_point_reg}),
-                                                    .d_out({d_6, point_6}));
+        if (P != 0) begin : g_6a
+            reg [4*D_W-1:0] d_all;
+            integer         c6;
+            always @* begin
+                for (c6 = 0; c6 < 4; c6 = c6 + 1)
+                    d_all[c6*D_W +: D_W] = d_of(s5_mode_reg, e_a[c6*TW +: TW], e_b[c6*TW +: TW], p_a[c6*D_W +: D_W],
+                                                p_b[c6*D_W +: D_W]);
+            end
+            delay_line #(.W(4*D_W + 32), .N(1)) u_dly_d (.clk(clk), .rst(rst), .ce(ce), .d_in({d_all, s5_point_reg}),
+                                                        .d_out({d_6, point_6}));
+        end else begin : g_no6a
+            assign d_6     = {(4*D_W){1'b0}};
+            assign point_6 = 32'd0;
+        end
 
         if (!NORM) begin : g_exact
             // ---- exact division (DIV_BITS = 0): the divisor is w itself
@@ -420,8 +453,14 @@ generate
             end
 
             // ---- stage 6(b): divider operands; num = (D + w) >> 1, den = w, or clut[k] / 1
-            wire [W_W-1:0]      w_6;
-            delay_line #(.W(W_W), .N(P)) u_dly_w6 (.clk(clk), .rst(rst), .ce(ce), .d_in(s5_w_reg), .d_out(w_6));
+            wire [W_W-1:0]      w_6;   // FPGA_REGS: w registered with D (6a); else 0, w is s5_w_reg
+            if (P != 0) begin : g_w6
+                delay_line #(.W(W_W), .N(1)) u_dly_w6 (.clk(clk), .rst(rst), .ce(ce), .d_in(s5_w_reg), .d_out(w_6));
+            end else begin : g_now6
+                assign w_6 = {W_W{1'b0}};
+            end
+            reg  [W_W-1:0]      w_s;   // w at stage 6(b)
+            reg  [31:0]         pt_s;  // clut[k] at stage 6(b)
             reg                 w_zero;
             reg  [D_W-1:0]      d_w;    // w zero-extended
             reg  [W_W-1:0]      den_x;
@@ -434,16 +473,20 @@ generate
             /* verilator lint_on UNUSEDSIGNAL */
             reg  [D_W-2:0]      pt;     // clut[k] zero-extended
             always @* begin
-                w_zero = (w_6 == {W_W{1'b0}});
+                w_s  = (P != 0) ? w_6 : s5_w_reg;
+                pt_s = (P != 0) ? point_6 : s5_point_reg;
+                w_zero = (w_s == {W_W{1'b0}});
                 d_w = {D_W{1'b0}};
-                d_w[W_W-1:0] = w_6;
-                den_x = w_6;
+                d_w[W_W-1:0] = w_s;
+                den_x = w_s;
                 if (w_zero)
                     den_x[0] = 1'b1;
                 for (c = 0; c < 4; c = c + 1) begin
-                    sum = d_6[c*D_W +: D_W] + d_w;
+                    sum = (P != 0 ? d_6[c*D_W +: D_W]
+                                  : d_of(s5_mode_reg, e_a[c*TW +: TW], e_b[c*TW +: TW], p_a[c*D_W +: D_W],
+                                         p_b[c*D_W +: D_W])) + d_w;
                     pt = {(D_W-1){1'b0}};
-                    pt[7:0] = point_6[8*c +: 8];
+                    pt[7:0] = pt_s[8*c +: 8];
                     num_x[c*(D_W-1) +: D_W-1] = w_zero ? pt : sum[D_W-1:1];
                 end
             end
@@ -458,27 +501,34 @@ generate
             //   num' = (D + w + 2 h(sh)) >> (sh + 1), h(s) = 2^s >> 1 (half of the dropped LSB)
             // stage 5: sh, den' and w + 2 h(sh) from w, once for the four channels
 
-            reg [SH_W-1:0] sh0;    // bitlen(w >> B): leading-one detector on the HW high bits
-            integer        i;
-            always @* begin
-                sh0 = {SH_W{1'b0}};
-                for (i = 0; i < HW; i = i + 1)
-                    if (s4x_w[B + i])
-                        sh0 = i[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
-            end
             // FPGA_REGS: sh0 and the two candidates of 2 h(sh), h_0 = 2^sh0 (0 when sh0 = 0)
             // and h_1 = 2^(sh0 + 1), registered (5a), beside sat_integral's products; w is s4y_w
-            reg [W_W:0]     h_0, h_1;
-            always @* begin
-                h_0 = {{W_W{1'b0}}, 1'b1} << sh0;
-                if (sh0 == {SH_W{1'b0}})
-                    h_0 = {(W_W+1){1'b0}};
-                h_1 = {{(W_W-1){1'b0}}, 2'b10} << sh0;
-            end
+            // (without: sh0 in the stage-5 always @* below, these are constant 0)
             wire [SH_W-1:0] sh0_y;
             wire [W_W:0]    h_0y, h_1y;
-            delay_line #(.W(SH_W + 2*W_W + 2), .N(P)) u_dly_sh0 (.clk(clk), .rst(rst), .ce(ce),
-                .d_in({sh0, h_0, h_1}), .d_out({sh0_y, h_0y, h_1y}));
+            if (P != 0) begin : g_5a
+                reg [SH_W-1:0] sh0;    // bitlen(w >> B): leading-one detector on the HW high bits
+                reg [W_W:0]    h_0, h_1;
+                integer        i;
+                always @* begin
+                    sh0 = {SH_W{1'b0}};
+                    for (i = 0; i < HW; i = i + 1)
+                        if (s4x_w[B + i])
+                            sh0 = i[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
+                    h_0 = {{W_W{1'b0}}, 1'b1} << sh0;
+                    if (sh0 == {SH_W{1'b0}})
+                        h_0 = {(W_W+1){1'b0}};
+                    h_1 = {{(W_W-1){1'b0}}, 2'b10} << sh0;
+                end
+                delay_line #(.W(SH_W + 2*W_W + 2), .N(1)) u_dly_sh0 (.clk(clk), .rst(rst), .ce(ce),
+                    .d_in({sh0, h_0, h_1}), .d_out({sh0_y, h_0y, h_1y}));
+            end else begin : g_no5a
+                assign sh0_y = {SH_W{1'b0}};
+                assign h_0y  = {(W_W+1){1'b0}};
+                assign h_1y  = {(W_W+1){1'b0}};
+            end
+            reg [SH_W-1:0] sh0_v;  // sh0 (FPGA_REGS: from stage 5a)
+            integer        i5;
             // 2w >> sh0: < 2^(B+1), bits B..0 are t (bitlen(w) <= B + sh0)
             /* verilator lint_off UNUSEDSIGNAL */
             reg [W_W:0]    w2s;
@@ -492,7 +542,15 @@ generate
             // beside the shift that decides between them (the same value)
             reg [W_W:0]    wn_0, wn_1, wn_f;
             always @* begin
-                w2s = {s4y_w, 1'b0} >> sh0_y;
+                if (P != 0) begin
+                    sh0_v = sh0_y;
+                end else begin
+                    sh0_v = {SH_W{1'b0}};
+                    for (i5 = 0; i5 < HW; i5 = i5 + 1)
+                        if (s4y_w[B + i5])
+                            sh0_v = i5[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
+                end
+                w2s = {s4y_w, 1'b0} >> sh0_v;
                 t = w2s[B:0];
                 ovf = &t;
                 den_n = t[B:1] + {{(B-1){1'b0}}, t[0]};
@@ -500,7 +558,7 @@ generate
                     den_n = {B{1'b0}};
                     den_n[B-1] = 1'b1;
                 end
-                sh = sh0_y + {{(SH_W-1){1'b0}}, ovf};
+                sh = sh0_v + {{(SH_W-1){1'b0}}, ovf};
                 h2 = {{W_W{1'b0}}, 1'b1} << sh;
                 if (sh == {SH_W{1'b0}})
                     h2 = {(W_W+1){1'b0}};
@@ -526,8 +584,19 @@ generate
             wire [B-1:0]        den_6;
             wire [SH_W-1:0]     sh_6;
             wire [W_W:0]        wn_6;
-            delay_line #(.W(B + SH_W + W_W + 1), .N(P)) u_dly_n6 (.clk(clk), .rst(rst), .ce(ce),
-                .d_in({s5_den_reg, s5_sh_reg, s5_wn_reg}), .d_out({den_6, sh_6, wn_6}));
+            // FPGA_REGS: registered with D (6a); else 0, stage 6 reads the stage-5 registers
+            if (P != 0) begin : g_n6
+                delay_line #(.W(B + SH_W + W_W + 1), .N(1)) u_dly_n6 (.clk(clk), .rst(rst), .ce(ce),
+                    .d_in({s5_den_reg, s5_sh_reg, s5_wn_reg}), .d_out({den_6, sh_6, wn_6}));
+            end else begin : g_non6
+                assign den_6 = {B{1'b0}};
+                assign sh_6  = {SH_W{1'b0}};
+                assign wn_6  = {(W_W+1){1'b0}};
+            end
+            reg  [B-1:0]        den_s;
+            reg  [SH_W-1:0]     sh_s;
+            reg  [W_W:0]        wn_s;
+            reg  [31:0]         pt_s;
             reg                 w_zero;
             reg  [D_W-1:0]      d_wn;   // w + 2 h(sh) zero-extended
             reg  [B-1:0]        den_x;
@@ -545,18 +614,24 @@ generate
             /* verilator lint_on UNUSEDSIGNAL */
             reg  [NQ_W-1:0]     pt;     // clut[k] zero-extended
             always @* begin
-                w_zero = (wn_6 == {(W_W+1){1'b0}});
+                den_s = (P != 0) ? den_6 : s5_den_reg;
+                sh_s  = (P != 0) ? sh_6 : s5_sh_reg;
+                wn_s  = (P != 0) ? wn_6 : s5_wn_reg;
+                pt_s  = (P != 0) ? point_6 : s5_point_reg;
+                w_zero = (wn_s == {(W_W+1){1'b0}});
                 d_wn = {D_W{1'b0}};
-                d_wn[W_W:0] = wn_6;
-                den_x = den_6;   // 0 when w = 0
+                d_wn[W_W:0] = wn_s;
+                den_x = den_s;   // 0 when w = 0
                 if (w_zero)
                     den_x[0] = 1'b1;
                 for (c = 0; c < 4; c = c + 1) begin
-                    dd = d_6[c*D_W +: D_W];
+                    dd = (P != 0) ? d_6[c*D_W +: D_W]
+                                  : d_of(s5_mode_reg, e_a[c*TW +: TW], e_b[c*TW +: TW], p_a[c*D_W +: D_W],
+                                         p_b[c*D_W +: D_W]);
                     sum = {1'b0, dd} + {1'b0, d_wn};
-                    nsh = sum[D_W:1] >> sh_6;
+                    nsh = sum[D_W:1] >> sh_s;
                     pt = {NQ_W{1'b0}};
-                    pt[7:0] = point_6[8*c +: 8];
+                    pt[7:0] = pt_s[8*c +: 8];
                     num_x[c*NQ_W +: NQ_W] = w_zero ? pt : nsh[NQ_W-1:0];
                 end
             end

@@ -38,28 +38,32 @@ reg signed [W:0]    diff;   // b - a needs W+1 bits
 reg signed [W+TW:0] step;
 /* verilator lint_on UNUSEDSIGNAL */
 
-always @* diff = b - a;                 // operands sign-extended to W+1 bits: exact
-
-// PIPE = 2: b - a, t and a registered before the multiplier
-localparam P1 = (PIPE > 1) ? 1 : 0;
-localparam P2 = (PIPE > 0) ? 1 : 0;
-wire signed [W:0]    diff_p;
-wire signed [TW-1:0] t_p;
-wire signed [W-1:0]  a_1;
-delay_line #(.W(2*W + 1 + TW), .N(P1)) u_dly1 (.clk(clk), .rst(1'b0), .ce(ce), .d_in({a, diff, t}),
-                                              .d_out({a_1, diff_p, t_p}));
-
-always @* step = (diff_p * t_p) >>> P_FRAC;  // exact product: |diff * t| < 2^(W+TW)
-
-// PIPE >= 1: the step's W bits and a registered after the multiplier
-wire signed [W-1:0] a_p, step_p;
-delay_line #(.W(2*W), .N(P2)) u_dly2 (.clk(clk), .rst(1'b0), .ce(ce), .d_in({a_1, step[W-1:0]}),
-                                     .d_out({a_p, step_p}));
-
-always @* begin
-    // a + step lies between a and b, so the W-bit (mod 2^W) sum is exact
-    y = a_p + step_p;
-end
+generate
+    if (PIPE == 0) begin : g_comb
+        // one always @* (event-driven simulation: it runs once per input change)
+        always @* begin
+            diff = b - a;                       // operands sign-extended to W+1 bits: exact
+            step = (diff * t) >>> P_FRAC;       // exact product: |diff * t| < 2^(W+TW)
+            // a + step lies between a and b, so the W-bit (mod 2^W) sum is exact
+            y    = a + step[W-1:0];
+        end
+    end else begin : g_pipe
+        always @* diff = b - a;
+        // PIPE = 2: b - a, t and a registered before the multiplier
+        localparam P1 = (PIPE > 1) ? 1 : 0;
+        wire signed [W:0]    diff_p;
+        wire signed [TW-1:0] t_p;
+        wire signed [W-1:0]  a_1;
+        delay_line #(.W(2*W + 1 + TW), .N(P1)) u_dly1 (.clk(clk), .rst(1'b0), .ce(ce), .d_in({a, diff, t}),
+                                                      .d_out({a_1, diff_p, t_p}));
+        always @* step = (diff_p * t_p) >>> P_FRAC;
+        // the step's W bits and a registered after the multiplier
+        wire signed [W-1:0] a_p, step_p;
+        delay_line #(.W(2*W), .N(1)) u_dly2 (.clk(clk), .rst(1'b0), .ce(ce), .d_in({a_1, step[W-1:0]}),
+                                            .d_out({a_p, step_p}));
+        always @* y = a_p + step_p;
+    end
+endgenerate
 
 endmodule
 

@@ -47,18 +47,31 @@ generate
         reg [2*P_FRAC-1:0] sq, cube;
         /* verilator lint_on UNUSEDSIGNAL */
         reg [BW-1:0]       f2_ext, f3_ext, slope;
-        always @* sq = fp * fp;
-        // fp and f2 after PIPE stages
-        wire [P_FRAC-1:0] fp_p, f2_p;
-        delay_line #(.W(2*P_FRAC), .N(PIPE)) u_dly (.clk(clk), .rst(1'b0), .ce(ce),
-                                                    .d_in({fp, sq[2*P_FRAC-1:P_FRAC]}), .d_out({fp_p, f2_p}));
-        always @* begin
-            f2_ext = {{(BW-P_FRAC){1'b0}}, f2_p};
-            cube   = f2_ext[P_FRAC-1:0] * fp_p;
-            f3_ext = {{(BW-P_FRAC){1'b0}}, cube[2*P_FRAC-1:P_FRAC]};
-            slope  = {{(BW-P_FRAC){1'b0}}, fp_p} - f2_ext;    // fp >= f2
-            w      = (f2_ext << 1) + f2_ext - (f3_ext << 1);
-            dw     = (slope << 2) + (slope << 1);
+        if (PIPE == 0) begin : g_comb
+            // one always @* (event-driven simulation: it runs once per input change)
+            always @* begin
+                sq     = fp * fp;
+                f2_ext = {{(BW-P_FRAC){1'b0}}, sq[2*P_FRAC-1:P_FRAC]};
+                cube   = f2_ext[P_FRAC-1:0] * fp;
+                f3_ext = {{(BW-P_FRAC){1'b0}}, cube[2*P_FRAC-1:P_FRAC]};
+                slope  = {{(BW-P_FRAC){1'b0}}, fp} - f2_ext;      // fp >= f2
+                w      = (f2_ext << 1) + f2_ext - (f3_ext << 1);
+                dw     = (slope << 2) + (slope << 1);
+            end
+        end else begin : g_pipe
+            always @* sq = fp * fp;
+            // fp and f2 registered between the two multipliers
+            wire [P_FRAC-1:0] fp_p, f2_p;
+            delay_line #(.W(2*P_FRAC), .N(1)) u_dly (.clk(clk), .rst(1'b0), .ce(ce),
+                                                     .d_in({fp, sq[2*P_FRAC-1:P_FRAC]}), .d_out({fp_p, f2_p}));
+            always @* begin
+                f2_ext = {{(BW-P_FRAC){1'b0}}, f2_p};
+                cube   = f2_ext[P_FRAC-1:0] * fp_p;
+                f3_ext = {{(BW-P_FRAC){1'b0}}, cube[2*P_FRAC-1:P_FRAC]};
+                slope  = {{(BW-P_FRAC){1'b0}}, fp_p} - f2_ext;    // fp >= f2
+                w      = (f2_ext << 1) + f2_ext - (f3_ext << 1);
+                dw     = (slope << 2) + (slope << 1);
+            end
         end
     end
 endgenerate

@@ -44,8 +44,11 @@ module sat_integral #(
 );
 
 // the products and csat[kk-1] << XF (stage 1 of PIPE = 1), all four channels
+/* verilator lint_off UNUSEDSIGNAL */  // PIPE = 0 reads p0_nx, PIPE = 1 b_nx and m_nx
 reg        [4*D_W-1:0] b_nx;
 reg        [4*D_W-1:0] m_nx;
+reg        [4*D_W-1:0] p0_nx;  // PIPE = 0: p itself (in this one always @*)
+/* verilator lint_on UNUSEDSIGNAL */
 reg        [4*TW-1:0]  e_nx;
 // loop temporaries
 integer              ch;
@@ -57,6 +60,7 @@ reg signed [TW-1:0]  q_x;   // q zero-extended
 
 always @* begin
     b_nx = {(4*D_W){1'b0}};
+    p0_nx = {(4*D_W){1'b0}};
     m_nx = {(4*D_W){1'b0}};
     e_nx = {(4*TW){1'b0}};
     fr_x = {D_W{1'b0}};
@@ -73,23 +77,32 @@ always @* begin
         q_x[QW-1:0] = q_in[ch*QW +: QW];
         b_nx[ch*D_W +: D_W] = b_x;
         m_nx[ch*D_W +: D_W] = fr_x * c_x;
+        p0_nx[ch*D_W +: D_W] = b_x + fr_x * c_x;
         e_nx[ch*TW +: TW]   = k_x * q_x;
     end
 end
 
-// PIPE = 1: the products and csat[kk-1] registered (PIPE = 0: wires)
-wire [4*D_W-1:0] b_p, m_p;
+// PIPE = 1: the products and csat[kk-1] registered, then summed (a block of its own)
+wire [4*D_W-1:0] p_nx;
 wire [4*TW-1:0]  e_p;
-delay_line #(.W(4*D_W), .N(PIPE)) u_dly_b (.clk(clk), .rst(1'b0), .ce(ce), .d_in(b_nx), .d_out(b_p));
-delay_line #(.W(4*D_W), .N(PIPE)) u_dly_m (.clk(clk), .rst(1'b0), .ce(ce), .d_in(m_nx), .d_out(m_p));
-delay_line #(.W(4*TW), .N(PIPE))  u_dly_e (.clk(clk), .rst(1'b0), .ce(ce), .d_in(e_nx), .d_out(e_p));
-
-reg [4*D_W-1:0] p_nx;
-integer         cs;
-always @* begin
-    for (cs = 0; cs < 4; cs = cs + 1)
-        p_nx[cs*D_W +: D_W] = b_p[cs*D_W +: D_W] + m_p[cs*D_W +: D_W];
-end
+generate
+    if (PIPE == 0) begin : g_comb
+        assign p_nx = p0_nx;
+        assign e_p  = e_nx;
+    end else begin : g_pipe
+        wire [4*D_W-1:0] b_p, m_p;
+        delay_line #(.W(4*D_W), .N(1)) u_dly_b (.clk(clk), .rst(1'b0), .ce(ce), .d_in(b_nx), .d_out(b_p));
+        delay_line #(.W(4*D_W), .N(1)) u_dly_m (.clk(clk), .rst(1'b0), .ce(ce), .d_in(m_nx), .d_out(m_p));
+        delay_line #(.W(4*TW), .N(1))  u_dly_e (.clk(clk), .rst(1'b0), .ce(ce), .d_in(e_nx), .d_out(e_p));
+        reg [4*D_W-1:0] p_sum;
+        integer         cs;
+        always @* begin
+            for (cs = 0; cs < 4; cs = cs + 1)
+                p_sum[cs*D_W +: D_W] = b_p[cs*D_W +: D_W] + m_p[cs*D_W +: D_W];
+        end
+        assign p_nx = p_sum;
+    end
+endgenerate
 
 reg [4*D_W-1:0] p_reg;
 reg [4*TW-1:0]  e_reg;
