@@ -25,7 +25,8 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from hdlbuild import ROOT, block_params, config_of
-from model.hw.config import CONFIG_NAMES, clocks_per_pixel, load_config, noise_term_instances, variant
+from model.hw.config import CONFIG_NAMES, base_of, clocks_per_pixel, is_config_file, load_config, noise_term_instances
+from model.hw.config import fc_variant as config_fc_variant
 
 REPORTS = ROOT / "synth" / "reports"
 # each configuration's budget: the paper's gate count of its model (section 4.2; compact: the
@@ -128,7 +129,7 @@ def synth_config(config: str, jobs: int = 2) -> dict:
         futs = {label: ex.submit(synth_one, config, mod, lib) for label, (mod, lib) in block_jobs(cfg).items()}
         res = {k: f.result() for k, f in futs.items()}
     rep = combine(config, cfg, res)
-    budget = BUDGET.get(config) or BUDGET.get(_base_of(config))  # a variant file: its base's budget
+    budget = BUDGET.get(config) or BUDGET.get(base_of(config))  # a variant file: its base's budget
     rep.update({"budget_ge": budget, "paper_gates": budget if config in PAPER_MODELS else None,
                 "within_budget": budget is not None and rep["ge_total"] <= budget,
                 "seconds": round(time.perf_counter() - t0, 1)})
@@ -136,14 +137,6 @@ def synth_config(config: str, jobs: int = 2) -> dict:
     (REPORTS / f"{config}.json").write_text(json.dumps(rep, indent=2) + "\n")
     (REPORTS / f"{config}.md").write_text(markdown(rep))
     return rep
-
-
-def _base_of(config: str) -> str | None:
-    """The `base` a variant file of config/ names (None for the named configurations)."""
-    import tomllib
-
-    p = ROOT / "config" / f"{config}.toml"
-    return tomllib.loads(p.read_text()).get("base") if p.is_file() else None
 
 
 def markdown(rep: dict) -> str:
@@ -262,9 +255,7 @@ def check() -> int:
 
 def fc_variant(c: str):
     """Configuration c with the frequency-clamping filter (its terms unfolded)."""
-    base = load_config(c)
-    k = base.noise_terms
-    return variant(base, f"{c}_fc", filter="sat_fc", noise_units=k, quadric_clocks=1)
+    return config_fc_variant(load_config(c))
 
 
 def blocks_table() -> int:
@@ -299,7 +290,7 @@ def main(argv=None) -> int:
     ap.add_argument("--blocks", action="store_true")
     ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", 2)))
     a = ap.parse_args(argv)
-    if a.config is not None and not (a.config.isidentifier() and (ROOT / "config" / f"{a.config}.toml").is_file()):
+    if a.config is not None and not is_config_file(a.config):
         print(f"synth: --config {a.config}: no such configuration in config/", file=sys.stderr)
         return 2
     if a.check:

@@ -304,6 +304,23 @@ def load_config(name_or_path) -> Config:
     return _from_raw(_read_raw(p), p)
 
 
+def is_config_file(name: str) -> bool:
+    """A name of a configuration file of config/ (a named configuration or a variant file)."""
+    return name.isidentifier() and (CONFIG_DIR / f"{name}.toml").is_file()
+
+
+def base_of(name: str) -> str | None:
+    """The `base` the file config/<name>.toml names (None: it has none, or there is no file)."""
+    p = CONFIG_DIR / f"{name}.toml"
+    return tomllib.loads(p.read_text()).get("base") if is_config_file(name) else None
+
+
+def fc_variant(base: Config) -> Config:
+    """base with the frequency-clamping filter (filter "sat_fc"), its terms unfolded (at least one)."""
+    k = max(base.noise_terms, 1)
+    return variant(base, f"{base.name}_fc", filter="sat_fc", noise_terms=k, noise_units=k, quadric_clocks=1)
+
+
 def _read_raw(p: Path, seen: tuple = ()) -> dict:
     """A configuration file's table; `base = "<name>"` takes every key of config/<name>.toml
     that the file does not set itself (a variant names only what it changes)."""

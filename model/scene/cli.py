@@ -79,9 +79,9 @@ def check_truth_args(a) -> None:
 
 def check_config(name: str) -> str:
     """--config: a configuration of config/ (the named ones, or a variant file such as full_fc)."""
-    from model.hw.config import CONFIG_DIR
+    from model.hw.config import CONFIG_DIR, is_config_file
 
-    if name not in CONFIG_NAMES and not (name.isidentifier() and (CONFIG_DIR / f"{name}.toml").is_file()):
+    if name not in CONFIG_NAMES and not is_config_file(name):
         known = sorted(p.stem for p in CONFIG_DIR.glob("*.toml"))
         raise UserError(f"--config {name}: no such configuration (known: {', '.join(known)})")
     return name

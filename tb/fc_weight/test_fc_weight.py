@@ -26,7 +26,8 @@ import cocotb
 
 import hdlbuild
 from model.hw import golden as G
-from model.hw.config import FC_KSF, load_config, random_config, variant
+from model.hw.config import FC_KSF, load_config, random_config
+from model.hw.config import fc_variant as config_fc_variant
 from tb import pipe
 
 SOURCES = ["fc_weight.v", "bitlen.v", "delay_line.v"]
@@ -35,12 +36,7 @@ SOURCES = ["fc_weight.v", "bitlen.v", "delay_line.v"]
 def fc_variant(name: str):
     """A configuration with the frequency-clamping filter: a named one (its terms unfolded),
     or a random one."""
-    if name.startswith("random:"):
-        base = random_config(int(name.split(":")[1]))
-    else:
-        base = load_config(name)
-    k = max(base.noise_terms, 1)
-    return variant(base, f"{base.name}_fc", filter="sat_fc", noise_terms=k, noise_units=k, quadric_clocks=1)
+    return config_fc_variant(random_config(int(name.split(":")[1])) if name.startswith("random:") else load_config(name))
 
 
 # every set under Icarus (the 4-state check), the named ones under Verilator too (CI time)
