@@ -59,7 +59,7 @@
 // delay line.
 // FPGA_REGS = 1 ([fpga_regs]) adds four register stages (P below): stage 1 in two (1a:
 // the clamp thresholds and the shifted f, registered; 1b: the comparisons); the table outputs registered before the multipliers (4b: the block RAM's
-// clock-to-out off the multiplier path); sat_integral's products registered before their
+// clock-to-out off the multiplier path; the multipliers' q operands selected before it); sat_integral's products registered before their
 // sums (5a), beside them the normalisation split in two (5a: sh0 = bitlen(w >> B); 5b:
 // den', sh, w + 2 h(sh)); stage 6 split after D (6a: D per channel; 6b: + w, the shift,
 // the operand select). mip/none: the delay line is four stages longer.
@@ -310,14 +310,14 @@ generate
         // ---- stage 4b (FPGA_REGS): the table outputs and stage 4's registers registered
         // again (x: P stages after the read; y: 2P, beside sat_integral's products)
         wire [31:0]       clut_ax, clut_bx, clut_ay;
-        wire [4*CS_W-1:0] csat_ax, csat_bx, total_x;
+        wire [4*CS_W-1:0] csat_ax, csat_bx;
         wire [W_W-1:0]    s4x_w, s4y_w;
         wire              s4x_mode, s4y_mode;
         wire [KW-1:0]     s4x_k_a, s4x_k_b;
         wire [XF-1:0]     s4x_fr_a, s4x_fr_b;
         wire              s4x_first_a, s4x_first_b;
-        delay_line #(.W(64 + 12*CS_W), .N(P)) u_dly_tbl (.clk(clk), .rst(rst), .ce(ce),
-            .d_in({clut_a, clut_b, csat_a, csat_b, total}), .d_out({clut_ax, clut_bx, csat_ax, csat_bx, total_x}));
+        delay_line #(.W(64 + 8*CS_W), .N(P)) u_dly_tbl (.clk(clk), .rst(rst), .ce(ce),
+            .d_in({clut_a, clut_b, csat_a, csat_b}), .d_out({clut_ax, clut_bx, csat_ax, csat_bx}));
         delay_line #(.W(W_W + 3 + 2*KW + 2*XF), .N(P)) u_dly_s4 (.clk(clk), .rst(rst), .ce(ce),
             .d_in({s4_w_reg, s4_mode_reg, s4_k_a_reg, s4_k_b_reg, s4_fr_a_reg, s4_fr_b_reg, s4_first_a_reg,
                    s4_first_b_reg}),
@@ -326,27 +326,32 @@ generate
             .d_in({clut_ax, s4x_w, s4x_mode}), .d_out({clut_ay, s4y_w, s4y_mode}));
 
         // ---- stage 5: partial integrals and whole-entry products of both ends
-        // q operands: clamp clut[ka], clut[kb]; mod total >> 8 (a), total mod 2^8 (b)
-        reg [4*QW-1:0] q_a, q_b;
+        // q operands: clamp clut[ka], clut[kb]; mod total >> 8 (a), total mod 2^8 (b); selected
+        // from the table outputs themselves (FPGA_REGS: then registered in stage 4b with them,
+        // so that the selection is off the multipliers' path)
+        reg [4*QW-1:0] q_a_n, q_b_n;
         reg [QW-1:0]   qa, qb;
         integer        qc;
         always @* begin
-            q_a = {(4*QW){1'b0}};
-            q_b = {(4*QW){1'b0}};
+            q_a_n = {(4*QW){1'b0}};
+            q_b_n = {(4*QW){1'b0}};
             for (qc = 0; qc < 4; qc = qc + 1) begin
                 qa = {QW{1'b0}};
                 qb = {QW{1'b0}};
-                if (s4x_mode) begin
-                    qa[7:0] = clut_ax[8*qc +: 8];
-                    qb[7:0] = clut_bx[8*qc +: 8];
+                if (s4_mode_reg) begin
+                    qa[7:0] = clut_a[8*qc +: 8];
+                    qb[7:0] = clut_b[8*qc +: 8];
                 end else begin
-                    qa[CS_W-9:0] = total_x[qc*CS_W+8 +: CS_W-8];
-                    qb[7:0]      = total_x[qc*CS_W +: 8];
+                    qa[CS_W-9:0] = total[qc*CS_W+8 +: CS_W-8];
+                    qb[7:0]      = total[qc*CS_W +: 8];
                 end
-                q_a[qc*QW +: QW] = qa;
-                q_b[qc*QW +: QW] = qb;
+                q_a_n[qc*QW +: QW] = qa;
+                q_b_n[qc*QW +: QW] = qb;
             end
         end
+        wire [4*QW-1:0] q_a, q_b;
+        delay_line #(.W(8*QW), .N(P)) u_dly_q (.clk(clk), .rst(rst), .ce(ce), .d_in({q_a_n, q_b_n}),
+                                               .d_out({q_a, q_b}));
 
         wire [4*D_W-1:0] p_a, p_b;
         wire [4*TW-1:0]  e_a, e_b;

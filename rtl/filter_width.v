@@ -38,9 +38,12 @@
  *   stages 5..N-1: isqrt (N - 5 stages)
  *   stage N:       scale by 2^e, saturate
  *
- * FPGA_REGS = 1 ([fpga_regs]; `LAT_FILTER_WIDTH_FPGA = `LAT_FILTER_WIDTH + 1): stage 3 in
- * two, the leading-one detector's sh registered (with ax, ay) before the normalising shift;
- * the isqrt keeps its `LAT_FILTER_WIDTH - 5 stages.
+ * FPGA_REGS = 1 ([fpga_regs]; `LAT_FILTER_WIDTH_FPGA = `LAT_FILTER_WIDTH + 3): stage 1 in
+ * two, each product on mul_pipe (its 18x18 partial products registered before their sum, the
+ * exponent's constant part beside them); stage 3 in two, the leading-one detector's sh
+ * registered (with ax, ay) before the normalising shift; the last stage in two, bitlen(r) + e
+ * and the shifted r registered before the comparison with the cap; the isqrt keeps its
+ * `LAT_FILTER_WIDTH - 5 stages.
  */
 
 `include "tex_latency.vh"
@@ -58,7 +61,7 @@ module filter_width #(
     parameter F_FRAC     = 16,  // [f_frac] w fraction bits
     parameter W_CAP_LOG2 = 16,  // [w_cap_log2] w saturates at 2^W_CAP_LOG2 entries
     parameter N_LOG2_MAX = 8,   // [n_log2_max] log2 of the largest colour table
-    parameter FPGA_REGS  = 0    // [fpga_regs] 1: stage 3 in two (above)
+    parameter FPGA_REGS  = 0    // [fpga_regs] 1: stages 1, 3 and the last in two (above)
 ) (clk, rst, ce, in_valid, c_in, jm_in, je_in, n_log2, out_valid, w_out);
 
 `include "tex_widths.vh"
@@ -84,9 +87,9 @@ output wire                out_valid;
 output wire [W_W-1:0]      w_out;
 
 localparam LATENCY  = FPGA_REGS ? `LAT_FILTER_WIDTH_FPGA : `LAT_FILTER_WIDTH;
-localparam P        = FPGA_REGS ? 1 : 0;     // the optional register stage (stage 3a)
+localparam P        = FPGA_REGS ? 1 : 0;     // each optional register stage (stages 1a, 3a, last a)
 localparam SQ_LAT   = `LAT_FILTER_WIDTH - 5; // isqrt stages
-localparam VR       = 4 + P;                 // valid bits of stages 1..4 (3a)
+localparam VR       = 4 + 2*P;               // valid bits of stages 1..4 (1a, 3a)
 localparam CAP_BITS = W_CAP_LOG2 + F_FRAC;   // w saturates at 2^CAP_BITS
 localparam MH_W     = GABS_W - NORM_BITS;    // bits of |g| above the normalised window
 localparam BLR_W    = $clog2(R_W + 1);       // bitlen(r), 0..R_W
@@ -99,7 +102,7 @@ localparam PJ_W     = C_W + J_W;             // product c_k Jm[k][col]
 
 // elaboration fails (unknown module) on an unsupported configuration
 generate
-    if (LATENCY != `LAT_FILTER_WIDTH + P || SQ_LAT < 1 || SQ_LAT > R_W || MH_W < 1 || $clog2(MH_W + 1) != SH_W || E_W <= SH_W
+    if (LATENCY != `LAT_FILTER_WIDTH + 3*P || SQ_LAT < 1 || SQ_LAT > R_W || MH_W < 1 || $clog2(MH_W + 1) != SH_W || E_W <= SH_W
         || G_W < C_W + J_W) begin : g_bad_params
         filter_width_unsupported_latency_or_widths u_error ();
     end
@@ -113,7 +116,7 @@ endgenerate
 // e without sh: je + n_log2 + F_FRAC - C_FRAC (modulo 2^E_W; the final e fits)
 localparam signed [E_W-1:0] E_CONST = F_FRAC - C_FRAC;
 
-reg [VR-1:0] valid_reg;  // stages 1..4 (and 3a)
+reg [VR-1:0] valid_reg;  // stages 1..4 (and 1a, 3a)
 reg       out_valid_reg;
 wire      sq_valid;   // valid out of the isqrt (stage LATENCY - 1)
 
@@ -129,7 +132,38 @@ reg [SQ_LAT*E_W-1:0]  e_dly_reg;  // e_dly_reg[k*E_W +: E_W]: e after k + 1 isqr
 reg [W_W-1:0]         w_reg;
 
 // ---------------------------------------------------------------------------
-// stage 1: products; the constant part of the exponent (in the clocked process)
+// stage 1: products; the constant part of the exponent (in the clocked process; FPGA_REGS:
+// the products on mul_pipe, the exponent's part delayed beside its partial products)
+
+wire signed [E_W-1:0] ek_next = $signed({{(E_W-JE_W){je_in[JE_W-1]}}, je_in})
+                              + $signed({{(E_W-N_LOG2_W){1'b0}}, n_log2}) + E_CONST;
+wire signed [E_W-1:0] ek_1a;
+wire [6*PJ_W-1:0]     prod_1a;  // product 2 k + col: c_k Jm[k][col]
+delay_line #(.W(E_W), .N(P)) u_dly_1a (.clk(clk), .rst(rst), .ce(ce), .d_in(ek_next), .d_out(ek_1a));
+generate
+    if (FPGA_REGS) begin : g_pipe
+        genvar gp;
+        for (gp = 0; gp < 6; gp = gp + 1) begin : g_prod
+            if (C_W <= 35 && J_W <= 35) begin : g_mul
+                mul_pipe #(.A_W(C_W), .B_W(J_W)) u_mul (.clk(clk), .ce(ce), .a(c_in[(gp/2)*C_W +: C_W]),
+                                                       .b(jm_in[gp*J_W +: J_W]), .p(prod_1a[gp*PJ_W +: PJ_W]));
+            end else begin : g_reg  // operands wider than mul_pipe's two parts
+                wire signed [PJ_W-1:0] pw = $signed(c_in[(gp/2)*C_W +: C_W]) * $signed(jm_in[gp*J_W +: J_W]);
+                delay_line #(.W(PJ_W), .N(1)) u_dly (.clk(clk), .rst(1'b0), .ce(ce), .d_in(pw),
+                                                     .d_out(prod_1a[gp*PJ_W +: PJ_W]));
+            end
+        end
+    end else begin : g_comb
+        // one always @*, one driver of the whole word (event-driven simulation speed)
+        reg [6*PJ_W-1:0] prod_c;
+        integer          pc;
+        always @* begin
+            for (pc = 0; pc < 6; pc = pc + 1)
+                prod_c[pc*PJ_W +: PJ_W] = $signed(c_in[(pc/2)*C_W +: C_W]) * $signed(jm_in[pc*J_W +: J_W]);
+        end
+        assign prod_1a = prod_c;
+    end
+endgenerate
 //
 // stage 2: gx, gy, absolute values; stage 3: the leading-one detector's input;
 // stage 4: L = ax^2 + ay^2; the e delay line
@@ -229,7 +263,9 @@ localparam [W_W-1:0]          W_CAP = {1'b1, {CAP_BITS{1'b0}}} ;
 
 reg signed [E_W-1:0]   e;
 reg signed [CMP_W-1:0] top;   // bitlen(r) + e
+/* verilator lint_off UNUSEDSIGNAL */  // FPGA_REGS: compared after a register (g_split)
 reg                    over;  // r > 0 and bitlen(r) + e > CAP_BITS
+/* verilator lint_on UNUSEDSIGNAL */
 reg [SW-1:0]           r_x;   // r zero-extended to the shifter width
 /* verilator lint_off UNUSEDSIGNAL */
 // when R_W > W_W, the bits of the shifted r above W_W are zero unless over
@@ -247,20 +283,49 @@ always @* begin
     w_sh  = e[E_W-1] ? (r_x >> -e) : (r_x << e[E_W-2:0]);
 end
 
+// the output register's inputs: directly, or (FPGA_REGS) with r > 0, bitlen(r) + e and the
+// shifted r registered before the comparison with the cap (the valid beside them, reset)
+wire           fin_valid, fin_over;
+wire [W_W-1:0] fin_w;
+generate
+    if (FPGA_REGS) begin : g_split
+        reg                    sqv_r, nz_r;
+        reg signed [CMP_W-1:0] top_r;
+        reg [W_W-1:0]          wsh_r;
+        always @(posedge clk) begin
+            if (rst)
+                sqv_r <= 1'b0;
+            else if (ce)
+                sqv_r <= sq_valid;
+            if (ce) begin
+                nz_r  <= r_nz;
+                top_r <= top;
+                wsh_r <= w_sh[W_W-1:0];
+            end
+        end
+        assign fin_valid = sqv_r;
+        assign fin_over  = nz_r && (top_r > CAP_S);
+        assign fin_w     = wsh_r;
+    end else begin : g_direct
+        assign fin_valid = sq_valid;
+        assign fin_over  = over;
+        assign fin_w     = w_sh[W_W-1:0];
+    end
+endgenerate
+
 // ---------------------------------------------------------------------------
 // all registers: one clocked process
 
 always @(posedge clk) begin
     if (ce) begin
         // stage 1
-        px0_reg  <= $signed(c_in[0*C_W +: C_W]) * $signed(jm_in[0*J_W +: J_W]);  // c0 Jm[0][0]
-        px1_reg  <= $signed(c_in[1*C_W +: C_W]) * $signed(jm_in[2*J_W +: J_W]);  // c1 Jm[1][0]
-        px2_reg  <= $signed(c_in[2*C_W +: C_W]) * $signed(jm_in[4*J_W +: J_W]);  // c2 Jm[2][0]
-        py0_reg  <= $signed(c_in[0*C_W +: C_W]) * $signed(jm_in[1*J_W +: J_W]);  // c0 Jm[0][1]
-        py1_reg  <= $signed(c_in[1*C_W +: C_W]) * $signed(jm_in[3*J_W +: J_W]);  // c1 Jm[1][1]
-        py2_reg  <= $signed(c_in[2*C_W +: C_W]) * $signed(jm_in[5*J_W +: J_W]);  // c2 Jm[2][1]
-        ek_1_reg <= $signed({{(E_W-JE_W){je_in[JE_W-1]}}, je_in}) + $signed({{(E_W-N_LOG2_W){1'b0}}, n_log2})
-                  + E_CONST;
+        px0_reg  <= prod_1a[0*PJ_W +: PJ_W];  // c0 Jm[0][0]
+        px1_reg  <= prod_1a[2*PJ_W +: PJ_W];  // c1 Jm[1][0]
+        px2_reg  <= prod_1a[4*PJ_W +: PJ_W];  // c2 Jm[2][0]
+        py0_reg  <= prod_1a[1*PJ_W +: PJ_W];  // c0 Jm[0][1]
+        py1_reg  <= prod_1a[3*PJ_W +: PJ_W];  // c1 Jm[1][1]
+        py2_reg  <= prod_1a[5*PJ_W +: PJ_W];  // c2 Jm[2][1]
+        ek_1_reg <= ek_1a;
         // stage 2
         ax_reg   <= gx_abs[GABS_W-1:0];
         ay_reg   <= gy_abs[GABS_W-1:0];
@@ -282,9 +347,9 @@ always @(posedge clk) begin
         w_reg         <= {W_W{1'b0}};
     end else if (ce) begin
         valid_reg     <= {valid_reg[VR-2:0], in_valid};
-        out_valid_reg <= sq_valid;
-        if (sq_valid) begin
-            w_reg <= over ? W_CAP : w_sh[W_W-1:0];
+        out_valid_reg <= fin_valid;
+        if (fin_valid) begin
+            w_reg <= fin_over ? W_CAP : fin_w;
         end
     end
 end

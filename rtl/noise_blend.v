@@ -8,8 +8,10 @@
 // w in [0, 1] (3 f2 - 2 f3 reaches exactly 1.0 near fp = 1), dw in [0, 1.5].
 // All sums are taken mod 2^BW, exact because the results fit (BW >= P_FRAC + 2, and
 // P_FRAC >= 2: at P_FRAC = 1 the floored f2 lets the cubic dw reach 3.0).
-// Latency: 0 (combinational; noise_term registers around it); PIPE = 1 (noise_term's
-// FPGA_REGS): 1, fp and f2 registered between the two multipliers (advancing with ce).
+// Latency: PIPE register stages (advancing with ce). PIPE = 0: combinational (noise_term
+// registers around it); PIPE = 1: fp and f2 registered between the two multipliers;
+// PIPE = 2 (noise_term's FPGA_REGS): also fp, f2 and f3 after the second multiplier
+// (each multiplier alone in its clock). Linear: fp delayed by PIPE stages.
 // Cost: cubic two P_FRAC x P_FRAC unsigned multipliers in series; linear none.
 // Written for event-driven simulation speed: the body is one always @* with blocking
 // assigns (one evaluation per input change, no net-level arithmetic).
@@ -20,7 +22,7 @@ module noise_blend #(
     parameter BLEND  = 1,   // 0: linear, 1: cubic (blend)
     parameter P_FRAC = 12,  // fraction bits of fp, w and dw (p_frac)
     parameter BW     = 14,  // width of w and dw (blend_w, >= P_FRAC + 2)
-    parameter PIPE   = 0    // 1: a register stage between fp^2 and f2 fp (latency 1)
+    parameter PIPE   = 0    // register stages: 0, 1 (between fp^2 and f2 fp) or 2 (and after f2 fp)
 ) (
     /* verilator lint_off UNUSEDSIGNAL */  // PIPE = 0: no clock
     input  wire                     clk,
@@ -64,11 +66,16 @@ generate
             wire [P_FRAC-1:0] fp_p, f2_p;
             delay_line #(.W(2*P_FRAC), .N(1)) u_dly (.clk(clk), .rst(1'b0), .ce(ce),
                                                      .d_in({fp, sq[2*P_FRAC-1:P_FRAC]}), .d_out({fp_p, f2_p}));
+            always @* cube = f2_p * fp_p;
+            // PIPE = 2: fp, f2 and f3 registered after the second multiplier
+            wire [P_FRAC-1:0] fp_q, f2_q, f3_q;
+            delay_line #(.W(3*P_FRAC), .N(PIPE - 1)) u_dly_3 (.clk(clk), .rst(1'b0), .ce(ce),
+                                                              .d_in({fp_p, f2_p, cube[2*P_FRAC-1:P_FRAC]}),
+                                                              .d_out({fp_q, f2_q, f3_q}));
             always @* begin
-                f2_ext = {{(BW-P_FRAC){1'b0}}, f2_p};
-                cube   = f2_ext[P_FRAC-1:0] * fp_p;
-                f3_ext = {{(BW-P_FRAC){1'b0}}, cube[2*P_FRAC-1:P_FRAC]};
-                slope  = {{(BW-P_FRAC){1'b0}}, fp_p} - f2_ext;    // fp >= f2
+                f2_ext = {{(BW-P_FRAC){1'b0}}, f2_q};
+                f3_ext = {{(BW-P_FRAC){1'b0}}, f3_q};
+                slope  = {{(BW-P_FRAC){1'b0}}, fp_q} - f2_ext;    // fp >= f2
                 w      = (f2_ext << 1) + f2_ext - (f3_ext << 1);
                 dw     = (slope << 2) + (slope << 1);
             end

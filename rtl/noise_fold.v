@@ -114,15 +114,24 @@ reg [3*S_W-1:0]  s_reg;
 reg [SIDE_W-1:0] side_reg;
 
 // the pixel's last issue: P - 1 = max(ceil(K_used / U), MIN_CLOCKS) - 1 (k_used is static;
-// issues past the terms give every unit a = 0)
+// issues past the terms give every unit a = 0), a table over the K + 1 values of k_used
+// (constant per entry: a LUT per bit, no arithmetic on the path to in_ready)
+function [J_W-1:0] last_issue_of;
+    input integer ku;
+    integer q;
+    begin
+        q = (ku == 0) ? 0 : (ku - 1) / U;
+        if (q < MIN_CLOCKS - 1) q = MIN_CLOCKS - 1;
+        last_issue_of = q[J_W-1:0];  // q < NJE <= 2^J_W
+    end
+endfunction
+
 reg [J_W-1:0]  j_last;
-/* verilator lint_off UNUSEDSIGNAL */  // (K_used - 1) / U < NJ: the high bits are 0
-reg [31:0]     jq;
-/* verilator lint_on UNUSEDSIGNAL */
+integer        kt;
 always @* begin
-    jq     = (k_used == {KU_W{1'b0}}) ? 32'd0 : ({{(32-KU_W){1'b0}}, k_used} - 32'd1) / U;
-    if (jq < MIN_CLOCKS - 1) jq = MIN_CLOCKS - 1;
-    j_last = jq[J_W-1:0];
+    j_last = {J_W{1'b0}};
+    for (kt = 0; kt <= K; kt = kt + 1)
+        if (k_used == kt[KU_W-1:0]) j_last = last_issue_of(kt);
 end
 
 wire last_issue = busy_reg && (j_reg == j_last);

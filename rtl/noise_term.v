@@ -50,11 +50,11 @@
 //   6  z lerp -> n; gradient: g = (. dw) >> P_FRAC (cubic; linear: dw = 1, a wire)
 //   7  h = (g T) >> H_SHIFT (pow2: shifts); n delayed
 //   8  an = (a n) >> AN_SHIFT, ag = (a h) >> A_FRAC (pow2: shifts; output registers)
-// FPGA_REGS = 1 ([fpga_regs]; `LAT_NOISE_TERM_FPGA = 15 stages): seven more: in stage 3
-// noise_blend's f2 registered between its two multipliers (P; the hash's corner values wait
-// beside it), and in stages 4, 5, 6 every lerp in three (LP = 2: b - a registered before
+// FPGA_REGS = 1 ([fpga_regs]; `LAT_NOISE_TERM_FPGA = 16 stages): eight more: stage 3 in
+// three (P = 2: noise_hash one ROM level a clock, beside it noise_blend's f2 registered
+// after its first multiplier and f3 after its second), and in stages 4, 5, 6 every lerp in three (LP = 2: b - a registered before
 // the multiplier, the scaled step before the adder; the weights, slopes and the gradient's
-// g wait beside them); the parameters of PARAM_PIPE travel 7 stages further (T 13, a 14).
+// g wait beside them); the parameters of PARAM_PIPE travel 8 stages further (T 14, a 15).
 //
 // Parameters (PARAM_PIPE = 0): a_in, t_in, o_in are per-pass parameters, not per-vector
 // data. No register carries them down the pipeline: each is read directly by the stage that
@@ -108,7 +108,7 @@ module noise_term #(
     // directly by the stage that needs them; 1: they belong to the vector entering with
     // in_valid and travel down the pipeline with it (noise_fold: another term every clock)
     parameter PARAM_PIPE     = 0,
-    parameter FPGA_REGS      = 0,   // [fpga_regs] 1: the seven extra register stages above
+    parameter FPGA_REGS      = 0,   // [fpga_regs] 1: the eight extra register stages above
     // the lattice permutation, entry i at [i*HASH_BITS +: HASH_BITS] (noise_hash)
     parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}
 ) (clk, rst, ce, in_valid, s_in, a_in, t_in, o_in, out_valid, an_out, ag_out);
@@ -118,7 +118,7 @@ module noise_term #(
 // ---------------------------------------------------------------------------
 // Formats and derived widths (model/hw/config.py derives the same; tb/test_widths.py)
 
-localparam P        = FPGA_REGS ? 1 : 0;    // noise_blend's optional register stage
+localparam P        = FPGA_REGS ? 2 : 0;    // noise_hash's and noise_blend's optional register stages
 localparam LP       = FPGA_REGS ? 2 : 0;    // each lerp's optional register stages
 localparam STAGES   = 8 + P + 3*LP;         // register stages of this implementation
 localparam LATENCY  = FPGA_REGS ? `LAT_NOISE_TERM_FPGA : `LAT_NOISE_TERM;  // must equal STAGES (checked below)
@@ -365,14 +365,15 @@ wire signed [BW-1:0] wx_next, wy_next, wz_next;
 wire signed [BW-1:0] dwx_next, dwy_next, dwz_next;
 /* verilator lint_on UNUSEDSIGNAL */
 
-wire [8*N_W-1:0]     v_hash;  // FPGA_REGS: registered, beside noise_blend's f2
-noise_hash #(.H(HB), .N_FRAC(N_FRAC), .N_W(N_W), .PERM(PERM)) u_hash (
+// FPGA_REGS: the hash one ROM level a clock, beside noise_blend's two multipliers
+noise_hash #(.H(HB), .N_FRAC(N_FRAC), .N_W(N_W), .PERM(PERM), .PIPE(P)) u_hash (
+    .clk(clk),
+    .ce(ce),
     .ix(ix_reg),
     .iy(iy_reg),
     .iz(iz_reg),
-    .v_out(v_hash)
+    .v_out(v_next)
 );
-delay_line #(.W(8*N_W), .N(P)) u_dly_v (.clk(clk), .rst(rst), .ce(ce), .d_in(v_hash), .d_out(v_next));
 
 // the weights beside the lerps' extra registers (FPGA_REGS), stages 4 and 5
 wire signed [BW-1:0] wy_p, wz_p, wz4_p;

@@ -41,8 +41,9 @@ reg signed [KW-1:0]   k;      // floor(x / 2^XF)
 reg        [XF-1:0]   fr;
 reg        [NMAX-1:0] nm1;    // N - 1
 reg [NMAX-1:0] kk;
-reg [KW-1:0]   kk_x;   // kk zero-extended to KW bits
 reg [KW-1:0]   nm1_x;  // N - 1 zero-extended to KW bits
+reg [KW-1:0]   k_hi;   // k - (N - 1): clamp's kx above the table
+reg            above;  // clamp: k > N - 1
 reg [KW-1:0]   kx;
 
 always @* begin
@@ -51,21 +52,28 @@ always @* begin
     nm1 = ~({NMAX{1'b1}} << n_log2);
     nm1_x = {KW{1'b0}};
     nm1_x[NMAX-1:0] = nm1;
+    // clamp: kx = k - kk taken case by case (below: k; above: k - (N - 1); inside: 0), so
+    // that the subtraction runs beside the comparison instead of after it (one carry chain
+    // on the path, not two)
+    above = !k[KW-1] && (k > $signed(nm1_x));
+    k_hi  = k - nm1_x;
     if (!mode)
         kk = k[NMAX-1:0] & nm1;
     else if (k[KW-1])
         kk = {NMAX{1'b0}};
-    else if (k > $signed(nm1_x))
+    else if (above)
         kk = nm1;
     else
         kk = k[NMAX-1:0];
-    kk_x = {KW{1'b0}};
-    kk_x[NMAX-1:0] = kk;
-    // (two statements: in one ?: the unsigned k - kk_x would make >>> a logical shift)
-    if (mode)
-        kx = k - kk_x;
-    else
+    // (separate statements: in one ?: an unsigned operand would make >>> a logical shift)
+    if (!mode)
         kx = k >>> n_log2;
+    else if (k[KW-1])
+        kx = k;
+    else if (above)
+        kx = k_hi;
+    else
+        kx = {KW{1'b0}};
 end
 
 reg [NMAX-1:0] kk_reg;

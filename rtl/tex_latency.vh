@@ -10,9 +10,9 @@
 `define LAT_QUADRIC_MAC       4
 `define LAT_QUADRIC_MAC_FPGA  6
 `define LAT_NOISE_TERM        8
-`define LAT_NOISE_TERM_FPGA   15
+`define LAT_NOISE_TERM_FPGA   16
 `define LAT_FILTER_WIDTH      8
-`define LAT_FILTER_WIDTH_FPGA 9
+`define LAT_FILTER_WIDTH_FPGA 11
 `define LAT_COLOUR_MAP        14
 `define LAT_COLOUR_MAP_FPGA   18
 `define LAT_FC_WEIGHT         8

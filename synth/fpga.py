@@ -59,12 +59,17 @@ FPGA_STAGES = (
     ("quadric_mac", "diagonal: each product on mul_pipe (18x18 partial products registered before their sum), "
                     "x_k = (Q_kk s_k >>> s_frac) + 2 Q_k3 in one adder; with quadric_clocks = 2 the products are not "
                     "folded (6 multiplier sets instead of 3); full quadric: two input stages"),
-    ("noise_term", "noise_blend's f2 registered between its two multipliers (the hash's corner values beside it); "
-                   "every lerp in three (b - a registered before the multiplier, the scaled step before the adder)"),
-    ("filter_width", "stage 3 in two: the leading-one detector's shift registered before the normalising shift"),
+    ("noise_term", "the hash one permutation level a clock (noise_hash PIPE = 2), beside it noise_blend's f2 "
+                   "registered after its first multiplier and f3 after its second; every lerp in three (b - a "
+                   "registered before the multiplier, the scaled step before the adder)"),
+    ("filter_width", "stage 1 in two: each product c_k Jm on mul_pipe (18x18 partial products registered before "
+                     "their sum); stage 3 in two: the leading-one detector's shift registered before the "
+                     "normalising shift; the last stage in two: bitlen(r) + e and the shifted r registered before "
+                     "the comparison with the cap"),
     ("colour_map", "stage 1 in two (the clamp thresholds and f N registered before the comparisons); the table "
-                   "outputs (the DP16KD clock-to-out off the multiplier path); sat_integral's products before "
-                   "their sums, beside them the w normalisation split in two; D before the divider operands"),
+                   "outputs (the DP16KD clock-to-out off the multiplier path; the multipliers' q operands selected "
+                   "before that register); sat_integral's products before their sums, beside them the w "
+                   "normalisation split in two; D before the divider operands"),
 )
 # printed as progress (the rest only in the log)
 YOSYS_PHASE = re.compile(r"^(\d+\. Executing (?!Verilog)|\d+\.\d+\. Executing (PROC|FLATTEN|ALUMACC|MEMORY_LIBMAP|DFFLEGALIZE|ABC9) "

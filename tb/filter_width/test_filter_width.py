@@ -36,7 +36,7 @@ import hdlbuild
 from model.hw import golden as G
 from tb import pipe
 
-SOURCES = ["filter_width.v", "isqrt.v", "bitlen.v", "delay_line.v"]
+SOURCES = ["filter_width.v", "isqrt.v", "bitlen.v", "delay_line.v", "mul_pipe.v"]
 
 
 def latency(cfg) -> int:

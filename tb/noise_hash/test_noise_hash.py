@@ -1,12 +1,14 @@
-"""noise_hash (combinational): the 8 corner lattice values of a cell, bit-exact against
-model/hw/golden.py noise_hash at (ix + i, iy + j, iz + k) mod 2^hash_bits.
+"""noise_hash (combinational, or PIPE register stages): the 8 corner lattice values of a
+cell, bit-exact against model/hw/golden.py noise_hash at (ix + i, iy + j, iz + k) mod 2^hash_bits.
 
 Coverage scales with VECTORS (budget 2 * VECTORS cells): every cell when 2^(3 hash_bits)
 fits the budget; otherwise every (iy, iz) for fixed ix in
 {0, 2^H - 1} when that fits, else a random sample of them; the rest random cells, plus
 the edges iy, iz in {0, 2^H - 1} (the +1 corners wrap) for every ix.
 Parameter sets: full and reduced (test_noise_hash_rtl), and random valid configurations
-plus the smallest and widest lattice (test_noise_hash_family_rtl: other H, N_FRAC, PERM).
+plus the smallest and widest lattice (test_noise_hash_family_rtl: other H, N_FRAC, PERM), and
+full's and reduced's hash with PIPE = 1 and 2 (test_noise_hash_pipe_rtl: streamed with random ce
+stalls, each result read PIPE enabled clocks after its cell; the outputs hold while ce = 0).
 """
 from __future__ import annotations
 
@@ -17,17 +19,18 @@ import numpy as np
 import pytest
 
 import cocotb
-from cocotb.triggers import Timer
 
 import hdlbuild
 from model.hw import golden as G
 from model.hw.config import load_config, random_config, variant
 from tb import pipe
 
+SOURCES = ["noise_hash.v", "delay_line.v"]
+
 
 @pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_noise_hash_rtl(sim, config):
-    hdlbuild.run("noise_hash", sources=["noise_hash.v"], test_module="test_noise_hash", sim=sim, config=config,
+    hdlbuild.run("noise_hash", sources=SOURCES, test_module="test_noise_hash", sim=sim, config=config,
                   test_dir=Path(__file__).parent)
 
 
@@ -45,8 +48,22 @@ def _family():
 
 @pytest.mark.parametrize("sim,cfg", _family())
 def test_noise_hash_family_rtl(sim, cfg):
-    hdlbuild.run("noise_hash", sources=["noise_hash.v"], test_module="test_noise_hash", sim=sim, config=cfg,
+    hdlbuild.run("noise_hash", sources=SOURCES, test_module="test_noise_hash", sim=sim, config=cfg,
                  test_dir=Path(__file__).parent)
+
+
+def _pipes():
+    """(sim, config, PIPE): full's and reduced's hash pipelined (Icarus both; Verilator PIPE = 2 of full)."""
+    sims = [os.environ["SIM"]] if os.environ.get("SIM") else list(hdlbuild.SIMS)
+    return [pytest.param(sim, c, k, id=f"{sim}-{c}-pipe{k}") for sim in sims for c in ("full", "reduced")
+            for k in (1, 2) if sim == "icarus" or (c, k) == ("full", 2)]
+
+
+@pytest.mark.parametrize("sim,config,pipe_stages", _pipes())
+def test_noise_hash_pipe_rtl(sim, config, pipe_stages):
+    params = {**hdlbuild.block_params(load_config(config), "noise_hash"), "PIPE": pipe_stages}
+    pipe.run_block("noise_hash", sim, f"{config}-pipe{pipe_stages}", params, __file__, config=config,
+                   sources=SOURCES)
 
 
 def cells(cfg, r, budget):
@@ -82,14 +99,22 @@ async def corners_bit_exact(dut):
     c, how = cells(cfg, pipe.rng(7), 2 * pipe.n_vectors())
     exp = np.stack([G.noise_hash(cfg, (c[:, 0] + i) & m, (c[:, 1] + j) & m, (c[:, 2] + k) & m)
                     for i in (0, 1) for j in (0, 1) for k in (0, 1)], -1)
+    stages = pipe.block_params().get("PIPE", 0) if "BLOCK_PARAMS" in os.environ else 0
+    cl = c.tolist()
+
+    def apply(t):
+        dut.ix.value, dut.iy.value, dut.iz.value = cl[t]
+
+    def sample():
+        return pipe.unpack(int(dut.v_out.value), cfg.n_w, 8)
+
+    if stages == 0:
+        got = np.array(await pipe.run_comb(dut, apply, sample, len(cl)), dtype=np.int64).reshape(exp.shape)
+    else:
+        await pipe.start(dut, reset=False, valid=False)
+        got = np.array(await pipe.run_stream(dut, apply, sample, len(cl), stages), dtype=np.int64).reshape(exp.shape)
+        how += f", PIPE = {stages} (streamed, ce stalls)"
     dut._log.info(f"{cfg.name}: {len(c)} cells ({how})")
-    got = np.zeros_like(exp)
-    for t, (x, y, z) in enumerate(c.tolist()):
-        dut.ix.value = x
-        dut.iy.value = y
-        dut.iz.value = z
-        await Timer(1, unit="ns")
-        got[t] = pipe.unpack(int(dut.v_out.value), cfg.n_w, 8)
     bad = np.flatnonzero((got != exp).any(axis=1))
     for t in bad[:10]:
         dut._log.error(f"cell {c[t].tolist()}: expected {exp[t].tolist()}, got {got[t].tolist()}")
