@@ -1,7 +1,8 @@
 """The sweep's plan: which configurations `make explore` measures, and why.
 
 Three parts (docs/tradeoffs.md restates them):
-1. **The named configurations** (config/*.toml: full, reduced, compact).
+1. **The named configurations** (config/*.toml: full, reduced, compact) and `full_wide`, the
+   formats `full` had before its 50-dB fit.
 2. **A grid over the knobs that matter most** for gates against clocks and quality, around
    `compact` (every noise term of the scenes on few units): noise units U (clocks a pixel),
    the blend, and the quadric's clocks: 4 x 2 x 2 points.
@@ -21,7 +22,7 @@ from itertools import product
 
 from model.hw.config import _SCHEMA, config_values, load_config
 
-NAMED = ("full", "reduced", "compact")
+NAMED = ("full", "full_wide", "reduced", "compact")  # full_wide: what the 50-dB fit saved
 GRID_BASE = "compact"
 GRID = {"noise_units": (1, 2, 3, 5), "blend": ("cubic", "linear"), "quadric_clocks": (1, 2)}
 REFINE_DB = 1.0  # a narrowing that cost its base less than this (worst scene, dB) is tried on the front

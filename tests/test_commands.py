@@ -181,8 +181,8 @@ BAD = {
     "scene typo'd key": (lambda t: {"SCENE": _scene_file(t, "quadric =", "quadrik =")}, "texture.t.quadrik: unknown key",
                          ("render", "frame")),
     "a = 9": (lambda t: {"SCENE": _scene_file(t, "a = 0.5", "a = 9")}, "texture.t.noise[0].a: expected a number in [-8, "
-              "7.9997559] (the widest configuration, full s16.12), got 9", ("render", "frame")),
-    "T = 64 (above full's s17.10)": (lambda t: {"SCENE": _scene_file(t, "T = 2.0", "T = 64.0")}, "full s17.10",
+              "7.9997559] (the widest configuration, full_wide s16.12), got 9", ("render", "frame")),
+    "T = 64 (above full_wide's s17.10)": (lambda t: {"SCENE": _scene_file(t, "T = 2.0", "T = 64.0")}, "full_wide s17.10",
                                      ("render", "frame")),
     "T = 32 on reduced (s12.6)": (lambda t: {"SCENE": _scene_file(t, "T = 2.0", "T = 32.0"), "CONFIG": "reduced"},
                                   "noise[0].T[0, 0] = 32 does not fit s12.6", ("render", "frame")),

@@ -8,8 +8,9 @@ alpha = clip((knee - L) / 2^fade, 0, 1) from L = max_k (mitchell(m_k) + mitchell
 |J_kc| and t_k = max_j |T_jk|, the golden in 2^-lf octaves on m_k = max_c |Jm_kc| (J = Jm 2^je).
 The max of perturbed values moves by at most the largest perturbation, so per pixel, over the
 axes k that count in both:
-  - fc_log2(m_k) = floor(2^lf mitchell(m_k)): exact when m_k < 2^(lf+1) (no bits below its top
-    lf + 1), else up to one 2^-lf below; the same for fc_log2(t_k) (powers of two exact);
+  - fc_log2(m_k) = floor(2^lf mitchell(m_k)): the floor drops the bits of m_k below its top
+    lf + 1, so with E = bitlen(m_k) - 1 it is exact when E <= lf and at most (1 - 2^-(E - lf))
+    2^-lf below when E > lf (_floor_loss); the same for fc_log2(t_k) (powers of two exact);
   - Jm = round(J / 2^je): each entry moves by up to half a unit, where mitchell's slope is at
     most 1 / 2^e on [2^e, 2^(e+1)) (and 1 / 2^(e-1) just below a power of two), so mitchell(m_k)
     moves by at most 1 / m_k;
@@ -55,22 +56,28 @@ def alpha_bound(cfg, tex, Jm):
     return out
 
 
+def _floor_loss(e: int, lf: int) -> float:
+    """The largest loss, in units of 2^-lf, of fc_log2's floor on an integer in [2^e, 2^(e+1))."""
+    return 1.0 - 2.0 ** -(e - lf) if e > lf else 0.0
+
+
 def worst_bound(cfg) -> float:
-    """The bound where the counting axis is normalised (m_k = m_int of _worst: slope 1 / 2^e)."""
-    fm = 1 if cfg.j_w - 2 > cfg.fc_log_frac else 0
-    ft = 1 if cfg.transform == "affine" else 0
+    """The bound where the counting axis is normalised (m_k = m_int of _worst: slope 1 / 2^e) and
+    T's largest entry in its top octave [2^(t_w-2), 2^(t_w-1)) (affine; pow2 T is exact)."""
+    fm = _floor_loss(cfg.j_w - 2, cfg.fc_log_frac)
+    ft = _floor_loss(cfg.t_w - 2, cfg.fc_log_frac) if cfg.transform == "affine" else 0.0
     return ((fm + ft) * 2.0 ** -cfg.fc_log_frac + 2.0 ** -(cfg.j_w - 1)) / (1 << cfg.fc_fade_log2)
 
 
 def _worst(cfg):
     """One term and pixels at the derived worst case: m_int = max|Jm| with the largest floor loss,
-    J's largest entry just below m_int + 1/2 (rounded down), T's largest entry likewise, and je
-    over the fade."""
+    J's largest entry just below m_int + 1/2 (rounded down), T's largest entry in its top octave
+    with the largest floor loss, and je over the fade."""
     lf = cfg.fc_log_frac
     e = cfg.j_w - 2
     m_int = (1 << e) + ((1 << (e - lf)) - 1 if e > lf else 0)
     if cfg.transform == "affine":
-        et = cfg.t_w - 3
+        et = cfg.t_w - 2
         tn = (1 << et) + ((1 << (et - lf)) - 1 if et > lf else 0)
     else:
         tn = 1 << (cfg.t_frac + 1)

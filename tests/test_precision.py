@@ -53,17 +53,18 @@ def test_threshold_and_plateau():
 
 def test_fewer_bits_cost_psnr_where_magnified(tmp_path):
     """At 96 px the teapot's rings are magnified enough that 6 bits of s are visible steps and
-    16 bits are not: the PSNR must fall with s_frac (it would not if s_frac were ignored)."""
-    rep = P.run(96, ("full",), (6, 9, 16), out_root=tmp_path, progress=False)
-    ps = {x["s_frac"]: x["psnr_db"] for x in rep["configs"]["full"]["rows"]}
+    16 bits are not: the PSNR must fall with s_frac (it would not if s_frac were ignored). On
+    full_wide, whose own s_frac is 16."""
+    rep = P.run(96, ("full_wide",), (6, 9, 16), out_root=tmp_path, progress=False)
+    ps = {x["s_frac"]: x["psnr_db"] for x in rep["configs"]["full_wide"]["rows"]}
     assert ps[6] < ps[9] - 3 < ps[16] - 3, ps
-    assert rep["configs"]["full"]["psnr_at_own_s_frac_db"] == ps[16]
+    assert rep["configs"]["full_wide"]["psnr_at_own_s_frac_db"] == ps[16]
     saved = json.loads((tmp_path / "precision" / "report.json").read_text())
-    assert saved["configs"]["full"]["threshold_s_frac"] == P.threshold(ps)
+    assert saved["configs"]["full_wide"]["threshold_s_frac"] == P.threshold(ps)
     for name in ("reference.png", "s6.png", "s9.png", "s16.png"):
-        assert (tmp_path / "precision" / "full" / name).is_file(), name
+        assert (tmp_path / "precision" / "full_wide" / name).is_file(), name
     md = (tmp_path / "docs" / "precision.md").read_text()
-    assert "`full` (config/full.toml) has s_frac = 16" in md and f"{ps[6]:.2f}" in md
+    assert "`full_wide` (config/full_wide.toml) has s_frac = 16" in md and f"{ps[6]:.2f}" in md
 
 
 @pytest.mark.parametrize("args,expected", [

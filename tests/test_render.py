@@ -37,7 +37,8 @@ def test_filtered_closer_to_truth_than_unfiltered(tmp_path, scene, size):
 
 
 def test_zone_plate_full_golden_near_reference(tmp_path):
-    rep = render.render("zone_plate", "full", 64, truth=False, out_root=tmp_path, progress=False)
+    """full_wide (exact division, 16-bit f and s fractions): within 1 LSB of the reference."""
+    rep = render.render("zone_plate", "full_wide", 64, truth=False, out_root=tmp_path, progress=False)
     assert rep["pixels_textured"] == 64 * 64
     assert rep["max_abs_error_lsb"] <= 1.0  # numerics.md: 1/2 LSB of the divider plus f and w quantization
 

@@ -304,6 +304,12 @@ def load_config(name_or_path) -> Config:
     return _from_raw(_read_raw(p), p)
 
 
+def config_file_names() -> tuple:
+    """Every configuration file of config/: the named configurations first, then the others by name."""
+    rest = sorted(p.stem for p in CONFIG_DIR.glob("*.toml") if p.stem.isidentifier() and p.stem not in CONFIG_NAMES)
+    return CONFIG_NAMES + tuple(rest)
+
+
 def is_config_file(name: str) -> bool:
     """A name of a configuration file of config/ (a named configuration or a variant file)."""
     return name.isidentifier() and (CONFIG_DIR / f"{name}.toml").is_file()
@@ -540,11 +546,12 @@ def input_limits(cfg: Config) -> dict:
     }
 
 
-def widest_input_limits(names=CONFIG_NAMES) -> dict:
-    """The widest limits over the configuration files: {quantity: (lo, hi, 'config format')}
-    for s, quadric, T, a; noise_terms and clut_max the largest (with the configuration)."""
+def widest_input_limits(names=None) -> dict:
+    """The widest limits over the configuration files (every file of config/ unless names are
+    given): {quantity: (lo, hi, 'config format')} for s, quadric, T, a; noise_terms and clut_max
+    the largest (with the configuration)."""
     out = {}
-    for name in names:
+    for name in (config_file_names() if names is None else names):
         lim = input_limits(load_config(name))
         for k in ("s", "quadric", "T", "a"):
             lo, hi, fmt = lim[k]
