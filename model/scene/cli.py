@@ -79,11 +79,10 @@ def check_truth_args(a) -> None:
 
 def check_config(name: str) -> str:
     """--config: a configuration of config/ (the named ones, or a variant file such as full_fc)."""
-    from model.hw.config import CONFIG_DIR, is_config_file
+    from model.hw.config import config_file_names, is_config_file
 
     if name not in CONFIG_NAMES and not is_config_file(name):
-        known = sorted(p.stem for p in CONFIG_DIR.glob("*.toml"))
-        raise UserError(f"--config {name}: no such configuration (known: {', '.join(known)})")
+        raise UserError(f"--config {name}: no such configuration (known: {', '.join(config_file_names())})")
     return name
 
 
