@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-
+from model.hw.config import CONFIG_NAMES, config_file_names
 
 ROOT = Path(__file__).resolve().parents[1]
 PY = sys.executable
@@ -196,7 +196,7 @@ BAD = {
                            "zone_plate, torus; or a path to a .toml file)", ("render", "frame")),
     "no such scene path": (lambda t: {"SCENE": str(t / "missing.toml")}, "no such scene file", ("render", "frame")),
     "no such configuration": (lambda t: {"CONFIG": "nope"}, "--config nope: no such configuration (known: "
-                              + ", ".join(sorted(p.stem for p in (ROOT / "config").glob("*.toml"))) + ")",
+                              + ", ".join(config_file_names()) + ")",
                               ("render", "frame")),
     "size 0": (lambda t: {"SIZE": "0"}, "--size 0: expected 1..", ("render", "frame")),
     "size not a number": (lambda t: {"SIZE": "big"}, "--size: invalid int value: 'big'", ("render", "frame")),
@@ -212,6 +212,13 @@ BAD = {
                                    "--strict: texture wood: blend cubic replaced by linear", ("render", "frame")),
 }
 BAD_CASES = [(case, cmd) for case, (_, _, cmds) in BAD.items() for cmd in ("render", "frame") if cmd in cmds]
+
+
+def test_config_file_names_lists_config_dir():
+    """The known list a bad --config prints: every file of config/, the named configurations first."""
+    names = config_file_names()
+    assert sorted(names) == sorted(p.stem for p in (ROOT / "config").glob("*.toml"))
+    assert names[:len(CONFIG_NAMES)] == CONFIG_NAMES
 
 
 @pytest.mark.parametrize("case,cmd", BAD_CASES, ids=[f"{c}-{m}" for c, m in BAD_CASES])
