@@ -18,7 +18,9 @@
 // px_side hold it (texture_pipeline starts the quadric and the delay lines there), and the
 // next pixel may be taken in the same clock (in_ready), so a pixel enters every P clocks.
 // FPGA_REGS: each unit's term parameters, selected by the issue index, are registered with
-// the vector and its valid before the unit (the term select off the unit's first stage).
+// the vector and its valid before the unit (the term select off the unit's first stage), and
+// whether an issue is the pixel's last is a register beside the issue index (no k_used
+// decode on the path to in_ready; k_used is read when a pixel is taken and as it issues).
 // The units' outputs are summed over the units and accumulated over the P issues (tags
 // first / last travel with the vectors); f_sum, c_sum and sum_valid appear LATENCY =
 // `LAT_NOISE_TERM + `LAT_NOISE_FOLD (FPGA_REGS: `LAT_NOISE_TERM_FPGA + `LAT_NOISE_FOLD_FPGA)
@@ -138,8 +140,31 @@ always @* begin
         if (k_used == kt[KU_W-1:0]) j_last = last_issue_of(kt);
 end
 
-wire last_issue = busy_reg && (j_reg == j_last);
-assign in_ready = !busy_reg || (j_reg == j_last);
+// at_last: this clock's issue is the pixel's last (j_reg == j_last). FPGA_REGS: registered
+// beside j_reg (from k_used when the pixel is taken and at each issue), which takes the k_used
+// table and the comparison off the path to in_ready and the pipeline's clock enables
+wire at_last;
+generate
+    if (FPGA_REGS != 0) begin : g_at_last_reg
+        reg at_last_reg;
+        always @(posedge clk) begin
+            if (rst)
+                at_last_reg <= 1'b0;
+            else if (ce) begin
+                if (in_valid && in_ready)
+                    at_last_reg <= (j_last == {J_W{1'b0}});
+                else if (busy_reg)
+                    at_last_reg <= (j_reg + 1'b1 == j_last);
+            end
+        end
+        assign at_last = at_last_reg;
+    end else begin : g_at_last
+        assign at_last = (j_reg == j_last);
+    end
+endgenerate
+
+wire last_issue = busy_reg && at_last;
+assign in_ready = !busy_reg || at_last;
 assign px_valid = last_issue;
 assign px_s     = s_reg;
 assign px_side  = side_reg;

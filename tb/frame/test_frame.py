@@ -345,3 +345,15 @@ def test_frame_fpga_regs(sim, base):
             assert np.array_equal(got, got0), "gaps/stalls changed the pixels"
             p = clocks_per_pixel(cfg, tex.k_used)
             assert p * n <= cycles < p * n + 100, f"{cycles} cycles for {n} pixels, expected {p} a pixel"
+    # every k_used 0..K, pass after pass in one simulator start (the folded issue's last-issue
+    # flag is a register under fpga_regs, formed from k_used as a pixel is taken)
+    from sim.frame_rtl import run_passes_rtl
+
+    passes = []
+    for ku in range(cfg.noise_terms + 1):
+        tex = random_texture(cfg, r, "real", mode=MODE_MOD, filt=True)
+        tex.k_used = ku
+        passes.append((tex, *random_pixels(cfg, r, 200, "real")))
+    got_all = run_passes_rtl(cfg, sim, passes, gaps=30, stalls=40, seed=seed + 7)
+    for (tex, s, Jm, je), got in zip(passes, got_all):
+        _compare(cfg, tex, s, Jm, je, got, f"{cfg.name} k_used {tex.k_used}, gaps 30% / stalls 40%")
