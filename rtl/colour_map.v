@@ -434,6 +434,21 @@ generate
                 d_of  = {whole, {XF{1'b0}}} + pb - pa;
             end
         endfunction
+        // the same D mod 2^D_W for stage 6a with FPGA_REGS, two carry chains deep instead of
+        // four: both whole forms side by side (e_b - e_a, e_b + (e_a << 8)) and p_b - p_a beside
+        // them, then one sum
+        function [D_W-1:0] d_of_par;
+            input          mode_c;
+            input [TW-1:0] ea, eb;
+            input [D_W-1:0] pa, pb;
+            reg   [TW-1:0] whole;
+            reg   [D_W-1:0] pd;
+            begin
+                whole    = mode_c ? eb - ea : eb + (ea << 8);
+                pd       = pb - pa;
+                d_of_par = {whole, {XF{1'b0}}} + pd;
+            end
+        endfunction
         wire [4*D_W-1:0] d_6;      // FPGA_REGS: D of the four channels, registered (else 0)
         // (without FPGA_REGS these stage-6a words are constant 0 and stage 6 reads the stage-5
         // registers themselves: an always @* reading a register and a delayed copy of another
@@ -444,7 +459,7 @@ generate
             integer         c6;
             always @* begin
                 for (c6 = 0; c6 < 4; c6 = c6 + 1)
-                    d_all[c6*D_W +: D_W] = d_of(s5_mode_reg, e_a[c6*TW +: TW], e_b[c6*TW +: TW], p_a[c6*D_W +: D_W],
+                    d_all[c6*D_W +: D_W] = d_of_par(s5_mode_reg, e_a[c6*TW +: TW], e_b[c6*TW +: TW], p_a[c6*D_W +: D_W],
                                                 p_b[c6*D_W +: D_W]);
             end
             delay_line #(.W(4*D_W + 32), .N(1)) u_dly_d (.clk(clk), .rst(rst), .ce(ce), .d_in({d_all, s5_point_reg}),
