@@ -57,9 +57,9 @@ help:
 setup:
 	@if command -v apt-get >/dev/null; then \
 	  apt-get update -qq >/dev/null 2>&1 || echo "setup: apt-get update failed; using the package lists already here"; \
-	  apt-get install -y -qq --no-install-recommends iverilog yosys make g++ liblz4-dev zlib1g-dev >/dev/null \
-	    || { echo "setup: apt-get install iverilog yosys g++ liblz4-dev zlib1g-dev failed" >&2; exit 1; }; \
-	else echo "setup: no apt-get: install iverilog, yosys, g++, liblz4-dev yourself"; fi
+	  apt-get install -y -qq --no-install-recommends iverilog yosys make g++ ccache liblz4-dev zlib1g-dev >/dev/null \
+	    || { echo "setup: apt-get install iverilog yosys g++ ccache liblz4-dev zlib1g-dev failed" >&2; exit 1; }; \
+	else echo "setup: no apt-get: install iverilog, yosys, g++, ccache, liblz4-dev yourself"; fi
 	python3 -m venv $(VENV)
 	$(PIP) install -q --upgrade pip==24.3.1
 	$(PIP) install -q -r requirements.txt

