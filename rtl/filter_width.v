@@ -38,12 +38,13 @@
  *   stages 5..N-1: isqrt (N - 5 stages)
  *   stage N:       scale by 2^e, saturate
  *
- * FPGA_REGS = 1 ([fpga_regs]; `LAT_FILTER_WIDTH_FPGA = `LAT_FILTER_WIDTH + 3): stage 1 in
+ * FPGA_REGS = 1 ([fpga_regs]; `LAT_FILTER_WIDTH_FPGA = `LAT_FILTER_WIDTH + 4): stage 1 in
  * two, each product on mul_pipe (its 18x18 partial products registered before their sum, the
  * exponent's constant part beside them); stage 3 in two, the leading-one detector's sh
- * registered (with ax, ay) before the normalising shift; the last stage in two, bitlen(r) + e
- * and the shifted r registered before the comparison with the cap; the isqrt keeps its
- * `LAT_FILTER_WIDTH - 5 stages.
+ * registered (with ax, ay) before the normalising shift; stage 4 in two, the squares ax^2,
+ * ay^2 registered (with sh and the exponent) before their sum; the last stage in two,
+ * bitlen(r) + e and the shifted r registered before the comparison with the cap; the isqrt
+ * keeps its `LAT_FILTER_WIDTH - 5 stages.
  */
 
 `include "tex_latency.vh"
@@ -61,7 +62,7 @@ module filter_width #(
     parameter F_FRAC     = 16,  // [f_frac] w fraction bits
     parameter W_CAP_LOG2 = 16,  // [w_cap_log2] w saturates at 2^W_CAP_LOG2 entries
     parameter N_LOG2_MAX = 8,   // [n_log2_max] log2 of the largest colour table
-    parameter FPGA_REGS  = 0    // [fpga_regs] 1: stages 1, 3 and the last in two (above)
+    parameter FPGA_REGS  = 0    // [fpga_regs] 1: stages 1, 3, 4 and the last in two (above)
 ) (clk, rst, ce, in_valid, c_in, jm_in, je_in, n_log2, out_valid, w_out);
 
 `include "tex_widths.vh"
@@ -87,9 +88,9 @@ output wire                out_valid;
 output wire [W_W-1:0]      w_out;
 
 localparam LATENCY  = FPGA_REGS ? `LAT_FILTER_WIDTH_FPGA : `LAT_FILTER_WIDTH;
-localparam P        = FPGA_REGS ? 1 : 0;     // each optional register stage (stages 1a, 3a, last a)
+localparam P        = FPGA_REGS ? 1 : 0;     // each optional register stage (stages 1a, 3a, 4a, last a)
 localparam SQ_LAT   = `LAT_FILTER_WIDTH - 5; // isqrt stages
-localparam VR       = 4 + 2*P;               // valid bits of stages 1..4 (1a, 3a)
+localparam VR       = 4 + 3*P;               // valid bits of stages 1..4 (1a, 3a, 4a)
 localparam CAP_BITS = W_CAP_LOG2 + F_FRAC;   // w saturates at 2^CAP_BITS
 localparam MH_W     = GABS_W - NORM_BITS;    // bits of |g| above the normalised window
 localparam BLR_W    = $clog2(R_W + 1);       // bitlen(r), 0..R_W
@@ -102,7 +103,7 @@ localparam PJ_W     = C_W + J_W;             // product c_k Jm[k][col]
 
 // elaboration fails (unknown module) on an unsupported configuration
 generate
-    if (LATENCY != `LAT_FILTER_WIDTH + 3*P || SQ_LAT < 1 || SQ_LAT > R_W || MH_W < 1 || $clog2(MH_W + 1) != SH_W || E_W <= SH_W
+    if (LATENCY != `LAT_FILTER_WIDTH + 4*P || SQ_LAT < 1 || SQ_LAT > R_W || MH_W < 1 || $clog2(MH_W + 1) != SH_W || E_W <= SH_W
         || G_W < C_W + J_W) begin : g_bad_params
         filter_width_unsupported_latency_or_widths u_error ();
     end
@@ -116,7 +117,7 @@ endgenerate
 // e without sh: je + n_log2 + F_FRAC - C_FRAC (modulo 2^E_W; the final e fits)
 localparam signed [E_W-1:0] E_CONST = F_FRAC - C_FRAC;
 
-reg [VR-1:0] valid_reg;  // stages 1..4 (and 1a, 3a)
+reg [VR-1:0] valid_reg;  // stages 1..4 (and 1a, 3a, 4a)
 reg       out_valid_reg;
 wire      sq_valid;   // valid out of the isqrt (stage LATENCY - 1)
 
@@ -231,6 +232,27 @@ always @* begin
     ay_sh = ay_p >> sh_p;
 end
 
+// stage 4 (FPGA_REGS: 4a) the squares, registered with sh and the exponent before their sum
+// (a square on an FPGA's multiplier block, its output off the adder's path); without, L is
+// l_x of stage 2-4's always @*
+/* verilator lint_off UNUSEDSIGNAL */  // L fits its low L_W bits (as l_x)
+wire [L_W+2*NORM_BITS-1:0] l_4;
+/* verilator lint_on UNUSEDSIGNAL */
+wire [SH_W-1:0]            sh_4;
+wire signed [E_W-1:0]      ek_4;
+generate
+    if (FPGA_REGS) begin : g_4a
+        wire [2*NORM_BITS-1:0] ax2_p, ay2_p;
+        delay_line #(.W(4*NORM_BITS + SH_W + E_W), .N(1)) u_dly_4a (.clk(clk), .rst(rst), .ce(ce),
+            .d_in({ax2, ay2, sh_reg, ek_3_reg}), .d_out({ax2_p, ay2_p, sh_4, ek_4}));
+        assign l_4 = {{L_W{1'b0}}, ax2_p} + {{L_W{1'b0}}, ay2_p};
+    end else begin : g_4
+        assign l_4  = l_x;
+        assign sh_4 = sh_reg;
+        assign ek_4 = ek_3_reg;
+    end
+endgenerate
+
 // ---------------------------------------------------------------------------
 // stages 5..LATENCY-1: square root
 
@@ -335,9 +357,9 @@ always @(posedge clk) begin
         ayn_reg  <= ay_sh[NORM_BITS-1:0];
         sh_reg   <= sh_p;
         ek_3_reg <= ek_2_p;
-        // stage 4: e = sh + ek
-        l_reg    <= l_x[L_W-1:0];
-        e_4_reg  <= $signed({{(E_W-SH_W){1'b0}}, sh_reg}) + ek_3_reg;
+        // stage 4: e = sh + ek (FPGA_REGS: from stage 4a)
+        l_reg    <= l_4[L_W-1:0];
+        e_4_reg  <= $signed({{(E_W-SH_W){1'b0}}, sh_4}) + ek_4;
         // stages 5..LATENCY-1: e delayed alongside the square root
         e_dly_reg <= e_dly_cat[SQ_LAT*E_W-1:0];
     end

@@ -14,7 +14,7 @@
 `define LAT_NOISE_FOLD        1
 `define LAT_NOISE_FOLD_FPGA   2
 `define LAT_FILTER_WIDTH      8
-`define LAT_FILTER_WIDTH_FPGA 11
+`define LAT_FILTER_WIDTH_FPGA 12
 `define LAT_COLOUR_MAP        14
 `define LAT_COLOUR_MAP_FPGA   19
 `define LAT_FC_WEIGHT         8

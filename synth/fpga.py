@@ -66,7 +66,8 @@ FPGA_STAGES = (
                    "vector and its valid before the unit"),
     ("filter_width", "stage 1 in two: each product c_k Jm on mul_pipe (18x18 partial products registered before "
                      "their sum); stage 3 in two: the leading-one detector's shift registered before the "
-                     "normalising shift; the last stage in two: bitlen(r) + e and the shifted r registered before "
+                     "normalising shift; stage 4 in two: the squares ax^2, ay^2 registered before their sum; the last "
+                     "stage in two: bitlen(r) + e and the shifted r registered before "
                      "the comparison with the cap"),
     ("colour_map", "stage 1 in two (the clamp thresholds and f N registered before the comparisons); N - 1 "
                    "registered for sat_index's clamp comparison (no extra stage); the table "
