@@ -207,13 +207,13 @@ end
 // ---------------------------------------------------------------------------
 // stage 3: sh = bitlen((ax | ay) >> NORM_BITS); ax, ay >> sh
 //
-// bitlen: the leading-one detector (rtl/bitlen.v).
+// bitlen: the leading-one detector (rtl/bitlen.v; FPGA_REGS: its parallel form, PAR).
 
 wire [SH_W-1:0] sh;
 /* verilator lint_off UNUSEDSIGNAL */
 wire            mh_nz;  // sh > 0 says it too
 /* verilator lint_on UNUSEDSIGNAL */
-bitlen #(.W(MH_W), .BW(SH_W)) u_bitlen_mh (.x(mh), .bl(sh), .nz(mh_nz));
+bitlen #(.W(MH_W), .BW(SH_W), .PAR(FPGA_REGS)) u_bitlen_mh (.x(mh), .bl(sh), .nz(mh_nz));
 
 /* verilator lint_off UNUSEDSIGNAL */
 // bits NORM_BITS and up of the shifted values are zero: |g| < 2^(sh + NORM_BITS)

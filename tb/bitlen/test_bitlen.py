@@ -4,7 +4,7 @@ nz = (x != 0).
 Parameter sets (W, BW): filter_width's two instances (the normalising shift, W = gabs_w -
 norm_bits, BW = sh_w; bitlen(r), W = r_w, BW = clog2(r_w + 1)) under full, reduced and a
 random valid configuration, the smallest words (W = 1, 2), a wide one (W = 52, golden's
-exact range) and an output wider than needed.
+exact range) and an output wider than needed; each in both forms (PAR = 0, 1).
 Vectors: every x when W <= 12, else 0, every 2^k - 1, 2^k, 2^k + 1, the largest word and
 VECTORS random words (log-uniform: each bit length equally likely).
 """
@@ -27,11 +27,13 @@ def _sets():
         out[f"{name}_r"] = {"W": cfg.r_w, "BW": math.ceil(math.log2(cfg.r_w + 1))}
     out.update({"w1": {"W": 1, "BW": 1}, "w2": {"W": 2, "BW": 2}, "w52": {"W": 52, "BW": 6},
                 "wide_bl": {"W": 5, "BW": 7}})
+    # PAR = 1 (the parallel form, filter_width with fpga_regs): every set again
+    out.update({f"{name}_par": {**p, "PAR": 1} for name, p in list(out.items())})
     return out
 
 
-# every set under Icarus; under Verilator (a build costs 10-40 s) the widest
-test_bitlen_rtl = pipe.block_test("bitlen", _sets(), ("w52",), __file__)
+# every set under Icarus; under Verilator (a build costs 5-20 s) the widest
+test_bitlen_rtl = pipe.block_test("bitlen", _sets(), ("w52", "w52_par"), __file__)
 
 
 @cocotb.test()

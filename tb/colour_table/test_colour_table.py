@@ -42,7 +42,7 @@ def _sets():
     return out
 
 
-# every set under Icarus, two under Verilator (a build costs 10-40 s)
+# every set under Icarus, two under Verilator (a build costs 5-20 s)
 test_colour_table_rtl = pipe.block_test("colour_table", _sets(), ("full", "full_mip"), __file__)
 
 

@@ -32,7 +32,7 @@ def _sets():
             "wide": {"W": 60, "N": 5, "CLEAR": 0}}
 
 
-# every set under Icarus; under Verilator (a build costs 10-40 s) the widest
+# every set under Icarus; under Verilator (a build costs 5-20 s) the widest
 test_delay_line_rtl = pipe.block_test("delay_line", _sets(), ("n3_clear",), __file__)
 
 

@@ -31,7 +31,7 @@ def _sets():
     return out
 
 
-# every set under Icarus; under Verilator (a build costs 10-40 s) the widest
+# every set under Icarus; under Verilator (a build costs 5-20 s) the widest
 test_lerp_rtl = pipe.block_test("lerp", _sets(), ("wide",), __file__, sources=["lerp.v", "delay_line.v"])
 
 

@@ -33,7 +33,7 @@ def _sets():
     return out
 
 
-# every set under Icarus, two under Verilator (a build costs 10-40 s)
+# every set under Icarus, two under Verilator (a build costs 5-20 s)
 test_mip_index_rtl = pipe.block_test("mip_index", _sets(), ("full", "full_point"), __file__)
 
 

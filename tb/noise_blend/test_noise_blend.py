@@ -32,7 +32,7 @@ def _sets():
     return out
 
 
-# every set under Icarus; under Verilator (a build costs 10-40 s) the widest
+# every set under Icarus; under Verilator (a build costs 5-20 s) the widest
 test_noise_blend_rtl = pipe.block_test("noise_blend", _sets(), ("cubic20",), __file__,
                                       sources=["noise_blend.v", "delay_line.v"])
 

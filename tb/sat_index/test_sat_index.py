@@ -31,7 +31,7 @@ def _sets():
     return out
 
 
-# every set under Icarus, two under Verilator (a build costs 10-40 s)
+# every set under Icarus, two under Verilator (a build costs 5-20 s)
 test_sat_index_rtl = pipe.block_test("sat_index", _sets(), ("full", "small"), __file__)
 
 

@@ -31,7 +31,7 @@ def _sets():
     return out
 
 
-# every set under Icarus, two under Verilator (a build costs 10-40 s)
+# every set under Icarus, two under Verilator (a build costs 5-20 s)
 test_sat_integral_rtl = pipe.block_test("sat_integral", _sets(), ("full", "wide", "reduced_pipe"), __file__,
                                        sources=["sat_integral.v", "delay_line.v"])
 
