@@ -358,13 +358,21 @@ def write_doc() -> Path:
                      "its slowest steps: " + ", ".join(f"{st['type']} {st['ns']} ns into `{st['cell']}`"
                                                       for st in cp.get("largest_steps", [])) + ".")
             first = (cp.get("largest_steps") or [{}])[0]
-            if first.get("type") == "clk-to-q" and "_mem" in first.get("cell", ""):
+            if cp.get("logic_cells") == 1 and "MULT18X18D" in first.get("cell", ""):
+                L.append("  A register, one MULT18X18D used without its own input and output registers, a register: "
+                         "the multiplier's combinational delay and the routing to and from the fabric's flip-flops "
+                         "(Yosys's netlist sets none of a MULT18X18D's REG_* clocks: synth_ecp5 does not pack "
+                         "flip-flops into the DSP block), so another RTL register stage would not shorten it.")
+            elif first.get("type") == "clk-to-q" and "_mem" in first.get("cell", ""):
                 L.append(f"  The path starts at a block RAM read without the DP16KD's output register (its clock-to-out "
                          f"is {first['ns']} ns of the {cp['delay_ns']} ns): a register stage after the table read "
                          "(the RAM's output register, one more clock of latency in rtl/, with the golden model's "
                          "latency) would take that off this path.")
         elif r.get("error"):
             L.append(f"- `{r.get('variant', r.get('config'))}`: {r['error']}")
+    L += ["", "A placement depends on nextpnr's seed: `make fpga CONFIG=<name> SEED=<n>` places again with "
+          "another (the report records it; the same seed gives the same report). The table shows seed 1, "
+          "`make fpga`'s default."]
     tools = next((r["tools"] for r in reps if r.get("tools")), {})
     L += ["", "Tools: " + ", ".join(f"{k} {v}" for k, v in tools.items()) + ". Logs: build/fpga/<name>/.", ""]
     DOC.parent.mkdir(parents=True, exist_ok=True)
