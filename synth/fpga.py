@@ -63,7 +63,8 @@ FPGA_STAGES = (
                    "registered after its first multiplier and f3 after its second; every lerp in three (b - a "
                    "registered before the multiplier, the scaled step before the adder)"),
     ("noise_fold", "(folded terms) each unit's term parameters, selected by the issue index, registered with the "
-                   "vector and its valid before the unit"),
+                   "vector and its valid before the unit; whether an issue is the pixel's last a register beside the "
+                   "issue index (no k_used decode on the path to in_ready and the clock enables)"),
     ("filter_width", "stage 1 in two: each product c_k Jm on mul_pipe (18x18 partial products registered before "
                      "their sum); stage 3 in two: the leading-one detector's shift registered before the "
                      "normalising shift; stage 4 in two: the squares ax^2, ay^2 registered before their sum; the last "
