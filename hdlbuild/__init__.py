@@ -211,23 +211,6 @@ def environ(env: dict):
 BLOCK_OPT = "OPT_FAST=-O0 OPT_GLOBAL=-O0"  # make variables of a block testbench's Verilator build
 
 
-def _build(runner, sources, toplevel: str, parameters: dict, build_args: list, build_dir: Path, waves: bool,
-           sim: str) -> None:
-    runner.build(
-        sources=[RTL_DIR / s if not str(s).startswith("/") else s for s in sources],
-        includes=[RTL_DIR],
-        hdl_toplevel=toplevel,
-        parameters=parameters or {},
-        build_args=build_args,
-        build_dir=build_dir,
-        waves=waves,
-        timescale=("1ns", "1ps"),
-        # Icarus: the runner's staleness check does not see the included rtl/*.vh; a rebuild
-        # takes about a second
-        always=sim == "icarus",
-    )
-
-
 def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=None, parameters=None,
         test_dir: Path | None = None, build_name: str | None = None) -> None:
     """Build `sources` (names in rtl/ or absolute paths) with `toplevel` and run cocotb
@@ -263,7 +246,19 @@ def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=No
             build_args += ["--trace-fst", "--trace-structs"]
     build_env = {"MAKEFLAGS": os.environ.get("MAKEFLAGS", "") + " " + BLOCK_OPT} if fast_build else {}
     with environ(build_env):
-        _build(runner, sources, toplevel, parameters, build_args, build_dir, waves, sim)
+        runner.build(
+            sources=[RTL_DIR / s if not str(s).startswith("/") else s for s in sources],
+            includes=[RTL_DIR],
+            hdl_toplevel=toplevel,
+            parameters=parameters or {},
+            build_args=build_args,
+            build_dir=build_dir,
+            waves=waves,
+            timescale=("1ns", "1ps"),
+            # Icarus: the runner's staleness check does not see the included rtl/*.vh; a rebuild
+            # takes about a second
+            always=sim == "icarus",
+        )
     s = seed()
     print(f"[{toplevel} {build_name or config} {sim}] SEED={s}", flush=True)
     env = {"CONFIG": config_ref(cfg), "SEED": str(s), "VECTORS": str(vectors())}
