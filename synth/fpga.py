@@ -237,9 +237,9 @@ def multipliers_by_block(net: dict, top: str) -> dict:
     return dict(sorted(out.items(), key=lambda kv: -kv[1]))
 
 
-def pack_dsp_registers(netlist: Path, top: str, quiet: bool = False) -> tuple[Path, dict]:
-    """synth/dsp_regs.py on Yosys's netlist: <top>.dsp.json beside it, and what moved."""
-    net = json.loads(netlist.read_text())
+def pack_dsp_registers(net: dict, netlist: Path, top: str, quiet: bool = False) -> tuple[Path, dict]:
+    """synth/dsp_regs.py on Yosys's netlist `net` (read from `netlist`, rewritten in place):
+    <top>.dsp.json beside it, and what moved."""
     counts = dsp_regs.absorb(net, top)
     packed = netlist.with_name(f"{top}.dsp.json")
     packed.write_text(json.dumps(net))
@@ -260,10 +260,11 @@ def run_flow(label: str, top: str, files: list[str], params: dict, freq: float =
     out = out or ROOT / "build" / "fpga" / label
     t0 = time.perf_counter()
     syn = synthesize(top, files, params, out, quiet)
-    by_block = multipliers_by_block(json.loads(syn["netlist"].read_text()), top)
+    net = json.loads(syn["netlist"].read_text())
+    by_block = multipliers_by_block(net, top)
     packed = None
     if dsp_registers:
-        syn["netlist"], packed = pack_dsp_registers(syn["netlist"], top, quiet)
+        syn["netlist"], packed = pack_dsp_registers(net, syn["netlist"], top, quiet)
     t_syn = time.perf_counter() - t0
     ooc = syn["port_bits"] > PACKAGE_IO
     rep = {"name": label, "top": top, "device": DEVICE, "nextpnr_device_flag": DEVICE_FLAG, "package": PACKAGE,
