@@ -28,11 +28,12 @@ read moved into the DSP block and the RAM's clock-to-out (5.8 ns) then met the r
 """
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from collections import defaultdict
 from pathlib import Path
+
+from model.scene.cli import Parser  # one-line errors, exit 2
 
 MULT = "MULT18X18D"
 FF = "TRELLIS_FF"
@@ -107,12 +108,7 @@ def absorb(netlist: dict, top: str) -> dict:
 
 
 def main(argv=None) -> int:
-    class Parser(argparse.ArgumentParser):
-        def error(self, message):  # one line, exit 2
-            print(f"dsp_regs: {message}", file=sys.stderr)
-            raise SystemExit(2)
-
-    ap = Parser(prog="python -m synth.dsp_regs", description=__doc__.split("\n")[0])
+    ap = Parser(prog="dsp_regs", description=__doc__.split("\n")[0])
     ap.add_argument("netlist", type=Path, help="Yosys JSON netlist (synth_ecp5 -json)")
     ap.add_argument("out", type=Path, help="the rewritten netlist")
     ap.add_argument("--top", help="the top module (default: the netlist's only one with attribute top)")

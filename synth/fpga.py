@@ -33,7 +33,6 @@ WebAssembly (a minute or two; cached after).
 """
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import re
@@ -45,6 +44,7 @@ import time
 from pathlib import Path
 
 from hdlbuild import ROOT, gen_dir
+from model.scene.cli import Parser  # one-line errors, exit 2
 from model.hw.config import CONFIG_NAMES, clocks_per_pixel, latency, load_config, variant
 from synth import dsp_regs
 
@@ -479,12 +479,7 @@ def write_doc() -> Path:
 
 
 def main(argv=None) -> int:
-    class Parser(argparse.ArgumentParser):
-        def error(self, message):  # one line, exit 2
-            print(f"fpga: {message}", file=sys.stderr)
-            raise SystemExit(2)
-
-    ap = Parser(prog="python -m synth.fpga", description=__doc__.split("\n")[0])
+    ap = Parser(prog="fpga", description=__doc__.split("\n")[0])
     ap.add_argument("--config", help=f"a configuration ({', '.join(CONFIG_NAMES)}) or a .toml path")
     ap.add_argument("--freq", type=float, default=DEFAULT_FREQ, help="target clock, MHz (nextpnr --freq)")
     ap.add_argument("--seed", type=int, default=DEFAULT_SEED, help="nextpnr's placer seed")
