@@ -96,11 +96,11 @@ bench-model:
 	@$(PY) -m model.hw.bench --size $(BENCH_SIZE)
 
 render:
-	$(PY) -m model.scene.render --scene $(SCENE) --config $(CONFIG) --size $(SIZE) $(COMMON_FLAGS) \
+	$(PY) -m app.render --scene $(SCENE) --config $(CONFIG) --size $(SIZE) $(COMMON_FLAGS) \
 	  $(TRUTH_FLAGS)
 
 renders:
-	$(PY) -m model.scene.render --all --size $(RENDERS_SIZE) $(COMMON_FLAGS) $(TRUTH_FLAGS)
+	$(PY) -m app.render --all --size $(RENDERS_SIZE) $(COMMON_FLAGS) $(TRUTH_FLAGS)
 
 frame: gen
 	$(VENV_ENV) $(PY) -m sim.frame --scene $(SCENE) --config $(CONFIG) --sim $(SIM) --size $(SIZE) $(COMMON_FLAGS) \
@@ -128,12 +128,12 @@ filters: gen
 
 # the precision test (paper Fig. 10): every configuration at s_frac 6..16, docs/precision.md
 precision:
-	$(PY) -m model.scene.precision --size $(PRECISION_SIZE) $(if $(OUT),--out $(OUT))
+	$(PY) -m app.precision --size $(PRECISION_SIZE) $(if $(OUT),--out $(OUT))
 
 # the animation test (paper section 4.4): scenes/animation/$(SCENE).toml, filtered and unfiltered
 # frames against their truth, band PSNR and flicker, docs/animation.md; RTL=1: every pass through Verilator
 animation: gen
-	$(VENV_ENV) $(PY) -m model.scene.animation --scene $(SCENE) --config $(CONFIG) $(if $(FRAMES),--frames $(FRAMES)) \
+	$(VENV_ENV) $(PY) -m app.animation --scene $(SCENE) --config $(CONFIG) $(if $(FRAMES),--frames $(FRAMES)) \
 	  --size $(if $(filter command line,$(origin SIZE)),$(SIZE),128) $(if $(RTL),--rtl) $(if $(OUT),--out $(OUT)) $(TRUTH_FLAGS)
 
 bench-sim: gen

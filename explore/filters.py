@@ -6,8 +6,8 @@
 
 For each configuration (default `full`, the paper's box filter on the summed-area table, and
 `full_fc`, the same with frequency clamping, docs/filters.md) every scene is rendered by the
-golden model (model.scene.render: filtered, unfiltered, the truth), and the animations of
-section 4.4 (seascape's flight to the horizon, fire's phase; model.scene.animation) run filtered
+golden model (app.render: filtered, unfiltered, the truth), and the animations of
+section 4.4 (seascape's flight to the horizon, fire's phase; app.animation) run filtered
 and unfiltered; per configuration and scene: PSNR against the truth over the whole image and
 over the band where the filter width exceeds N/8 entries, and per animation the band's mean
 PSNR and flicker. The gate cost of each filter is the colour_map's (the box) and what sat_fc
@@ -23,14 +23,14 @@ import time
 from pathlib import Path
 
 from explore.measure import ROOT
-from model.scene.cli import Parser, UserError, check_config, check_range, run_main
+from model.cli import Parser, UserError, check_config, check_range, run_main
 from model.scene.passes import SCENES
 
 ANIMATIONS = ("seascape", "fire")
 
 
 def _scene_rows(configs, scenes, size, out_root, progress):
-    from model.scene.render import render
+    from app.render import render
 
     rows = {}
     for c in configs:
@@ -45,7 +45,7 @@ def _scene_rows(configs, scenes, size, out_root, progress):
 
 
 def _anim_rows(configs, frames, size, out_root, progress):
-    from model.scene.animation import run
+    from app.animation import run
 
     rows = {}
     for c in configs:

@@ -3,7 +3,7 @@
     python -m explore.fit --scenes marble,seascape --db 38 [--pxclk 0.25] [--size 256] [--rtl-size 64]
                           [--features-of full] [--name NAME] [--out out/fit] [--results out/explore/results.json]
 
-1. What the scenes need (model.scene.needs): terms, transform and amplitude kinds, blend, noise
+1. What the scenes need (app.needs): terms, transform and amplitude kinds, blend, noise
    gradient, quadric, filter. `--features-of CONFIG` fixes the features to a configuration's
    instead (the "full, revisited" search: every feature of `full`, only the formats searched).
 2. The start: the smallest-GE point of the sweep's results (out/explore/results.json and its
@@ -33,7 +33,7 @@ from explore import measure
 from model.hw.config import (CONFIG_NAMES, SAT_FILTERS, ConfigError, clocks_per_pixel, config_toml, config_values,
                              load_config)
 from model.hw.quantize import FormatError
-from model.scene.cli import Parser, UserError, check_range, run_main
+from model.cli import Parser, UserError, check_range, progress_bar, run_main
 from model.scene.passes import SCENES
 
 ROOT = measure.ROOT
@@ -107,7 +107,7 @@ def shape(v: dict, need: dict, pxclk: float, fixed: bool) -> dict:
 def evaluate(v: dict, scenes, sizes) -> float | None:
     """The worst PSNR (golden model against the float reference) of `scenes` at every frame side
     of `sizes`, or None when the configuration is rejected or a scene does not fit it."""
-    from model.scene.quality import scene_psnr
+    from app.quality import scene_psnr
 
     try:
         cfg = measure.point_config(v)
@@ -117,15 +117,13 @@ def evaluate(v: dict, scenes, sizes) -> float | None:
 
 
 def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True, order: str = "formats") -> dict:
-    from tqdm import tqdm
-
     if v["div_bits"] == 0 and v["filter"] in SAT_FILTERS:
         w = dict(v, div_bits=DIV_START)
         q = evaluate(w, scenes, sizes)
         if q is not None and q >= db:
             log.append({"move": f"div_bits 0 -> {DIV_START}", "worst_db": round(q, 2)})
             v = w
-    bar = tqdm(ORDERS[order], desc="fit: formats", unit="knob", file=sys.stderr, disable=not progress, leave=False)
+    bar = progress_bar(progress, desc="fit: formats", unit="knob", iterable=ORDERS[order])
     for label, d in bar:
         while True:
             w = {**v, **{k: v[k] + x for k, x in d.items()}}
@@ -146,7 +144,7 @@ def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 
     """`also`: more frame sides at which the target must hold (the record is measured at `size`);
     `fresh`: start from a named configuration, not from the sweep's points; `start_from`: start
     from this configuration (a name of config/ or a .toml path, e.g. an earlier fit's), as it is."""
-    from model.scene.needs import merge_needs, needs
+    from app.needs import merge_needs, needs
 
     t0 = time.perf_counter()
     out = out or ROOT / "out" / "fit"

@@ -1,6 +1,6 @@
 """One point of the design space, measured: `measure(values, opts)` -> a record (a dict, JSON).
 
-A point is a configuration (its keys, model.hw.config._SCHEMA). Its record holds:
+A point is a configuration (its keys, model.hw.config.SCHEMA). Its record holds:
 - gates: synth.run's method exactly (each block synthesized alone by synth/synth.py with the
   Yosys liberty synth/cells.lib, times its instance count, plus texture_pipeline's glue with the
   blocks as black boxes): GE total, combinational, sequential, storage bits, logic depth, per
@@ -19,7 +19,7 @@ synthesize or whose RTL differs from the golden model is recorded with its error
 
 The float reference and the truth depend only on the scene, the size and the lattice (seed and
 hash_bits), not on the formats: computed once per scene and size (`truth`, cached on disk
-by model.scene.truth; the reference in model.scene.quality's per-process cache).
+by model.scene.truth; the reference in app.quality's per-process cache).
 """
 from __future__ import annotations
 
@@ -45,7 +45,7 @@ TRUTH_SS, TRUTH_BAND_SS = 8, 16
 # what a point's measurement depends on (its record is stored under a hash of these and its keys)
 SOURCE_GLOBS = ("rtl/*.v", "rtl/*.vh", "model/hw/*.py", "model/reference.py", "model/texture.py", "model/imageio.py",
                 "model/scene/frontend.py", "model/scene/passes.py", "model/scene/scene.py", "model/scene/teapot.py",
-                "model/scene/quality.py", "model/scene/truth.py", "scenes/*.toml", "sim/frame_tb.v",
+                "app/quality.py", "model/scene/truth.py", "scenes/*.toml", "sim/frame_tb.v",
                 "sim/frame_rtl.py", "sim/frame_cocotb.py", "synth/synth.py", "synth/run.py", "synth/cells.lib",
                 "hdlbuild/*.py", "explore/measure.py")
 
@@ -157,7 +157,7 @@ def truth(name: str, size: int, cfg, ss: int | None = None, band_ss: int | None 
 def images(cfg, scenes, size: int, opts: dict | None = None) -> dict:
     """Per scene: pixels per clock, PSNR against the float reference and the truth, largest error."""
     from model.imageio import compare
-    from model.scene.quality import scene_images
+    from app.quality import scene_images
 
     out = {}
     opts = opts or {}

@@ -13,14 +13,14 @@ Three parts (docs/tradeoffs.md restates them):
    parts with every one-at-a-time narrowing that cost its base less than REFINE_DB at the worst
    scene, so the front is searched where it is.
 
-A point is a dict of configuration keys (model.hw.config._SCHEMA); a point the configuration
+A point is a dict of configuration keys (model.hw.config.SCHEMA); a point the configuration
 checks reject is still measured (its record says why it failed).
 """
 from __future__ import annotations
 
 from itertools import product
 
-from model.hw.config import _SCHEMA, config_values, load_config
+from model.hw.config import SCHEMA, config_values, load_config
 
 NAMED = ("full", "full_wide", "reduced", "compact")  # full_wide: what the 50-dB fit saved
 GRID_BASE = "compact"
@@ -146,7 +146,7 @@ def refine(recs: list[dict], planned: list[dict]) -> list[dict]:
         for vals, basevals, step in cheap:
             ch = {k: v for k, v in vals.items() if basevals[k] != v}
             # a format step moves the front point's word by the same bits; a feature step sets the value
-            fmt = all(_SCHEMA[k][0] == "formats" for k in ch)
+            fmt = all(SCHEMA[k][0] == "formats" for k in ch)
             new = apply(fr["config"], {k: ch[k] - basevals[k] for k in ch}, True) if fmt else apply(fr["config"], ch, False)
             out.append({"label": f"refine {fr.get('label', fr['name'])} + {step}", "base": "refine", "step": step,
                         "values": new})

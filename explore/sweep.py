@@ -28,7 +28,7 @@ import time
 from pathlib import Path
 
 from explore import measure, space
-from model.scene.cli import Parser, UserError, check_range, run_main
+from model.cli import Parser, UserError, check_range, progress_bar, run_main
 from model.scene.passes import SCENES
 
 ROOT = measure.ROOT
@@ -52,7 +52,6 @@ def client_for(scheduler: str | None, jobs: int):
 def _run_points(client, pts: list[dict], opts: dict, pdir: Path, src: str, progress: bool, phase: str) -> list[dict]:
     """The records of `pts`, in order: from <pdir> when stored, else measured on the cluster."""
     from distributed import as_completed
-    from tqdm import tqdm
 
     recs: list = [None] * len(pts)
     todo = {}
@@ -64,8 +63,8 @@ def _run_points(client, pts: list[dict], opts: dict, pdir: Path, src: str, progr
             todo[i] = f
     stored = len(pts) - len(todo)
     failed = sum(r["status"] != "ok" for r in recs if r)
-    bar = tqdm(total=len(pts), initial=stored, desc=f"explore {phase}", unit="point", file=sys.stderr,
-               disable=not progress, dynamic_ncols=True)
+    bar = progress_bar(progress, len(pts), f"explore {phase}", unit="point", initial=stored, dynamic_ncols=True,
+                       leave=True)
     bar.set_postfix(failed=failed, left=len(todo), stored=stored)
     futs = {client.submit(measure.measure, pts[i]["values"], opts, pure=False, key=f"point-{f.stem}"): i
             for i, f in todo.items()}
@@ -134,9 +133,8 @@ def sweep(size: int = 256, rtl_size: int = 32, points: int | None = None, scenes
 def _wait(futs, progress: bool, desc: str) -> None:
     """Wait for `futs` with a progress bar; the first error is raised."""
     from distributed import as_completed
-    from tqdm import tqdm
 
-    with tqdm(total=len(futs), desc=desc, unit="task", file=sys.stderr, disable=not progress) as bar:
+    with progress_bar(progress, len(futs), desc, unit="task", leave=True) as bar:
         for f in as_completed(futs):
             f.result()
             bar.update()

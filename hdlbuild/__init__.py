@@ -42,7 +42,7 @@ DEFAULT_VECTORS = 2000
 RTL_DIR = ROOT / "rtl"
 
 __all__ = ["ROOT", "RTL_DIR", "SIMS", "CONFIGS", "FPGA_CONFIG", "DEFAULT_VECTORS", "gen_dir", "config_of", "config_ref",
-           "setup_verilator_env", "need_simulator", "sim_params", "seed", "vectors", "on_sys_path", "environ",
+           "setup_verilator_env", "need_simulator", "need_tool", "sim_params", "seed", "vectors", "on_sys_path", "environ",
            "run", "family_params", "block_params", "top_params", "texture_unit_source", "latency", "write_if_changed"]
 
 
@@ -82,6 +82,17 @@ def need_simulator(sim: str) -> str:
     if shutil.which(tool) is None:
         raise RuntimeError(f"{tool}: not found on PATH (run `make setup`)")
     return tool
+
+
+def need_tool(sim: str) -> None:
+    """need_simulator for a command's --sim: a missing simulator is the user's input error
+    (model.cli.UserError, one line and exit status 2), checked before anything is built or run."""
+    from model.cli import UserError
+
+    try:
+        need_simulator(sim)
+    except RuntimeError as e:
+        raise UserError(f"--sim {sim}: {e}") from None
 
 
 def config_of(config) -> Config:

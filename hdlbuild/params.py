@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, _rel, folded
+from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, folded, rel_path
 from model.hw.config import latency as config_latency
 from model.hw.regmap import REGMAP, pix_width
 
@@ -123,7 +123,7 @@ def latency(module: str, cfg: Config | None = None) -> int:
 def texture_unit_source(cfg: Config) -> str:
     """The wrapper module `texture_unit`: texture_pipeline with the parameters of `cfg`."""
     params = top_params(cfg)
-    lines = [f"// Generated from {_rel(cfg.path)} by hdlbuild/params.py. Do not edit.",
+    lines = [f"// Generated from {rel_path(cfg.path)} by hdlbuild/params.py. Do not edit.",
              f"// texture_unit: texture_pipeline with the parameters of configuration `{cfg.name}`",
              "// (rtl/texture_pipeline.v documents the ports).",
              "`default_nettype none", "",

@@ -20,11 +20,12 @@ from pathlib import Path
 
 import numpy as np
 
+from hdlbuild import need_tool
 from model import reference
+from model.cli import Parser, UserError, check_config, check_range, progress_bar, resolve_scene, run_main, staged
 from model.hw import golden
 from model.hw.config import CONFIG_NAMES, ROOT, load_config
 from model.imageio import compare, contact_sheet, read_image, write_image
-from model.scene.cli import Parser, UserError, check_config, check_range, need_tool, resolve_scene, run_main, staged
 from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, to8
 
 SIMS = ("verilator", "icarus")
@@ -81,12 +82,7 @@ def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, sta
     approx = scene_approximations(pds)
     if strict and approx:
         raise UserError(f"--strict: {approx[0]}" + (f" (and {len(approx) - 1} more)" if len(approx) > 1 else ""))
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=len(pds), desc=f"{scene_name} {config_name} {sim} {W}x{H}", unit="pass", leave=False,
-                   file=sys.stderr)
+    bar = progress_bar(progress, total=len(pds), desc=f"{scene_name} {config_name} {sim} {W}x{H}", unit="pass")
     rtl_l, gold_l, ref_l, cref_l = [], [], [], []
     mismatches = []
     # every pass of the frame in one simulator run (passes without pixels run nowhere)
@@ -110,10 +106,8 @@ def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, sta
         # the reference of the texture as the configuration computes it: the arithmetic error alone
         cref_l.append((pd.mask, reference.shade(configured_texture(cfg, pd.tex), pd.s, pd.J, cfg.perm, cfg.hash_bits)
                        if pd.info["approximations"] else rf))
-        if bar:
-            bar.update()
-    if bar:
-        bar.close()
+        bar.update()
+    bar.close()
     bg = scene.background
     img_rtl, img_gold, img_ref, img_cref = (composite(L, (H, W), bg) for L in (rtl_l, gold_l, ref_l, cref_l))
     textured = np.zeros((H, W), bool)

@@ -33,7 +33,7 @@ import sys
 from collections import defaultdict
 from pathlib import Path
 
-from model.scene.cli import Parser  # one-line errors, exit 2
+from model.cli import Parser  # one-line errors, exit 2
 
 MULT = "MULT18X18D"
 FF = "TRELLIS_FF"

@@ -44,7 +44,7 @@ import time
 from pathlib import Path
 
 from hdlbuild import ROOT, gen_dir
-from model.scene.cli import Parser  # one-line errors, exit 2
+from model.cli import Parser  # one-line errors, exit 2
 from model.hw.config import CONFIG_NAMES, clocks_per_pixel, latency, load_config, variant
 from synth import dsp_regs
 

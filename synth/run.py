@@ -176,10 +176,10 @@ def keeps(name: str) -> str:
 
 def config_diff(a: str, b: str) -> list[tuple[str, object, object]]:
     """(key, value in a, value in b) for every configuration key whose values differ."""
-    from model.hw.config import _SCHEMA
+    from model.hw.config import SCHEMA
 
     ca, cb = load_config(a), load_config(b)
-    return [(k, getattr(ca, k), getattr(cb, k)) for k in _SCHEMA if getattr(ca, k) != getattr(cb, k)]
+    return [(k, getattr(ca, k), getattr(cb, k)) for k in SCHEMA if getattr(ca, k) != getattr(cb, k)]
 
 
 def write_doc() -> None:

@@ -1,4 +1,4 @@
-"""The animation test (model/scene/animation.py, make animation): the camera path and the phase,
+"""The animation test (app/animation.py, make animation): the camera path and the phase,
 the flicker measure, the per-frame truth cache, bad input, the RTL check (--rtl: every pass of
 every frame in one simulator start, bit-exact frame by frame)."""
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from model.hw.config import load_config
-from model.scene import animation as A
+from app import animation as A
 from model.scene.passes import scene_path
 from model.scene.scene import load_scene
 

@@ -138,9 +138,11 @@ COMMANDS = {
     "synth / synth-blocks (entry point, one block)": (None, {}, None),
     "config": ([PY, "-m", "model.hw.config", "reduced"], {}, lambda r, out: (_ok(r), "derived" in r.stdout)),
     "scene check": ([PY, "-m", "model.scene.scene", "scenes/wood.toml"], {}, lambda r, out: (_ok(r), "wood" in r.stdout)),
-    "quality": ([PY, "-m", "model.scene.quality", "--config", "compact", "--size", "8", "--step", "div_bits=5", "--json"],
+    "quality": ([PY, "-m", "app.quality", "--config", "compact", "--size", "8", "--step", "div_bits=5", "--json"],
                 {}, lambda r, out: (_ok(r), len(_json_lines(r.stdout)) == 2,
                                     all("worst" in x for x in _json_lines(r.stdout)))),
+    "needs": ([PY, "-m", "app", "needs", "seascape", "--size", "8", "--json"], {},
+              lambda r, out: (_ok(r), json.loads(r.stdout)["needs"]["noise_terms"] > 0)),
 }
 
 
@@ -252,7 +254,7 @@ def test_missing_simulator_one_line_exit_2(tmp_path):
 
 def test_failed_run_replaces_earlier_report(tmp_path):
     """After a good run, a failed run of the same target leaves a failure report, no old images."""
-    from model.scene import render
+    from app import render
 
     scene = tmp_path / "s" / "tiny.toml"
     scene.parent.mkdir()
@@ -271,7 +273,7 @@ def test_failed_run_replaces_earlier_report(tmp_path):
 
 def test_report_write_failure_leaves_no_images(tmp_path, monkeypatch):
     """When report.json cannot be written, the new images are not left without a report."""
-    from model.scene import render
+    from app import render
 
     real = Path.write_text
 
@@ -289,7 +291,7 @@ def test_report_write_failure_leaves_no_images(tmp_path, monkeypatch):
 
 def test_report_names_every_approximation(tmp_path):
     """Every report lists what the configuration changed in the scene (issue 16)."""
-    from model.scene import render
+    from app import render
 
     rep = render.render("wood", "reduced", 8, truth=False, out_root=tmp_path, progress=False)
     a = "\n".join(rep["approximations"])

@@ -101,7 +101,7 @@ def test_pareto_front():
 
 def test_plan_has_forty_points_and_every_knob():
     from explore.space import plan
-    from model.hw.config import _SCHEMA
+    from model.hw.config import SCHEMA
 
     pts = plan()
     assert len(pts) >= 40
@@ -109,7 +109,7 @@ def test_plan_has_forty_points_and_every_knob():
     for p in pts:
         base = next(q for q in pts if q["label"] == p["base"]) if p["base"] in ("full", "reduced", "compact") else None
         if base:
-            changed |= {k for k in _SCHEMA if p["values"][k] != base["values"][k]}
+            changed |= {k for k in SCHEMA if p["values"][k] != base["values"][k]}
     want = {"noise_terms", "noise_units", "blend", "transform", "amplitude", "quadric", "filter", "div_bits",
             "w_cap_log2", "s_frac", "q_frac", "t_frac", "a_frac", "p_frac", "n_frac", "f_frac", "c_frac", "j_w",
             "norm_bits", "noise_gradient", "quadric_clocks"}
@@ -117,7 +117,7 @@ def test_plan_has_forty_points_and_every_knob():
 
 
 def test_needs_names_what_a_scene_uses():
-    from model.scene.needs import merge_needs, needs, needs_config
+    from app.needs import merge_needs, needs, needs_config
 
     sea = needs("seascape", 32)
     c = needs_config(sea)
@@ -131,7 +131,7 @@ def test_needs_names_what_a_scene_uses():
 
 
 def test_render_report_has_needs(tmp_path):
-    r = _run([PY, "-m", "model.scene.render", "--scene", "seascape", "--config", "reduced", "--size", "8",
+    r = _run([PY, "-m", "app.render", "--scene", "seascape", "--config", "reduced", "--size", "8",
               "--no-truth", "--out", str(tmp_path)])
     _ok(r)
     rep = json.loads(next(tmp_path.rglob("report.json")).read_text())
@@ -140,12 +140,12 @@ def test_render_report_has_needs(tmp_path):
 
 
 def test_needs_command_and_bad_input():
-    r = _run([PY, "-m", "model.scene", "needs", "marble", "--size", "16"])
+    r = _run([PY, "-m", "app", "needs", "marble", "--size", "16"])
     _ok(r)
     assert "needs: noise_terms =" in r.stdout and "texture" in r.stdout
     for args, msg in ((["needs", "no_such"], "no such scene"), (["nope"], "expected a command"),
                       (["needs", "marble", "--size", "0"], "--size 0: expected")):
-        r = _run([PY, "-m", "model.scene", *args])
+        r = _run([PY, "-m", "app", *args])
         assert r.returncode == 2 and msg in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
 
 

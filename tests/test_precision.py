@@ -1,4 +1,4 @@
-"""The precision test (model/scene/precision.py, make precision): its scene, its variants, its
+"""The precision test (app/precision.py, make precision): its scene, its variants, its
 thresholds, that fewer fraction bits of s cost PSNR where the texture is magnified, bad input."""
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import json
 import pytest
 
 from model.hw.config import CONFIG_NAMES, load_config
-from model.scene import precision as P
+from app import precision as P
 from model.scene.frontend import render_passes
 from model.scene.passes import SCENES, prepare_passes
 from model.scene.scene import load_scene

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from model.scene import render
+from app import render
 from model.imageio import read_attrs, read_image
 
 

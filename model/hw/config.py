@@ -34,7 +34,7 @@ class ConfigError(ValueError):
 
 
 # key -> (section, type, (lo, hi) or allowed values)
-_SCHEMA = {
+SCHEMA = {
     "quadric": ("features", str, ("full", "diagonal")),
     "noise_terms": ("features", int, (0, 8)),
     "blend": ("features", str, ("cubic", "linear")),
@@ -361,9 +361,9 @@ def _from_raw(raw: dict, p: Path) -> Config:
         if sec not in known_sections:
             raise ConfigError(f"{p}: unknown key '{sec}' (expected one of {sorted(known_sections)})")
         for key in raw[sec]:
-            if key not in _SCHEMA or _SCHEMA[key][0] != sec:
+            if key not in SCHEMA or SCHEMA[key][0] != sec:
                 raise ConfigError(f"{p}: unknown key '{sec}.{key}'")
-    for key, (sec, typ, rng) in _SCHEMA.items():
+    for key, (sec, typ, rng) in SCHEMA.items():
         if key not in raw.get(sec, {}):
             raise ConfigError(f"{p}: missing key '{sec}.{key}'")
         v = raw[sec][key]
@@ -423,7 +423,8 @@ def _check_rtl(c: Config, p: Path) -> None:
                                 f"the box-filter integral has {c.d_w - 1}")
 
 
-def _rel(path) -> str:
+def rel_path(path) -> str:
+    """A path relative to the repository root when inside it, else absolute (for reports)."""
     p = Path(path).resolve()
     return str(p.relative_to(ROOT)) if p.is_relative_to(ROOT) else str(p)
 
@@ -435,7 +436,7 @@ def _rel(path) -> str:
 
 def config_values(cfg: Config) -> dict:
     """{key: value} of every configuration key of cfg (the schema's keys)."""
-    return {key: getattr(cfg, key) for key in _SCHEMA}
+    return {key: getattr(cfg, key) for key in SCHEMA}
 
 
 def config_toml(cfg: Config) -> str:
@@ -444,7 +445,7 @@ def config_toml(cfg: Config) -> str:
              f"name = \"{cfg.name}\""]
     for sec in ("features", "formats", "hash"):
         lines += ["", f"[{sec}]"]
-        for key, (s, typ, _rng) in _SCHEMA.items():
+        for key, (s, typ, _rng) in SCHEMA.items():
             if s == sec:
                 v = getattr(cfg, key)
                 lines.append(f"{key} = " + (f'"{v}"' if typ is str else ("true" if v is True else "false")
@@ -456,11 +457,11 @@ def variant(base: Config, name: str | None = None, **changes) -> Config:
     """base with some keys changed, checked like a file (ConfigError names the key)."""
     vals = config_values(base)
     for k in changes:
-        if k not in _SCHEMA:
+        if k not in SCHEMA:
             raise ConfigError(f"{base.path}: unknown key '{k}'")
     vals.update(changes)
     raw = {"name": name or base.name}
-    for key, (sec, _t, _r) in _SCHEMA.items():
+    for key, (sec, _t, _r) in SCHEMA.items():
         raw.setdefault(sec, {})[key] = vals[key]
     return _from_raw(raw, Path(f"<{raw['name']}>"))
 
@@ -576,7 +577,7 @@ def main(argv=None) -> int:
     except ConfigError as e:
         print(f"config: {e}", file=sys.stderr)
         return 2
-    print(json.dumps({"name": cfg.name, "path": _rel(cfg.path), "keys": config_values(cfg), "derived": cfg.d},
+    print(json.dumps({"name": cfg.name, "path": rel_path(cfg.path), "keys": config_values(cfg), "derived": cfg.d},
                      indent=2))
     return 0
 

@@ -87,7 +87,7 @@ class Rays:
     camera and k still those of the whole W x H frame), flattened row-major over the window
     (index = (y - y0) * (x1 - x0) + (x - x0)). jitter = (jx, jy), float arrays of the window's
     shape in [-0.5, 0.5): each ray goes through (x + 0.5 + jx, y + 0.5 + jy) instead of the
-    pixel centre (the supersampled truth's stratified jitter, model.scene.render)."""
+    pixel centre (the supersampled truth's stratified jitter, model.scene.truth)."""
 
     def __init__(self, cam, W: int, H: int, window=None, jitter=None):
         x0, y0, x1, y1 = window or (0, 0, W, H)

@@ -1,4 +1,4 @@
-"""Scene passes for the hardware: the library the render CLI (model.scene.render) and the
+"""Scene passes for the hardware: the library the render CLI (app.render) and the
 RTL frame runner (sim.frame) share.
 
 The paper's scenes (SCENES, scenes/<name>.toml), the frame size of a scene at a given width,
@@ -37,7 +37,7 @@ class PassData:
 
 
 def scene_path(name: str) -> Path:
-    """A scene name's file (scenes/<name>.toml), or the path itself (model.scene.cli.resolve_scene
+    """A scene name's file (scenes/<name>.toml), or the path itself (model.cli.resolve_scene
     checks a command's --scene)."""
     p = Path(name)
     return p if p.suffix == ".toml" else SCENE_DIR / f"{name}.toml"

@@ -21,7 +21,7 @@ Convergence: from the same samples, the n/2 x n/2 estimate takes one sample of t
 the pixel. How far the truth moves between n/2 and n (PSNR, max and mean abs difference in LSB,
 over the textured pixels and over the band) bounds from above how far it is from the limit (for
 a convergent estimate the n image is nearer than the n/2 one). It is reported beside the
-differences measured against it (model.scene.render): the truth serves where it moves less.
+differences measured against it (app.render): the truth serves where it moves less.
 
 Cache: <cache_dir>/<scene>-<W>x<H>-ss<ss>-<band_ss>-j<seed>-p<perm seed>-h<hash_bits>-<key>.npz
 (truth, half-rate estimate, band, textured mask) and .json (info), key = a hash of the scene
@@ -111,7 +111,7 @@ def render_truth(scene, cfg, W: int, H: int, ss: int = TRUTH_SS, band_ss: int = 
                  passes=None, progress: bool = False, desc: str = "truth"):
     """The truth of a loaded scene (not cached): (image, n/2 estimate or None, band, textured,
     meta); meta: size, rates, tiles, samples, lattice, pixel counts, convergence."""
-    from model.scene.render import _bar
+    from model.cli import progress_bar
 
     if passes is None:
         from model.scene.frontend import render_passes
@@ -126,7 +126,7 @@ def render_truth(scene, cfg, W: int, H: int, ss: int = TRUTH_SS, band_ss: int = 
     rates = [[band_ss if b else ss for b in row] for row in in_band]
     samples = sum(r * r * min(TILE, W - tx * TILE) * min(TILE, H - ty * TILE)
                   for ty, row in enumerate(rates) for tx, r in enumerate(row))
-    bar = _bar(progress, total=samples, desc=desc)
+    bar = progress_bar(progress, total=samples, desc=desc)
     for ty in range(nty):
         for tx in range(ntx):
             n = rates[ty][tx]
@@ -159,7 +159,7 @@ def truth(scene_name: str, cfg, size: int, ss: int = TRUTH_SS, band_ss: int = BA
     (n/2 against n: psnr_db, max_abs_lsb, mean_abs_lsb), cache file, seconds; info["band"] and
     info["textured"] are the [H, W] masks (not in the .json). passes: the scene's 1x passes at
     this size, if the caller has them (spares ray-casting them again)."""
-    from model.scene.cli import resolve_scene
+    from model.cli import resolve_scene
     from model.scene.scene import load_scene
 
     name, path = resolve_scene(scene_name)

@@ -1,7 +1,7 @@
 """The precision test (paper section 4.3, Fig. 10): the texture-coordinate precision needed to
 avoid magnification aliases.
 
-    python -m model.scene.precision --size 512          (make precision; PRECISION_SIZE=)
+    python -m app.precision --size 512          (make precision; PRECISION_SIZE=)
 
 The scene scenes/fig10/precision.toml (coarsely triangulated objects seen close, so the texture
 is magnified; not one of the paper's eight scenes of model.scene.passes.SCENES) is rendered by
@@ -33,7 +33,8 @@ from model.hw import golden
 from model.hw.config import CONFIG_NAMES, ROOT, ConfigError, load_config, variant
 from model.hw.quantize import FormatError
 from model.imageio import compare, contact_sheet, write_image
-from model.scene.cli import Parser, UserError, check_config, check_range, resolve_scene, run_main, staged
+from app.common import git_describe
+from model.cli import Parser, UserError, check_config, check_range, progress_bar, resolve_scene, run_main, staged
 from model.scene.passes import composite, configured_texture, frame_size, prepare_passes, to8
 
 SCENE = ROOT / "scenes" / "fig10" / "precision.toml"
@@ -81,7 +82,6 @@ def plateau(psnrs: dict, within: float = PLATEAU_DB):
 def run(size: int = 512, configs=CONFIG_NAMES, fracs=FRACS, scene_arg: str = str(SCENE), db: float = DB,
         out_root: Path | None = None, progress: bool = True) -> dict:
     from model.scene.frontend import render_passes
-    from model.scene.render import _bar, git_describe
     from model.scene.scene import load_scene
 
     t0 = time.perf_counter()
@@ -98,7 +98,7 @@ def run(size: int = 512, configs=CONFIG_NAMES, fracs=FRACS, scene_arg: str = str
         scene = load_scene(path)
         W, H = frame_size(scene, size)
         passes = render_passes(scene, W, H)
-        bar = _bar(progress, total=len(configs) * (len(fracs) + 1), desc=f"precision {W}x{H}")
+        bar = progress_bar(progress, total=len(configs) * (len(fracs) + 1), desc=f"precision {W}x{H}")
         rep = {"status": "ok", "scene": name, "scene_file": str(path.relative_to(ROOT) if path.is_relative_to(ROOT)
                                                                    else path),
                "width": W, "height": H, "db": db, "fracs": list(fracs), "git": git_describe(), "command": command,
@@ -190,7 +190,7 @@ def write_docs(rep: dict, images: dict, docs: Path) -> None:
     tmp.replace(docs / "images" / "precision_psnr.png")
 
     L = ["# The precision test (paper section 4.3, Fig. 10)", "",
-         f"Written by `{rep['command']}` ({rep['seconds']} s; git {rep['git']}; model/scene/precision.py). "
+         f"Written by `{rep['command']}` ({rep['seconds']} s; git {rep['git']}; app/precision.py). "
          f"The scene `{rep['scene_file']}`: the Newell teapot at 2 x 2 quads a patch (256 triangles) in the "
          "wood of Fig. 1 and an icosahedron (20 triangles) in two-term marble, seen close, so the texture is "
          "magnified: a step of the texture coordinates' last bit spans pixels. Each configuration's golden model "

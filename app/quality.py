@@ -1,6 +1,6 @@
 """Image quality of a configuration and of one-key steps from it: the figures behind its widths.
 
-    python -m model.scene.quality --config compact --size 512 [--step KEY=VALUE[,KEY=VALUE] ...]
+    python -m app.quality --config compact --size 512 [--step KEY=VALUE[,KEY=VALUE] ...]
 
 For the configuration, and for each step (the configuration with those keys changed), the
 golden model renders every scene (model.scene.passes.SCENES) and is compared with the float
@@ -98,7 +98,7 @@ def _parse_step(text: str) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m model.scene.quality", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="python -m app.quality", description=__doc__.split("\n\n")[0])
     ap.add_argument("--config", default="compact")
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--step", action="append", default=[], help="KEY=VALUE[,KEY=VALUE]: one step from the configuration")

@@ -1,7 +1,7 @@
 """The animation test (paper section 4.4): frames of a flight into the horizon (seascape) or of
 an advancing phase (fire), filtered and unfiltered, against the converged truth of every frame.
 
-    python -m model.scene.animation --scene seascape --config full --frames 16 --size 128 [--rtl]
+    python -m app.animation --scene seascape --config full --frames 16 --size 128 [--rtl]
     (make animation SCENE=seascape FRAMES=16 SIZE=128 [RTL=1])
 
 The animation is scenes/animation/<scene>.toml ([animation]: scene, frames, position_end and
@@ -32,11 +32,12 @@ from pathlib import Path
 
 import numpy as np
 
+from app.common import add_truth_args, check_truth_args, git_describe
+from hdlbuild import need_tool
+from model.cli import Parser, UserError, check_config, check_range, progress_bar, run_main, staged
 from model.hw import golden
 from model.hw.config import CONFIG_NAMES, ROOT, load_config
 from model.imageio import compare
-from model.scene.cli import (Parser, UserError, add_truth_args, check_config, check_range, check_truth_args, need_tool,
-                             run_main, staged)
 from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations, scene_path, to8
 from model.scene import truth as T
 
@@ -143,7 +144,6 @@ def run(scene_arg: str, config_name: str, frames: int | None, size: int, rtl: bo
         out_root: Path | None = None, docs: bool = True, progress: bool = True,
         truth_ss: int = T.TRUTH_SS, band_ss: int = T.BAND_SS) -> dict:
     from model.scene.frontend import render_passes
-    from model.scene.render import _bar, git_describe
     from model.scene.scene import load_scene
 
     t0 = time.perf_counter()
@@ -165,7 +165,7 @@ def run(scene_arg: str, config_name: str, frames: int | None, size: int, rtl: bo
         W, H = frame_size(scene, size)
         key = hashlib.sha256(anim["path"].read_bytes() + T.source_key(spath).encode()).hexdigest()[:12]
         cache = T.CACHE_DIR if out_root is None else Path(out_root) / "truth"
-        bar = _bar(progress, total=n, desc=f"animation {name} {config_name} {W}x{H}")
+        bar = progress_bar(progress, total=n, desc=f"animation {name} {config_name} {W}x{H}")
         rows, gif, prev, approx, rtl_frames = [], [], None, [], []
         for i in range(n):
             t = i / (n - 1)
@@ -274,7 +274,7 @@ def write_docs(rep: dict, docs: Path) -> None:
     reps[rep["command"]] = rep  # one section per distinct command
     state.write_text(json.dumps(reps, indent=1) + "\n")
     L = ["# The animation test (paper section 4.4)", "",
-         "Written by `make animation` (model/scene/animation.py), one section per animation, each from its "
+         "Written by `make animation` (app/animation.py), one section per animation, each from its "
          "command. Each frame: the golden model with the box filter and without it, against the frame's truth "
          "(model/scene/truth.py, stratified jittered, more samples in the tiles of the band where the filter "
          "width exceeds N/8 entries); PSNR over that band (`band_w_gt_n8`) and over every textured pixel; flicker: "

@@ -1,6 +1,6 @@
 """Model-only rendering of a scene: float reference, golden model, ground truth, reports.
 
-`python -m model.scene.render --scene zone_plate --config full --size 256` (make render)
+`python -m app.render --scene zone_plate --config full --size 256` (make render)
 writes out/render/<scene>/<config>-<size>/: reference.exr (float reference, with
 provenance attributes), reference.png, golden.png, unfiltered.png, truth.png (the ground
 truth, model.scene.truth: stratified jittered supersampling of the unfiltered float reference,
@@ -13,9 +13,7 @@ docs/images/renders.png.
 """
 from __future__ import annotations
 
-import argparse
 import json
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -26,18 +24,11 @@ from model import reference
 from model.hw import golden
 from model.hw.config import CONFIG_NAMES, ROOT, load_config
 from model.imageio import compare, contact_sheet, write_image
-from model.scene.cli import (Parser, UserError, add_truth_args, check_config, check_range, check_truth_args,
-                             memory_available, resolve_scene, run_main, staged)
+from app.common import add_truth_args, check_truth_args, git_describe
+from model.cli import (Parser, UserError, check_config, check_range, memory_available, progress_bar, resolve_scene,
+                       run_main, staged)
 from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, to8
 from model.scene.truth import BAND_SS, TILE, TRUTH_SS, truth, truth_image  # noqa: F401 (truth_image: the API)
-
-
-def git_describe() -> str:
-    try:
-        return subprocess.run(["git", "-C", str(ROOT), "describe", "--always", "--dirty"], capture_output=True,
-                              text=True, timeout=10).stdout.strip() or "unknown"
-    except (OSError, subprocess.SubprocessError):
-        return "unknown"
 
 
 # memory of a render, measured (moonrise, full): ~1.1 KB a pixel, ~0.7 KB a truth sample; the
@@ -96,15 +87,15 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
 
 
 def _needs(scene_name, passes, W, H, size, cfg) -> dict:
-    """What the scene uses (model.scene.needs): per texture and the least configuration."""
-    from model.scene.needs import needs_config, needs_of_passes
+    """What the scene uses (app.needs): per texture and the least configuration."""
+    from app.needs import needs_config, needs_of_passes
 
     nd = needs_of_passes(scene_name, passes, W, H, size, cfg)
     return {"textures": nd["textures"], "config": needs_config(nd)}
 
 
 def _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, tr, progress) -> dict:
-    bar = _bar(progress, total=len(pds) * 3, desc=f"{scene_name} {config_name} {W}x{H}")
+    bar = progress_bar(progress, total=len(pds) * 3, desc=f"{scene_name} {config_name} {W}x{H}")
     gold, unf, ref, cref, widths = [], [], [], [], np.zeros((H, W))
     for pd in pds:
         st = golden.texture_stages(cfg, pd.ti, pd.si, pd.Jm, pd.je)
@@ -186,22 +177,6 @@ def truth_margin(rep: dict) -> dict:
         moved = conv[region]["psnr_db"]
         out[region] = (None if moved is None or None in measured else round(moved - max(measured), 2))
     return out
-
-
-class _NoBar:
-    def update(self, n=1):
-        pass
-
-    def close(self):
-        pass
-
-
-def _bar(progress: bool, total: int, desc: str):
-    if not progress:
-        return _NoBar()
-    from tqdm import tqdm
-
-    return tqdm(total=total, desc=desc, unit="step", leave=False, file=sys.stderr)
 
 
 def render_all(size: int, truth: bool, progress: bool = True, out_root: Path | None = None,

@@ -1,4 +1,4 @@
-"""What a scene needs of the hardware: `python -m model.scene needs SCENE [--size 256] [--json]`.
+"""What a scene needs of the hardware: `python -m app needs SCENE [--size 256] [--json]`.
 
 For each texture the scene uses: its noise terms (those with a nonzero amplitude), the kind of
 each transform T_i (affine, diagonal, powers of two), of each amplitude a_i (a power of two or
@@ -8,7 +8,7 @@ quadric coefficients, the T_i entries and offsets, a_i, f and the filter width w
 entries), from the front end's rays. `needs_config(needs)` is what the configuration keys must
 at least be for the scene to render as written (model.hw.config's features, and the words the
 ranges take), the starting point of `make fit`.
-The render report (model.scene.render) carries the same `needs` section.
+The render report (app.render) carries the same `needs` section.
 """
 from __future__ import annotations
 
@@ -65,7 +65,7 @@ def texture_needs(tex) -> dict:
 def needs(scene_name: str, size: int = 256, cfg=None) -> dict:
     """What scene `scene_name` (a name or a .toml path) needs, measured at `size` px; the
     noise (f, w) on cfg's lattice (default config `full`'s)."""
-    from model.scene.cli import resolve_scene
+    from model.cli import resolve_scene
     from model.scene.frontend import render_passes
     from model.scene.passes import frame_size
     from model.scene.scene import load_scene
@@ -148,9 +148,9 @@ def text(nd: dict) -> str:
 
 
 def main(argv=None) -> int:
-    from model.scene.cli import Parser, check_range, run_main
+    from model.cli import Parser, check_range, run_main
 
-    ap = Parser(prog="python -m model.scene needs", description="what a scene needs of the hardware")
+    ap = Parser(prog="python -m app needs", description="what a scene needs of the hardware")
     ap.add_argument("scene", help="a scene name or a .toml path")
     ap.add_argument("--size", type=int, default=256, help="frame side for the ranges (px)")
     ap.add_argument("--json", action="store_true")

@@ -1,5 +1,7 @@
-"""The one error path and the one output discipline of the scene commands
-(`python -m model.scene.render`, `python -m sim.frame`; make render / renders / frame / frames).
+"""The one error path and the one output discipline of every command, in the lowest layer that
+has one (`python -m app.render`, `python -m sim.frame`, `python -m explore.sweep`, `python -m
+synth.fpga`, ...; make render / frame / explore / fpga), and the progress bar they share
+(`progress_bar`, also the truth's, model.scene.truth).
 
 Errors: every input problem -- a bad scene file (SceneError), configuration (ConfigError), a
 value that does not fit the hardware (FormatError), a bad argument, path or missing tool
@@ -64,19 +66,6 @@ def check_range(flag: str, value: int, lo: int, hi: int, why: str = "") -> int:
     return value
 
 
-def add_truth_args(ap, ss: int, band_ss: int) -> None:
-    """--truth-ss and --band-ss (model.scene.truth: samples a pixel axis outside / inside the
-    tiles of the band where the filter width exceeds N/8 entries); check_truth_args checks them."""
-    ap.add_argument("--truth-ss", type=int, default=ss, help=f"truth samples a pixel axis, 1..64 (default {ss})")
-    ap.add_argument("--band-ss", type=int, default=band_ss,
-                    help=f"truth samples a pixel axis in the tiles with filter width > N/8, 1..64 (default {band_ss})")
-
-
-def check_truth_args(a) -> None:
-    check_range("--truth-ss", a.truth_ss, 1, 64)
-    check_range("--band-ss", a.band_ss, 1, 64)
-
-
 def check_config(name: str) -> str:
     """--config: a configuration of config/ (the named ones, or a variant file such as full_fc)."""
     from model.hw.config import config_file_names, is_config_file
@@ -102,16 +91,6 @@ def resolve_scene(arg: str) -> tuple[str, Path]:
     if not p.is_file():
         raise UserError(f"--scene {arg}: no such scene (known: {', '.join(SCENES)}; or a path to a .toml file)")
     return arg, p
-
-
-def need_tool(sim: str) -> None:
-    """The simulator is on PATH (checked before anything is built or run)."""
-    from hdlbuild import need_simulator
-
-    try:
-        need_simulator(sim)
-    except RuntimeError as e:
-        raise UserError(f"--sim {sim}: {e}") from None
 
 
 def _failed_report(target: Path, error: str, command: str) -> None:
@@ -165,3 +144,13 @@ def memory_available() -> int | None:
     except (OSError, ValueError, IndexError):
         pass
     return None
+
+
+def progress_bar(progress: bool, total: int | None = None, desc: str = "", unit: str = "step", iterable=None, **kw):
+    """The progress bar of every command: tqdm on stderr (update(n), close(), set_postfix, a
+    context manager, or wrapping `iterable`) that leaves no line behind unless kw says leave=True;
+    when not `progress`, one that shows nothing. kw: tqdm's other arguments (initial, ...)."""
+    from tqdm import tqdm
+
+    return tqdm(iterable, total=total, desc=desc, unit=unit, file=sys.stderr, disable=not progress,
+                **{"leave": False, **kw})
