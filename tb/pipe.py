@@ -11,8 +11,11 @@ for a combinational block.
 Parameter sweeps (the verilog-axis habit): `block_cases(sets, verilator)` is the
 pytest parametrization (sim, set name, parameters) over named HDL parameter sets,
 every set under Icarus and the `verilator` ones under Verilator too; `run_block` builds
-one set in its own build directory and hands it to the cocotb side, where
-`block_params()` reads it back; `block_test` is the whole pytest entry.
+one set (or a configuration's own parameters) in its own build directory and hands it to the
+cocotb side, where `block_params()` reads it back; `block_test` is the whole pytest entry.
+Every block testbench launches through `run_block` (directly from its own parametrized
+pytest function, over configurations from hdlbuild.sim_params / family_params, or through
+`block_test`); none calls hdlbuild.run itself.
 """
 from __future__ import annotations
 
@@ -165,14 +168,24 @@ def block_test(module: str, sets: dict, verilator, test_file: str, **run_kw):
     return test
 
 
-def run_block(module: str, sim: str, name: str, params: dict, test_file: str, config="full", sources=None,
-              extra_env=None) -> None:
-    """Build `module` (rtl/<module>.v) with `params` in build/sim/<module>/<name>-<sim> and
-    run the cocotb tests of `test_file` (the testbench's own __file__) on it."""
+def run_block(module: str, sim: str, name: str | None = None, params: dict | None = None, test_file: str = "",
+              config="full", sources=None, extra_env=None) -> None:
+    """The one way a block testbench launches: build `module` (rtl/<module>.v, or `sources`)
+    under `sim` with the HDL parameters `params` (None: the configuration's,
+    hdlbuild.block_params) in build/sim/<module>/<name>-...-<sim> (name None: the
+    configuration's name) and run the cocotb tests of `test_file` (the testbench's own
+    __file__) on it. `config` (a name, "random:<seed>", "fpga_regs:<name>" or a Config) is the
+    configuration the cocotb side reads (cfg()); block_params() there gives `params`;
+    extra_env adds variables of the testbench's own."""
     import hdlbuild
 
+    if not test_file:
+        raise TypeError("run_block: test_file (the testbench's __file__) is required")
     test = Path(test_file)
-    hdlbuild.run(module, sources=sources or [f"{module}.v"], test_module=test.stem, sim=sim, config=config,
+    cfg = hdlbuild.config_of(config)
+    if params is None:
+        params = hdlbuild.block_params(cfg, module)
+    hdlbuild.run(module, sources=sources or [f"{module}.v"], test_module=test.stem, sim=sim, config=cfg,
                  parameters=params, build_name=name, test_dir=test.parent,
                  extra_env={"BLOCK_PARAMS": json.dumps(params), **(extra_env or {})})
 

@@ -133,3 +133,28 @@ def test_a_planted_violation_is_found(tmp_path, path, text, found):
         assert bad == []
     else:
         assert len(bad) == 1 and found in bad[0], bad
+
+
+# block testbenches being rewritten on other branches (issue 25: they move to run_block when they land)
+RUN_BLOCK_PENDING = {"colour_map", "noise_term", "quadric_mac", "fc_weight"}
+
+
+def _calls_hdlbuild_run(path: Path) -> list[int]:
+    """Lines of `path` that call hdlbuild.run (hdlbuild.run(...), or run imported from hdlbuild)."""
+    tree = ast.parse(path.read_text())
+    runs = {a.asname or a.name for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module == "hdlbuild"
+            for a in n.names if a.name == "run"}
+    return [n.lineno for n in ast.walk(tree) if isinstance(n, ast.Call) and (
+        (isinstance(n.func, ast.Attribute) and n.func.attr == "run" and isinstance(n.func.value, ast.Name)
+         and n.func.value.id == "hdlbuild") or (isinstance(n.func, ast.Name) and n.func.id in runs))]
+
+
+def test_block_testbenches_launch_through_run_block():
+    """One testbench idiom: every block testbench (tb/<block>/test_*.py) is built and run by
+    tb/pipe.py's run_block (or block_test, its pytest entry), never by hdlbuild.run itself."""
+    tbs = sorted((ROOT / "tb").glob("*/test_*.py"))
+    assert tbs
+    bad = [f"{f.relative_to(ROOT)}:{line}" for f in tbs if f.parent.name not in RUN_BLOCK_PENDING
+           for line in _calls_hdlbuild_run(f)]
+    assert not bad, "hdlbuild.run called by hand (use tb.pipe.run_block): " + ", ".join(bad)
+    assert _calls_hdlbuild_run(ROOT / "tb" / "pipe.py"), "tb/pipe.py's run_block no longer launches through hdlbuild.run"

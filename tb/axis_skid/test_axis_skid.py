@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import os
 import random
-from pathlib import Path
 
 import pytest
 
@@ -27,6 +26,7 @@ from cocotb.triggers import ReadOnly, RisingEdge, Timer
 
 import hdlbuild
 from model.hw.stream import axis_skid
+from tb import pipe
 
 SOURCES = ["axis_skid.v"]
 WIDTHS = (1, 8, 32, 67)
@@ -36,9 +36,8 @@ SIMS = [os.environ["SIM"]] if os.environ.get("SIM") else list(hdlbuild.SIMS)
 @pytest.mark.parametrize("width", WIDTHS)
 @pytest.mark.parametrize("sim", SIMS)
 def test_axis_skid_rtl(sim, width):
-    hdlbuild.run("axis_skid", sources=SOURCES, test_module="test_axis_skid", sim=sim, config="full",
-                 parameters={"DATA_W": width}, build_name=f"w{width}", test_dir=Path(__file__).parent,
-                 extra_env={"DATA_W": str(width)})
+    pipe.run_block("axis_skid", sim, f"w{width}", {"DATA_W": width}, __file__, sources=SOURCES,
+                   extra_env={"DATA_W": str(width)})
 
 
 def _val(sig, what):

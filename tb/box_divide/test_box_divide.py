@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import os
 import random
-from pathlib import Path
 
 import pytest
 
@@ -132,9 +131,8 @@ async def box_divide_vs_python(dut):
 def test_box_divide_rtl(sim, config):
     cfg = hdlbuild.config_of(config)
     # colour_map's exact division (the widths box_divide_vs_python assumes by default)
-    hdlbuild.run("box_divide", sources=["box_divide.v"], test_module="test_box_divide", sim=sim,
-                  config=config, test_dir=Path(__file__).parent,
-                  parameters={"NUM_W": cfg.d_w - 1, "DEN_W": cfg.w_w, "Q_W": Q_W, "LANES": LANES, "SAT": 0})
+    pipe.run_block("box_divide", sim, None, {"NUM_W": cfg.d_w - 1, "DEN_W": cfg.w_w, "Q_W": Q_W, "LANES": LANES,
+                                             "SAT": 0}, __file__, config=config)
 
 
 def _narrow_params():
@@ -175,8 +173,6 @@ def test_box_divide_random_rtl(sim, name, params):
 def test_box_divide_narrow_rtl(sim, config, b, sat):
     """colour_map's normalised division: DEN_W = B, NUM_W = B + 8 (+ 1 with SAT)."""
     num_w = b + 8 + sat
-    hdlbuild.run("box_divide", sources=["box_divide.v"], test_module="test_box_divide", sim=sim,
-                  config=config, build_name=f"{config}_n{num_w}_d{b}_s{sat}",
-                  parameters={"NUM_W": num_w, "DEN_W": b, "Q_W": Q_W, "LANES": LANES, "SAT": sat},
-                  extra_env={"BD_NUM_W": str(num_w), "BD_DEN_W": str(b), "BD_SAT": str(sat)},
-                  test_dir=Path(__file__).parent)
+    pipe.run_block("box_divide", sim, f"{config}_n{num_w}_d{b}_s{sat}",
+                   {"NUM_W": num_w, "DEN_W": b, "Q_W": Q_W, "LANES": LANES, "SAT": sat}, __file__, config=config,
+                   extra_env={"BD_NUM_W": str(num_w), "BD_DEN_W": str(b), "BD_SAT": str(sat)})

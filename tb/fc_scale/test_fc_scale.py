@@ -8,7 +8,6 @@ gaps; with the noise gradient off the gradient output must be 0 whatever comes i
 from __future__ import annotations
 
 import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -26,8 +25,7 @@ CASES = [(s, c) for s in hdlbuild.SIMS for c in (("full", "reduced", "random:7")
 
 @pytest.mark.parametrize("sim,config", CASES)
 def test_fc_scale_rtl(sim, config):
-    hdlbuild.run("fc_scale", sources=["fc_scale.v"], test_module="test_fc_scale", sim=sim, config=fc_variant(config),
-                 test_dir=Path(__file__).parent)
+    pipe.run_block("fc_scale", sim, test_file=__file__, config=fc_variant(config))
 
 
 @cocotb.test()

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import math
 import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -46,8 +45,7 @@ def latency(cfg) -> int:
 
 @pytest.mark.parametrize("sim,config", hdlbuild.family_params(fpga_regs=True))
 def test_filter_width_rtl(sim, config):
-    hdlbuild.run("filter_width", sources=SOURCES, test_module="test_filter_width", sim=sim, config=config,
-                  test_dir=Path(__file__).parent)
+    pipe.run_block("filter_width", sim, test_file=__file__, config=config, sources=SOURCES)
 
 
 # ---------------------------------------------------------------------------

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -44,9 +43,8 @@ def sqrt_latency() -> int:
 def test_isqrt_rtl(sim, config):
     cfg = hdlbuild.config_of(config)
     lat = sqrt_latency()
-    hdlbuild.run("isqrt", sources=SOURCES, test_module="test_isqrt", sim=sim, config=config,
-                  test_dir=Path(__file__).parent,
-                  extra_env={"ISQRT_L_W": str(cfg.l_w), "ISQRT_R_W": str(cfg.r_w), "ISQRT_LAT": str(lat),
+    pipe.run_block("isqrt", sim, test_file=__file__, config=config, sources=SOURCES,
+                   extra_env={"ISQRT_L_W": str(cfg.l_w), "ISQRT_R_W": str(cfg.r_w), "ISQRT_LAT": str(lat),
                              "ISQRT_EXHAUSTIVE": "0"})
 
 
@@ -74,11 +72,9 @@ def small_params():
 def test_isqrt_small_rtl(sim, variant):
     """Exhaustive small builds, each in its own build directory (build_name)."""
     l_w, r_w, lat = variant
-    hdlbuild.run("isqrt", sources=SOURCES, test_module="test_isqrt", sim=sim, config="full",
-                 parameters={"L_W": l_w, "R_W": r_w, "LATENCY": lat}, test_dir=Path(__file__).parent,
-                 build_name=f"L{l_w}R{r_w}P{lat}",
-                 extra_env={"ISQRT_L_W": str(l_w), "ISQRT_R_W": str(r_w), "ISQRT_LAT": str(lat),
-                            "ISQRT_EXHAUSTIVE": "1"})
+    pipe.run_block("isqrt", sim, f"L{l_w}R{r_w}P{lat}", {"L_W": l_w, "R_W": r_w, "LATENCY": lat}, __file__,
+                   sources=SOURCES, extra_env={"ISQRT_L_W": str(l_w), "ISQRT_R_W": str(r_w), "ISQRT_LAT": str(lat),
+                                               "ISQRT_EXHAUSTIVE": "1"})
 
 
 # ---------------------------------------------------------------------------

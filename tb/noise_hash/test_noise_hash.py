@@ -13,7 +13,6 @@ stalls, each result read PIPE enabled clocks after its cell; the outputs hold wh
 from __future__ import annotations
 
 import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -30,8 +29,7 @@ SOURCES = ["noise_hash.v", "delay_line.v"]
 
 @pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
 def test_noise_hash_rtl(sim, config):
-    hdlbuild.run("noise_hash", sources=SOURCES, test_module="test_noise_hash", sim=sim, config=config,
-                  test_dir=Path(__file__).parent)
+    pipe.run_block("noise_hash", sim, test_file=__file__, config=config, sources=SOURCES)
 
 
 def _family():
@@ -48,8 +46,7 @@ def _family():
 
 @pytest.mark.parametrize("sim,cfg", _family())
 def test_noise_hash_family_rtl(sim, cfg):
-    hdlbuild.run("noise_hash", sources=SOURCES, test_module="test_noise_hash", sim=sim, config=cfg,
-                 test_dir=Path(__file__).parent)
+    pipe.run_block("noise_hash", sim, test_file=__file__, config=cfg, sources=SOURCES)
 
 
 def _pipes():
@@ -99,7 +96,7 @@ async def corners_bit_exact(dut):
     c, how = cells(cfg, pipe.rng(7), 2 * pipe.n_vectors())
     exp = np.stack([G.noise_hash(cfg, (c[:, 0] + i) & m, (c[:, 1] + j) & m, (c[:, 2] + k) & m)
                     for i in (0, 1) for j in (0, 1) for k in (0, 1)], -1)
-    stages = pipe.block_params().get("PIPE", 0) if "BLOCK_PARAMS" in os.environ else 0
+    stages = pipe.block_params().get("PIPE", 0)
     cl = c.tolist()
 
     def apply(t):

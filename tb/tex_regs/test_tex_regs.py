@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import os
 import random
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -32,6 +31,7 @@ import hdlbuild
 from model.hw import regmap as RM
 from model.hw.config import ROOT, SAT_FILTERS, load_config, random_config
 from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt
+from tb import pipe
 
 SOURCES = ["tex_regs.v"]
 N_RANDOM = 3  # random valid configurations besides full and reduced (RANDOM_CONFIGS= overrides)
@@ -39,8 +39,7 @@ N_RANDOM = 3  # random valid configurations besides full and reduced (RANDOM_CON
 
 @pytest.mark.parametrize("sim,config", hdlbuild.family_params(N_RANDOM))
 def test_tex_regs_rtl(sim, config):
-    hdlbuild.run("tex_regs", sources=SOURCES, test_module="test_tex_regs", sim=sim, config=config,
-                 test_dir=Path(__file__).parent)
+    pipe.run_block("tex_regs", sim, test_file=__file__, config=config, sources=SOURCES)
 
 
 def test_regmap_vh_is_generated():
