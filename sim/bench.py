@@ -1,43 +1,137 @@
-"""`make bench-sim`: RTL simulation throughput, pixels per second, per simulator.
+"""`make bench-sim`: RTL simulation throughput against the golden model's, on the same frame.
 
-A synthetic marble-like pass of the full configuration (sim/frame_rtl.py
-synthetic_pass) streamed through texture_pipeline by the HDL-side harness;
-simulation only (the build is timed apart). Both simulators stream a whole
-512x512 frame (PIXELS_VERILATOR, PIXELS_ICARUS override the pixel counts; Icarus
-takes about two minutes). Each run is checked bit-exact. docs/simulation.md
-explains the figures and why Icarus cannot reach its goal on this arithmetic.
+For each configuration (full, compact, reduced; CONFIG= one of them), a synthetic marble-like
+pass (sim/frame_rtl.py synthetic_pass) of a 512x512 frame (PIXELS_VERILATOR= another pixel
+count) is run through the golden model (model.hw.golden.texture_pipeline) and streamed
+through texture_pipeline under Verilator (sim/frame_main.cpp; the build is timed apart and
+done first), in the same process, one after the other; each is timed REPEAT= times (default 3)
+and the best kept. One JSON line a configuration: the golden model's pixels per second, the
+Verilator run's (streaming: first pixel offered to last colour taken; run: the simulator's
+start, load and file output included; frame: the whole run_frame_rtl call, packing the pixel
+words in Python and reading the colours back included) and their ratios to the golden model's,
+checked bit-exact. Then one line for Icarus on the first configuration (PIXELS_ICARUS= pixels,
+default 16384: Icarus streams about a thousand full pixels a second). docs/simulation.md
+explains the figures.
 """
 from __future__ import annotations
 
+import io
 import json
 import os
 import sys
+import time
+from contextlib import redirect_stdout
+
+import numpy as np
 
 from sim import frame_rtl
 
-GOALS = {"verilator": 200_000, "icarus": 20_000}
+CONFIGS = ("full", "compact", "reduced")
 
 
-def main() -> int:
-    config = os.environ.get("CONFIG", "full")
-    pixels = {"verilator": int(os.environ.get("PIXELS_VERILATOR", 512 * 512)),
-              "icarus": int(os.environ.get("PIXELS_ICARUS", 512 * 512))}
-    results = []
-    for sim in ("verilator", "icarus"):
-        buf = []
-        import io
-        from contextlib import redirect_stdout
+def _best(fn, repeat: int):
+    best, out = float("inf"), None
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t)
+    return best, out
 
-        with redirect_stdout(io.StringIO()) as out:
-            rc = frame_rtl.main(["--config", config, "--sim", sim, "--pixels", str(pixels[sim]), "--check"])
-        rep = json.loads(out.getvalue().strip().splitlines()[-1])
-        rep["goal_pixels_per_second"] = GOALS[sim]
-        rep["goal_met"] = rep["pixels_per_second_stream"] >= GOALS[sim]
-        rep["bit_exact"] = rc == 0 and rep.get("mismatches") == 0
-        results.append(rep)
-        buf.append(rep)
+
+def versus_golden(config: str, pixels: int, repeat: int = 3) -> dict:
+    """Golden model and Verilator on the same synthetic pass of `pixels` pixels (best of `repeat`)."""
+    from model.hw.golden import texture_pipeline
+
+    cfg = frame_rtl.config_of(config)
+    tex, s, Jm, je = frame_rtl.synthetic_pass(config, pixels)
+    t0 = time.perf_counter()
+    frame_rtl.build(cfg, "verilator")
+    build_s = time.perf_counter() - t0
+    golden_s, exp = _best(lambda: texture_pipeline(cfg, tex, s, Jm, je).astype(np.uint8), repeat)
+    runs = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        rgba, cycles, run_s, st = frame_rtl.run_frame_rtl(cfg, "verilator", tex, s, Jm, je, return_stats=True)
+        frame_s = time.perf_counter() - t
+        stream_s = sum(x.get("stream_wall_us", 0) for x in st) / 1e6
+        runs.append((stream_s, run_s, frame_s))
+        if np.any(rgba != exp):
+            break
+    stream_s, run_s, frame_s = (min(r[i] for r in runs) for i in range(3))
+    golden = pixels / golden_s
+    out = {
+        "config": config, "pixels": pixels, "cycles": cycles, "clocks_per_pixel": round(cycles / pixels, 3),
+        "golden_pixels_per_second": round(golden),
+        "verilator_pixels_per_second_stream": round(pixels / max(stream_s, 1e-9)),
+        "verilator_pixels_per_second_run": round(pixels / run_s),
+        "verilator_pixels_per_second_frame": round(pixels / frame_s),
+        "ratio_stream": round(pixels / max(stream_s, 1e-9) / golden, 3),
+        "ratio_run": round(pixels / run_s / golden, 3),
+        "ratio_frame": round(pixels / frame_s / golden, 3),
+        "fixed_seconds": round(frame_s - stream_s, 3),
+        "build_seconds": round(build_s, 2),
+        "mismatches": int(np.count_nonzero(np.any(rgba != exp, axis=-1))),
+    }
+    out["bit_exact"] = out["mismatches"] == 0
+    return out
+
+
+def icarus(config: str, pixels: int) -> dict:
+    """The Icarus cross-check's throughput (sim/frame_rtl.py main, checked against the golden model)."""
+    with redirect_stdout(io.StringIO()) as buf:
+        rc = frame_rtl.main(["--config", config, "--sim", "icarus", "--pixels", str(pixels), "--check"])
+    rep = json.loads(buf.getvalue().strip().splitlines()[-1])
+    rep["bit_exact"] = rc == 0 and rep.get("mismatches") == 0
+    return rep
+
+
+# the steps of docs/simulation.md, each on top of the one before (Verilator options, C++ -O):
+# the last is the build sim/frame_rtl.py uses, and `steps` checks that it is
+O_S = {"OPT_FAST": "-Os", "OPT_SLOW": "-Os", "OPT_GLOBAL": "-Os"}  # Verilator's makefile's default
+X_UNIQUE = ["--x-assign", "unique", "--x-initial", "unique"]
+X_FAST = ["--x-assign", "fast", "--x-initial", "fast"]
+STEPS = [
+    ("C++ main, -Os, X unique", ["-Wno-fatal", *X_UNIQUE, "-O3"], O_S),
+    ("--x-assign/--x-initial fast", ["-Wno-fatal", *X_FAST, "-O3"], O_S),
+    ("C++ -O2", ["-Wno-fatal", *X_FAST, "-O3"], {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}),
+    ("C++ -O3", ["-Wno-fatal", *X_FAST, "-O3"], {"OPT_FAST": "-O3", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}),
+    ("--threads 2", ["-Wno-fatal", *X_FAST, "-O3", "--threads", "2"],
+     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}),
+]
+
+
+def steps(config: str, pixels: int, repeat: int) -> int:
+    """python -m sim.bench steps: each build step of docs/simulation.md on the same frame (its
+    own build directory, build/sim/frame_tb/<config>-verilator-step<i>), one JSON line a step."""
+    default = (frame_rtl.VERILATOR_ARGS, frame_rtl.CXX_OPT, frame_rtl.BUILD_TAG)
+    ok = True
+    try:
+        for i, (name, vargs, cxx) in enumerate(STEPS):
+            frame_rtl.VERILATOR_ARGS, frame_rtl.CXX_OPT, frame_rtl.BUILD_TAG = vargs, cxx, f"-step{i}"
+            rep = {"step": i, "what": name, **versus_golden(config, pixels, repeat)}
+            ok &= rep["bit_exact"]
+            print(json.dumps(rep), flush=True)
+    finally:
+        frame_rtl.VERILATOR_ARGS, frame_rtl.CXX_OPT, frame_rtl.BUILD_TAG = default
+    return 0 if ok else 1
+
+
+def main(argv=None) -> int:
+    argv = sys.argv[1:] if argv is None else argv
+    pixels = int(os.environ.get("PIXELS_VERILATOR", 512 * 512))
+    repeat = int(os.environ.get("REPEAT", 3))
+    if argv[:1] == ["steps"]:
+        return steps(os.environ.get("CONFIG", "full"), pixels, repeat)
+    configs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(CONFIGS)
+    ok = True
+    for config in configs:
+        rep = versus_golden(config, pixels, repeat)
+        ok &= rep["bit_exact"]
         print(json.dumps(rep), flush=True)
-    return 0 if all(r["bit_exact"] for r in results) else 1
+    rep = icarus(configs[0], int(os.environ.get("PIXELS_ICARUS", 16384)))
+    ok &= rep["bit_exact"]
+    print(json.dumps(rep), flush=True)
+    return 0 if ok else 1
 
 
 if __name__ == "__main__":

@@ -1,5 +1,6 @@
-"""The cocotb side of the frame harness sim/frame_tb.v: runs inside the simulator, started by
-sim/frame_rtl.py (run_segments), never collected by pytest.
+"""The cocotb side of the frame harness sim/frame_tb.v under Icarus: runs inside the simulator,
+started by sim/frame_rtl.py (run_segments), never collected by pytest. (Under Verilator the
+harness has a C++ main instead, sim/frame_main.cpp, that does the same.)
 
 The tests `frame_run` and `frame_reset` only start the clock, reset, wait for the harness's
 `done` and check the harness's own protocol counters (tlast, spurious outputs, X); every
@@ -18,7 +19,7 @@ import cocotb
 from cocotb.clock import Clock
 from cocotb.triggers import ClockCycles, FallingEdge, RisingEdge, SimTimeoutError, with_timeout
 
-from sim.frame_rtl import read_stats
+from sim.frame_rtl import check_stats, read_stats
 
 
 def _outputs_resolve(dut, what: str):
@@ -59,12 +60,8 @@ async def _finish(dut, t0: float):
     npix = int(os.environ["FRAME_NPIX"])
     st = read_stats(os.environ["FRAME_STATS"])
     Path(os.environ["FRAME_PYSTATS"]).write_text(f"stream_wall_us {int(wall * 1e6)}\n")
-    assert st["out_count"] == npix and st["in_count"] == npix, f"pixels in/out {st['in_count']}/{st['out_count']}, expected {npix}"
-    assert st["tlast_err"] == 0, f"tlast wrong on {st['tlast_err']} pixels"
-    assert st["extra_out"] == 0, f"{st['extra_out']} outputs after the last pixel"
-    assert st["x_err"] == 0, f"X on the outputs in {st['x_err']} clocks"
-    assert st["hold_err"] == 0, (f"AXI-Stream: the output changed while the sink stalled on {st['hold_err']} clocks "
-                                 "(tvalid, tdata, tlast must hold until taken)")
+    why = check_stats(st, npix, int(os.environ["FRAME_NWR"]))
+    assert why is None, why
     n_out = sum(1 for line in Path(os.environ["FRAME_OUT"]).read_text().splitlines()
                 if line.split("//", 1)[0].strip())
     assert n_out == npix, f"{n_out} colours in the output file, expected {npix}"

@@ -2,12 +2,14 @@
 
 `run_passes_rtl(cfg_name, sim, passes)` runs a list of texture passes (a pass: one texture's
 parameter writes, then its pixel stream) through the streaming harness sim/frame_tb.v in as
-few simulator runs as its memories allow (one for everything that fits: a simulator start
-costs about 2 s, more than a 512x512 pass's pixels take) and returns each pass's colours.
-It writes the passes' segment list, their parameter writes and their pixel words (each
-concatenated) as $readmemh files; the harness does every per-pixel action inside the
-simulator (the cocotb test sim/frame_cocotb.py only clocks, resets and waits for `done`), pass
-after pass, and writes the colours back. When the passes exceed the harness memories
+few simulator runs as its memories allow (one for everything that fits) and returns each
+pass's colours. It writes the passes' segment list and their parameter writes (each concatenated) as
+$readmemh files, and their pixel words: under Verilator a binary file that the harness's C++
+main (sim/frame_main.cpp: no cocotb, no VPI) loads into the harness's pixel memory, under
+Icarus a $readmemh file; the harness does every per-pixel action inside the simulator (under
+Icarus the cocotb test sim/frame_cocotb.py only clocks, resets and waits for `done`), pass
+after pass, and writes the colours back (Verilator: binary, from its C++ main). When the
+passes exceed the harness memories
 (MEMORY: pixels, writes, passes of a run) they are split, in order, into the fewest runs
 (plan_runs: a pass longer than what a run has left is cut, each piece reloading the
 parameters). `run_frame_rtl(cfg_name, sim, texint, s_int, Jm, je)` is the one-pass case.
@@ -26,6 +28,7 @@ import hashlib
 import itertools
 import os
 import shutil
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -34,11 +37,12 @@ import numpy as np
 
 from hdlbuild import ROOT, config_of, config_ref, gen_dir, need_simulator
 from model.hw.config import load_config
-from model.hw.regmap import pack_pixels, pix_width, pixels_hex, unpack_rgba, write_sequence, writes_hex
+from model.hw.regmap import pack_pixels_u32, pix_width, pixels_hex, unpack_rgba, write_sequence, writes_hex
 
 TOPLEVEL = "frame_tb"
 HARNESS = Path(__file__).resolve().parent / "frame_tb.v"
-COCOTB_MODULE = "sim.frame_cocotb"  # its cocotb tests frame_run and frame_reset
+MAIN_CPP = Path(__file__).resolve().parent / "frame_main.cpp"  # Verilator's C++ main of the harness
+COCOTB_MODULE = "sim.frame_cocotb"  # its cocotb tests frame_run and frame_reset (Icarus)
 # frame_tb's memory depths, per simulator: pixels (and colours), parameter writes and passes of
 # one run. Verilator: 2^20 pixels (a 1024x1024 frame; 16 animation frames of 128x128, filtered
 # and unfiltered) in about 25 MB; Icarus streams a few hundred pixels a second, so it keeps
@@ -48,9 +52,13 @@ MEMORY = {
     "icarus": {"MAX_PIX": 1 << 18, "MAX_WR": 1 << 14, "MAX_SEG": 1024},
 }
 DRAIN = 256  # frame_tb DRAIN
-VERILATOR_ARGS = ["-Wno-fatal", "--x-assign", "unique", "--x-initial", "unique", "-O3"]
+# Verilator's options for the frame harness, and the C++ compiler's (make variables of the
+# Verilator makefile: its default -Os is slower to run). docs/simulation.md measures each.
+VERILATOR_ARGS = ["-Wno-fatal", "--x-assign", "fast", "--x-initial", "fast", "-O3"]
+CXX_OPT = {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}
+BUILD_TAG = ""  # a suffix of the Verilator build directory (sim/bench.py steps: one per set of options)
 
-_built: dict[tuple[str, str], str] = {}
+_built: dict[tuple[str, str, str], str] = {}
 _run_counter = itertools.count()
 STARTS = 0  # simulator starts (runs) in this process
 
@@ -69,7 +77,7 @@ def memory(sim: str) -> dict:
 def build_dir(config, sim: str) -> Path:
     """build/sim/frame_tb/<configuration name>-<sim> (config: a name or a Config)."""
     name = config if isinstance(config, str) else config.name
-    return ROOT / "build" / "sim" / TOPLEVEL / f"{name}-{sim}"
+    return ROOT / "build" / "sim" / TOPLEVEL / f"{name}-{sim}{BUILD_TAG if sim == 'verilator' else ''}"
 
 
 def _sources(gdir: Path) -> list[Path]:
@@ -85,30 +93,33 @@ def _stamp(config: str, sim: str, gdir: Path) -> str:
         if p.is_file():
             h.update(str(p.name).encode())
             h.update(p.read_bytes())
-    h.update(repr((sim, VERILATOR_ARGS, memory(sim), DRAIN, "no-public-flat-rw")).encode())
+    if sim == "verilator":
+        h.update(MAIN_CPP.read_bytes())
+        h.update(repr((VERILATOR_ARGS, CXX_OPT)).encode())
+    h.update(repr((sim, memory(sim), DRAIN, "c++ main")).encode())
     return h.hexdigest()
 
 
-def _runner(sim: str):
-    """cocotb's runner for `sim`; for Verilator, without --public-flat-rw.
+def _verilator_build(cfg, gdir: Path, bdir: Path) -> None:
+    """Verilate frame_tb with its C++ main (sim/frame_main.cpp) and compile it: bdir/frame_tb.
 
-    cocotb's Verilator runner always passes --public-flat-rw, which keeps every signal of
-    the design visible and made the full configuration's C++ ~4x larger (a 13-minute
-    compile on two cores instead of one). The harness marks the few signals the cocotb
-    test reads with /* verilator public_flat_rw */ instead.
-    """
-    from cocotb_tools.runner import Verilator, get_runner
-
-    if sim != "verilator":
-        return get_runner(sim)
-
-    class FrameVerilator(Verilator):
-        def _build_command(self):
-            cmds = super()._build_command()
-            cmds[0] = [a for a in cmds[0] if a != "--public-flat-rw"]
-            return cmds
-
-    return FrameVerilator()
+    No cocotb, no VPI: the executable clocks the harness itself (the cocotb runner's
+    --vpi --public-flat-rw build with its GPI clock cost a third of the time of a frame)."""
+    params = {**memory("verilator"), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)}
+    cmd = ["verilator", "--cc", "--exe", "--build", "-j", "2", "-Mdir", str(bdir), "--top-module", TOPLEVEL,
+           "-o", TOPLEVEL, *VERILATOR_ARGS, f"-I{ROOT / 'rtl'}", *[f"-G{k}={v}" for k, v in params.items()],
+           str(MAIN_CPP), *[str(p) for p in _sources(gdir)]]
+    env = dict(os.environ)
+    env["MAKEFLAGS"] = (env.get("MAKEFLAGS", "") + " " + " ".join(f"{k}={v}" for k, v in CXX_OPT.items())).strip()
+    log = bdir / "build.log"
+    with open(log, "w") as f:
+        f.write(" ".join(cmd) + "\n")
+        f.flush()
+        rc = subprocess.run(cmd, cwd=bdir, stdout=f, stderr=subprocess.STDOUT, env=env).returncode
+    if rc != 0:
+        tail = [x for x in log.read_text(errors="replace").splitlines() if x.strip()][-1:]
+        raise FrameRunError(f"frame_tb [{cfg.name} verilator]: build failed (exit {rc}): "
+                            f"{tail[0] if tail else '?'} (log {log})")
 
 
 def wipe_build(bdir: Path) -> None:
@@ -133,7 +144,7 @@ def build(config, sim: str) -> Path:
     bdir = build_dir(config, sim)
     bdir.mkdir(parents=True, exist_ok=True)
     stamp = _stamp(config, sim, gdir)
-    if _built.get((config, sim)) == stamp:
+    if _built.get((config, sim, BUILD_TAG)) == stamp:
         return bdir
     with open(bdir.parent / f".{config}-{sim}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
@@ -141,20 +152,30 @@ def build(config, sim: str) -> Path:
         exe = bdir / ("sim.vvp" if sim == "icarus" else TOPLEVEL)
         if not (exe.exists() and stamp_file.exists() and stamp_file.read_text() == stamp):
             wipe_build(bdir)
-            runner = _runner(sim)
-            runner.build(
+            if sim == "verilator":
+                _verilator_build(cfg, gdir, bdir)
+                stamp_file.write_text(stamp)
+                _built[(config, sim, BUILD_TAG)] = stamp
+                return bdir
+            from cocotb_tools.runner import get_runner
+
+            get_runner(sim).build(
                 sources=_sources(gdir),
                 includes=[ROOT / "rtl"],
                 hdl_toplevel=TOPLEVEL,
                 parameters={**memory(sim), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)},
-                build_args=VERILATOR_ARGS if sim == "verilator" else [],
                 build_dir=bdir,
                 always=True,
                 timescale=("1ns", "1ps"),
             )
             stamp_file.write_text(stamp)
-    _built[(config, sim)] = stamp
+    _built[(config, sim, BUILD_TAG)] = stamp
     return bdir
+
+
+def words_int(words: np.ndarray) -> list[int]:
+    """Pixel words as Python ints from their uint32 words [P, n], least significant first."""
+    return [int.from_bytes(row.astype("<u4").tobytes(), "little") for row in words]
 
 
 def read_hex(path: Path) -> list[int]:
@@ -235,11 +256,72 @@ def plan_runs(sizes, max_pix: int, max_wr: int, max_seg: int) -> list[list[tuple
     return runs
 
 
+def check_stats(st: dict, npix: int, nwr: int) -> str | None:
+    """Why the harness's statistics of a run of npix pixels show a failure (None: they do not):
+    pixels in and out, tlast, outputs beyond a pass, X on the outputs, the AXI-Stream hold rule."""
+    if st.get("out_count") != npix or st.get("in_count") != npix:
+        return f"pixels in/out {st.get('in_count')}/{st.get('out_count')}, expected {npix}"
+    if st.get("nwr") != nwr:
+        return f"{st.get('nwr')} parameter writes, expected {nwr}"
+    if st["tlast_err"]:
+        return f"tlast wrong on {st['tlast_err']} pixels"
+    if st["extra_out"]:
+        return f"{st['extra_out']} outputs after the last pixel"
+    if st["x_err"]:
+        return f"X on the outputs in {st['x_err']} clocks"
+    if st["hold_err"]:
+        return (f"AXI-Stream: the output changed while the sink stalled on {st['hold_err']} clocks "
+                "(tvalid, tdata, tlast must hold until taken)")
+    return None
+
+
+def _run_verilator(bdir: Path, rdir: Path, config: str, plusargs: list[str]) -> None:
+    """Run the Verilator harness executable (sim/frame_main.cpp) in rdir, its output in sim.log
+    (its command line in cmdline.txt: a kept run reruns as `$(cat cmdline.txt)`)."""
+    cmd = [str(bdir / TOPLEVEL), *plusargs]
+    (rdir / "cmdline.txt").write_text(" ".join(cmd) + "\n")
+    with open(rdir / "sim.log", "w") as log:
+        rc = subprocess.run(cmd, cwd=rdir, stdout=log, stderr=subprocess.STDOUT,
+                            stdin=subprocess.DEVNULL).returncode
+    if rc != 0:
+        raise FrameRunError(f"frame_tb [{config} verilator]: {_reason(rdir)} (simulator exit {rc}; "
+                            f"log {rdir / 'sim.log'})")
+
+
+def _run_cocotb(sim: str, bdir: Path, rdir: Path, config: str, env: dict, plusargs: list[str], seed: int,
+                reset_at) -> None:
+    """Run the harness under cocotb (sim/frame_cocotb.py: clock, reset, wait for done) in rdir."""
+    from cocotb_tools.runner import get_results, get_runner
+
+    try:
+        results = get_runner(sim).test(
+            hdl_toplevel=TOPLEVEL,
+            hdl_toplevel_lang="verilog",
+            test_module=COCOTB_MODULE,
+            testcase="frame_reset" if reset_at is not None else "frame_run",
+            build_dir=bdir,
+            test_dir=rdir,
+            results_xml=str(rdir / "results.xml"),
+            extra_env=env,
+            seed=seed,
+            plusargs=plusargs,
+            timescale=("1ns", "1ps"),
+            log_file=rdir / "sim.log",
+        )
+    except SystemExit as e:  # the runner exits when the simulator fails, or (under pytest) a test failed
+        raise FrameRunError(f"frame_tb [{config} {sim}]: {_reason(rdir)} (simulator exit {e.code}; "
+                            f"log {rdir / 'sim.log'})") from None
+    n_tests, n_fail = get_results(results)
+    if n_tests == 0 or n_fail:
+        raise FrameRunError(f"frame_tb [{config} {sim}]: {_reason(rdir)} (log {rdir / 'sim.log'})")
+
+
 def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, seed: int = 1,
                  reset_at: int | None = None, keep: bool = False, fault_hold: bool = False):
     """One simulator run of several passes: segments [(writes, words), ...], each its parameter
-    writes and its pixel words (>= 1), within the harness memories (MEMORY[sim]).
-    -> (out words of each segment, stats): stats holds the run's totals (the harness's and the
+    writes and its pixel words (>= 1; uint32 [P, n], model/hw/regmap.py pack_pixels_u32), within
+    the harness memories (MEMORY[sim]).
+    -> (out words of each segment (uint32 [P]), stats): stats holds the run's totals (the harness's and the
     cocotb test's statistics, run_seconds: the simulator run's wall time, start-up included) and
     "segments": each segment's {"load_cycles", "stream_cycles"}.
 
@@ -249,8 +331,6 @@ def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, see
     reset_at: assert rst that many clocks into the run, then load and stream everything again.
     fault_hold: plant a fault in the harness's AXI-Stream hold check (tests of the check)."""
     global STARTS
-    from cocotb_tools.runner import get_results
-
     mem = memory(sim)
     n = sum(len(w) for _, w in segments)
     nwr = sum(len(wr) for wr, _ in segments)
@@ -264,12 +344,17 @@ def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, see
     config = cfg.name
     rdir = bdir / "runs" / f"run-{os.getpid()}-{next(_run_counter)}"
     rdir.mkdir(parents=True, exist_ok=True)
+    # Verilator: pixels and colours in binary, through its C++ main (+HOSTMEM); Icarus: $readmemh text
+    binary = sim == "verilator"
     files = {k: rdir / f"{k}.{ext}" for k, ext in
-             (("segs", "hex"), ("params", "hex"), ("pixels", "hex"), ("out", "hex"), ("segstats", "hex"),
-              ("stats", "txt"), ("pystats", "txt"))}
+             (("segs", "hex"), ("params", "hex"), ("pixels", "bin" if binary else "hex"),
+              ("out", "bin" if binary else "hex"), ("segstats", "hex"), ("stats", "txt"), ("pystats", "txt"))}
     files["segs"].write_text("".join(f"{len(wr):08x}{len(w):08x}\n" for wr, w in segments))
     files["params"].write_text("".join(writes_hex(wr) for wr, _ in segments))
-    files["pixels"].write_text("".join(pixels_hex(cfg, w) for _, w in segments))
+    if binary:
+        np.concatenate([w for _, w in segments]).astype("<u4").tofile(files["pixels"])
+    else:
+        files["pixels"].write_text("".join(pixels_hex(cfg, words_int(w)) for _, w in segments))
     for k in ("out", "segstats", "stats", "pystats"):
         files[k].unlink(missing_ok=True)
     # generous: every clock stalled or idle up to 99% still finishes
@@ -291,35 +376,25 @@ def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, see
     }
     if reset_at is not None:
         env["FRAME_RESET_AT"] = str(int(reset_at))
-    runner = _runner(sim)
     t0 = time.perf_counter()
     STARTS += 1
-    try:
-        results = runner.test(
-            hdl_toplevel=TOPLEVEL,
-            hdl_toplevel_lang="verilog",
-            test_module=COCOTB_MODULE,
-            testcase="frame_reset" if reset_at is not None else "frame_run",
-            build_dir=bdir,
-            test_dir=rdir,
-            results_xml=str(rdir / "results.xml"),
-            extra_env=env,
-            seed=seed,
-            plusargs=plusargs,
-            timescale=("1ns", "1ps"),
-            log_file=rdir / "sim.log",
-        )
-    except SystemExit as e:  # the runner exits when the simulator fails, or (under pytest) a test failed
-        raise FrameRunError(f"frame_tb [{config} {sim}]: {_reason(rdir)} (simulator exit {e.code}; "
-                            f"log {rdir / 'sim.log'})") from None
+    if sim == "verilator":
+        _run_verilator(bdir, rdir, config, plusargs + [
+            f"+TIMEOUT={timeout_cycles}", f"+NPIXTOTAL={n}", f"+WALL={files['pystats']}",
+            "+HOSTMEM=1", f"+PIXBIN={files['pixels']}", f"+OUTBIN={files['out']}",
+            *([f"+RESET_AT={int(reset_at)}"] if reset_at is not None else [])])
+    else:
+        _run_cocotb(sim, bdir, rdir, config, env, plusargs, seed, reset_at)
     seconds = time.perf_counter() - t0
-    n_tests, n_fail = get_results(results)
-    if n_tests == 0 or n_fail:
-        raise FrameRunError(f"frame_tb [{config} {sim}]: {_reason(rdir)} (log {rdir / 'sim.log'})")
     stats = read_stats(files["stats"])
     stats.update(read_stats(files["pystats"]))
     stats["run_seconds"] = seconds
-    out = read_hex(files["out"])
+    why = check_stats(stats, n, nwr)
+    if why:  # the harness's own first error line says more (which output, which values)
+        first = _reason(rdir)
+        raise FrameRunError(f"frame_tb [{config} {sim}]: {first if 'frame_tb: ERROR' in first else why} "
+                            f"(log {rdir / 'sim.log'})")
+    out = np.fromfile(files["out"], dtype="<u4") if binary else np.array(read_hex(files["out"]), dtype=np.uint32)
     seg = read_hex(files["segstats"])
     if len(out) != n or len(seg) != len(segments) or stats.get("nseg") != len(segments):
         raise FrameRunError(f"frame_tb [{config} {sim}]: {len(out)} colours and {len(seg)} pass statistics read back, "
@@ -360,20 +435,19 @@ def run_passes_rtl(cfg_name, sim: str, passes, gaps: int = 0, stalls: int = 0, s
     for texint, s_int, Jm, je in passes:
         s_int = np.asarray(s_int, dtype=np.int64).reshape(-1, 3)
         writes.append(write_sequence(cfg, texint) + extra)
-        words.append(pack_pixels(cfg, s_int, np.asarray(Jm).reshape(-1, 3, 2), np.asarray(je).reshape(-1)))
+        words.append(pack_pixels_u32(cfg, s_int, np.asarray(Jm).reshape(-1, 3, 2), np.asarray(je).reshape(-1)))
     plan = plan_runs([(len(wr), len(w)) for wr, w in zip(writes, words)], mem["MAX_PIX"], mem["MAX_WR"], mem["MAX_SEG"])
-    out: list[list[int]] = [[] for _ in words]
+    out: list[list[np.ndarray]] = [[] for _ in words]
     cycles = [0] * len(words)
     runs = []
     for r, segs in enumerate(plan):
         outs, st = run_segments(cfg, sim, [(writes[i], words[i][a:b]) for i, a, b in segs], gaps, stalls, seed + r,
                                 reset_at, fault_hold=fault_hold)
         for (i, _, _), o, sst in zip(segs, outs, st["segments"]):
-            out[i] += o
+            out[i].append(o)
             cycles[i] += sst["stream_cycles"]
         runs.append(st)
-    rgba = [unpack_rgba(np.array(o, dtype=np.uint64).astype(np.uint32)) if o else np.zeros((0, 4), np.uint8)
-            for o in out]
+    rgba = [unpack_rgba(np.concatenate(o)) if o else np.zeros((0, 4), np.uint8) for o in out]
     if not return_stats:
         return rgba
     return rgba, {"starts": len(runs), "seconds": sum(st["run_seconds"] for st in runs),

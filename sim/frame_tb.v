@@ -29,6 +29,9 @@
 //      one pass a line, {load_cycles[31:0], stream_cycles[31:0]}) and a statistics file
 //      (+STATS=<file>, "key value" lines, totals over the passes), then raise `done`.
 // A rst at any time restarts the whole sequence from the first pass's step 2 (done falls).
+// +HOSTMEM=1: the simulator's C++ main (Verilator, sim/frame_main.cpp) fills the pixel memory
+// and reads the colour memory itself, in binary; the harness then neither $readmemh's +PIXELS
+// nor $writememh's +OUT (a 512x512 frame's text files cost more than its simulation).
 //
 // Cycle counts in the statistics: load_cycles (parameter writes), stream_cycles (from the
 // first clock a pixel of a pass is offered to the clock its last colour is taken, summed over
@@ -52,14 +55,15 @@ module frame_tb #(
 // ---------------------------------------------------------------------------
 // Stimulus and result memories, plusargs
 
-reg [PIX_W-1:0] pix_mem      [0:MAX_PIX-1];
+// pix_mem, out_mem: public for Verilator's C++ main (+HOSTMEM=1)
+reg [PIX_W-1:0] pix_mem      [0:MAX_PIX-1] /* verilator public_flat_rw */;
 reg [47:0]      wr_mem       [0:MAX_WR-1];
-reg [31:0]      out_mem      [0:MAX_PIX-1];
+reg [31:0]      out_mem      [0:MAX_PIX-1] /* verilator public_flat_rw */;
 reg [63:0]      seg_mem      [0:MAX_SEG-1];  // {nwr, npix} of each pass
 reg [63:0]      seg_stat_mem [0:MAX_SEG-1];  // {load_cycles, stream_cycles} of each pass
 
 reg [8*1024-1:0] params_file, pixels_file, out_file, stats_file, segs_file, segstats_file;
-integer npix, nwr, nseg, gaps, stalls, seed, fault_hold, have_segstats, seg_bad, i;
+integer npix, nwr, nseg, gaps, stalls, seed, fault_hold, have_segstats, seg_bad, hostmem, i;
 
 initial begin
     done = 1'b0;
@@ -74,6 +78,7 @@ initial begin
     if (!$value$plusargs("STALLS=%d", stalls)) stalls = 0;
     if (!$value$plusargs("SEED=%d", seed))   seed   = 1;
     if (!$value$plusargs("FAULT_HOLD=%d", fault_hold)) fault_hold = 0;
+    if (!$value$plusargs("HOSTMEM=%d", hostmem)) hostmem = 0;
     if ($value$plusargs("NSEG=%d", nseg)) begin
         if (nseg < 1 || nseg > MAX_SEG) begin
             $display("frame_tb: ERROR: +NSEG=%0d outside 1..%0d", nseg, MAX_SEG);
@@ -107,7 +112,7 @@ initial begin
         $finish;
     end
     if (nwr > 0) $readmemh(params_file, wr_mem, 0, nwr - 1);
-    $readmemh(pixels_file, pix_mem, 0, npix - 1);
+    if (hostmem == 0) $readmemh(pixels_file, pix_mem, 0, npix - 1);
 end
 
 // ---------------------------------------------------------------------------
@@ -308,7 +313,7 @@ always @(posedge clk) begin
                 end
             end
         end else if (state_reg == ST_DONE && !done) begin
-            $writememh(out_file, out_mem, 0, npix - 1);
+            if (hostmem == 0) $writememh(out_file, out_mem, 0, npix - 1);
             if (have_segstats != 0)
                 $writememh(segstats_file, seg_stat_mem, 0, nseg - 1);
             /* verilator lint_off BLKSEQ */  // a file handle, used at once (simulation only)

@@ -371,11 +371,9 @@ def texint_of_regs(cfg: Config, st: TexRegs, tables) -> TexInt:
                   k_used=st.k_used)
 
 
-def pack_pixels(cfg: Config, s, Jm, je) -> list[int]:
-    """s_axis_tdata words (Python ints, pix_width(cfg) bits) for pixels s [P, 3], Jm [P, 3, 2], je [P].
-
-    Each field is range-checked against its format (RegmapError otherwise).
-    """
+def _pixel_fields(cfg: Config, s, Jm, je) -> list[tuple[np.ndarray, int]]:
+    """The fields of the pixel words, least significant first: (int64 column [P], width), each
+    range-checked against its format (RegmapError otherwise)."""
     s = np.asarray(s, dtype=np.int64).reshape(-1, 3)
     P = s.shape[0]
     Jm = np.asarray(Jm, dtype=np.int64).reshape(P, 6)  # element 2*k + col = Jm[k][col]
@@ -384,9 +382,17 @@ def pack_pixels(cfg: Config, s, Jm, je) -> list[int]:
         lo, hi = -(1 << (wd - 1)), (1 << (wd - 1)) - 1
         if x.size and (x.min() < lo or x.max() > hi):
             raise RegmapError(f"pixel {name} outside s{wd} [{lo}, {hi}]")
+    return [(s[:, e], cfg.s_w) for e in range(3)] + [(Jm[:, e], cfg.j_w) for e in range(6)] + [(je, cfg.je_w)]
+
+
+def pack_pixels(cfg: Config, s, Jm, je) -> list[int]:
+    """s_axis_tdata words (Python ints, pix_width(cfg) bits) for pixels s [P, 3], Jm [P, 3, 2], je [P].
+
+    Each field is range-checked against its format (RegmapError otherwise).
+    """
     # words are wider than 64 bits: Python ints, built one field column at a time
-    fields = [(s[:, e], cfg.s_w) for e in range(3)] + [(Jm[:, e], cfg.j_w) for e in range(6)] + [(je, cfg.je_w)]
-    words = [0] * P
+    fields = _pixel_fields(cfg, s, Jm, je)
+    words = [0] * len(fields[0][0])
     shift = 0
     for col, wd in fields:
         m = (1 << wd) - 1
@@ -397,6 +403,23 @@ def pack_pixels(cfg: Config, s, Jm, je) -> list[int]:
             words = [wv | (v << shift) for wv, v in zip(words, vals)]
         shift += wd
     return words
+
+
+def pack_pixels_u32(cfg: Config, s, Jm, je) -> np.ndarray:
+    """pack_pixels's words as uint32 [P, ceil(pix_width(cfg) / 32)], least significant word first,
+    in numpy throughout (the binary pixel file of the Verilator frame harness, sim/frame_main.cpp)."""
+    fields = _pixel_fields(cfg, s, Jm, je)
+    nw = (pix_width(cfg) + 31) // 32
+    out = np.zeros((len(fields[0][0]), nw + 1), dtype=np.uint64)  # a spare word: the last field's carry
+    shift = 0
+    for col, wd in fields:
+        if wd > 32:
+            raise RegmapError(f"pixel field of {wd} bits: pack_pixels_u32 takes at most 32")
+        v = (col & ((1 << wd) - 1)).astype(np.uint64) << np.uint64(shift % 32)  # spans at most two words
+        out[:, shift // 32] |= v & np.uint64(0xFFFFFFFF)
+        out[:, shift // 32 + 1] |= v >> np.uint64(32)
+        shift += wd
+    return out[:, :nw].astype(np.uint32)
 
 
 def unpack_pixels(cfg: Config, words):

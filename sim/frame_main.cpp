@@ -1,0 +1,170 @@
+// frame_main: the C++ main of the frame harness sim/frame_tb.v under Verilator (no cocotb).
+//
+// Does what sim/frame_cocotb.py does under Icarus, with no Python in the simulator: clocks
+// frame_tb, holds rst for 4 clocks, checks that texture_pipeline's outputs are reset (m_tvalid,
+// m_tdata, m_tlast all 0 on the falling edge after), releases rst and clocks until the harness
+// raises `done` (it has then written its colours, pass statistics and statistics files). Every
+// per-pixel action is the harness's own, in Verilog. sim/frame_rtl.py (run_segments) starts it
+// with the harness's plusargs and these:
+//   +TIMEOUT=<clocks>   fail when `done` has not risen that many clocks after reset;
+//   +RESET_AT=<clocks>  assert rst that many clocks after the first reset (the harness must be
+//                       streaming, 0 < out_idx < +NPIXTOTAL), 3 clocks, then run to `done` again;
+//   +NPIXTOTAL=<n>      the run's pixels (for the +RESET_AT check);
+//   +WALL=<file>        write "stream_wall_us <us>": wall time from the last reset's release to done;
+//   +HOSTMEM=1 +PIXBIN=<file> +OUTBIN=<file>: the pixel words in binary (each PIX_W-bit word as
+//                       ceil(PIX_W / 32) little-endian uint32, least significant first, +NPIXTOTAL
+//                       words; model/hw/regmap.py pack_pixels_u32) loaded into the harness's pixel
+//                       memory before reset, and its +NPIXTOTAL colours written back as uint32 after
+//                       done (the harness then skips its $readmemh / $writememh of those two).
+// A failure prints one line "frame_tb: ERROR: ..." and exits with status 1 (the harness's own
+// $display errors come first in the log; sim/frame_rtl.py shows the first).
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "Vframe_tb.h"
+#include "Vframe_tb___024root.h"
+#include "verilated.h"
+
+namespace {
+
+VerilatedContext* ctx;
+Vframe_tb* top;
+
+long plusarg(const char* name, long dflt) {
+    const std::string key = std::string(name) + "=";
+    const std::string m = ctx->commandArgsPlusMatch(key.c_str());
+    if (m.empty()) return dflt;
+    return std::strtol(m.c_str() + 1 + key.size(), nullptr, 10);
+}
+
+std::string plusarg_str(const char* name) {
+    const std::string key = std::string(name) + "=";
+    const std::string m = ctx->commandArgsPlusMatch(key.c_str());
+    return m.empty() ? std::string() : m.substr(1 + key.size());
+}
+
+[[noreturn]] void fail(const std::string& why) {
+    std::printf("frame_tb: ERROR: %s\n", why.c_str());
+    std::fflush(stdout);
+    top->final();
+    std::exit(1);
+}
+
+// a pixel memory word from its uint32 words, least significant first
+template <std::size_t N>
+constexpr std::size_t words_of(const VlWide<N>*) { return N; }
+constexpr std::size_t words_of(const QData*) { return 2; }
+template <typename T>
+constexpr std::size_t words_of(const T*) { return 1; }
+
+template <std::size_t N>
+void put(VlWide<N>& d, const uint32_t* s) { for (std::size_t i = 0; i < N; ++i) d[i] = s[i]; }
+inline void put(QData& d, const uint32_t* s) { d = static_cast<QData>(s[0]) | static_cast<QData>(s[1]) << 32; }
+template <typename T>
+void put(T& d, const uint32_t* s) { d = static_cast<T>(s[0]); }
+
+void load_pixels(const std::string& file, long npix) {
+    auto& mem = top->rootp->frame_tb__DOT__pix_mem;
+    using Word = std::remove_reference_t<decltype(mem[0])>;
+    const std::size_t nw = words_of(static_cast<const Word*>(nullptr));
+    std::vector<uint32_t> buf(static_cast<std::size_t>(npix) * nw);
+    FILE* f = std::fopen(file.c_str(), "rb");
+    if (!f) fail("cannot read +PIXBIN=" + file);
+    const std::size_t got = std::fread(buf.data(), sizeof(uint32_t), buf.size(), f);
+    std::fclose(f);
+    if (got != buf.size() || npix > static_cast<long>(mem.size()))
+        fail("+PIXBIN=" + file + ": " + std::to_string(got) + " words, expected " + std::to_string(buf.size()) +
+             " (" + std::to_string(npix) + " pixels of " + std::to_string(nw) + " words, at most " +
+             std::to_string(mem.size()) + " pixels)");
+    for (long i = 0; i < npix; ++i) put(mem[i], &buf[static_cast<std::size_t>(i) * nw]);
+}
+
+void save_colours(const std::string& file, long npix) {
+    auto& mem = top->rootp->frame_tb__DOT__out_mem;
+    std::vector<uint32_t> buf(static_cast<std::size_t>(npix));
+    for (long i = 0; i < npix; ++i) buf[static_cast<std::size_t>(i)] = mem[i];
+    FILE* f = std::fopen(file.c_str(), "wb");
+    if (!f || std::fwrite(buf.data(), sizeof(uint32_t), buf.size(), f) != buf.size()) fail("cannot write " + file);
+    std::fclose(f);
+}
+
+// one clock: rising edge, then falling edge (inputs change between clocks, as cocotb's do on
+// the falling edge)
+inline void tick() {
+    top->clk = 1;
+    top->eval();
+    ctx->timeInc(5);
+    top->clk = 0;
+    top->eval();
+    ctx->timeInc(5);
+    if (ctx->gotFinish()) fail("the harness stopped ($finish) before done");
+}
+
+void reset(int clocks, const char* what) {
+    top->rst = 1;
+    for (int i = 0; i < clocks; ++i) tick();
+    Vframe_tb___024root* r = top->rootp;
+    if (r->frame_tb__DOT__m_tvalid != 0) fail(std::string("m_axis_tvalid set during reset (") + what + ")");
+    if (r->frame_tb__DOT__m_tdata != 0 || r->frame_tb__DOT__m_tlast != 0)
+        fail(std::string("output registers not reset (") + what + ")");
+    top->rst = 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    ctx = new VerilatedContext;
+    ctx->commandArgs(argc, argv);
+    top = new Vframe_tb{ctx, "frame_tb"};
+    const long timeout = plusarg("TIMEOUT", 10000000);
+    const long reset_at = plusarg("RESET_AT", -1);
+    const long npix = plusarg("NPIXTOTAL", 0);
+    const std::string wall_file = plusarg_str("WALL");
+    const bool hostmem = plusarg("HOSTMEM", 0) != 0;
+
+    top->clk = 0;
+    top->rst = 1;
+    top->eval();  // initial blocks: plusargs, $readmemh
+    if (ctx->gotFinish()) fail("the harness stopped ($finish) while loading");
+    if (hostmem) load_pixels(plusarg_str("PIXBIN"), npix);
+    reset(4, "right after reset");
+    if (reset_at >= 0) {
+        for (long i = 0; i < reset_at; ++i) tick();
+        Vframe_tb___024root* r = top->rootp;
+        const long out_idx = r->frame_tb__DOT__out_idx;
+        if (r->frame_tb__DOT__state_reg != 1 || !(0 < out_idx && out_idx < npix))
+            fail("reset not in the middle of the stream (state " + std::to_string(r->frame_tb__DOT__state_reg) +
+                 ", " + std::to_string(out_idx) + " of " + std::to_string(npix) + " out)");
+        std::printf("frame_tb: reset after %ld of %ld colours\n", out_idx, npix);
+        reset(3, "right after the second reset");
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    long n = 0;
+    while (!top->done) {
+        if (n++ >= timeout)
+            fail("harness not done after " + std::to_string(timeout) + " clocks: " +
+                 std::to_string(top->rootp->frame_tb__DOT__out_idx) + " of " + std::to_string(npix) +
+                 " colours received (state " + std::to_string(top->rootp->frame_tb__DOT__state_reg) +
+                 "): pixels lost or the pipeline stopped");
+        tick();
+    }
+    const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+    if (!wall_file.empty()) {
+        FILE* f = std::fopen(wall_file.c_str(), "w");
+        if (!f) fail("cannot write " + wall_file);
+        std::fprintf(f, "stream_wall_us %ld\n", static_cast<long>(us));
+        std::fclose(f);
+    }
+    if (hostmem) save_colours(plusarg_str("OUTBIN"), npix);
+    std::printf("frame_tb: %ld clocks after reset, %.3f s\n", n, us / 1e6);
+    top->final();
+    delete top;
+    delete ctx;
+    return 0;
+}

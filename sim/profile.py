@@ -1,0 +1,73 @@
+"""`python -m sim.profile [--config full] [--pixels 65536]`: where a simulated clock goes, per RTL block.
+
+Builds the Verilator frame harness with --prof-cfuncs (every always block and assignment its
+own C++ function, named after its module and source line: ..._PROF__<module>__l<line>;
+build/sim/frame_tb/<config>-verilator-profcfuncs), streams a synthetic pass
+(sim/frame_rtl.py synthetic_pass) under `perf record -e cpu-clock` (a software clock: this
+machine's virtual CPUs expose no hardware counters) and prints the samples per module and the
+top blocks (module:line), as Markdown tables (docs/simulation.md). Functions of no module
+(Verilator's scheduler, the C++ main, the start-up's memory clearing) are grouped by name.
+Splitting the code into one function per block costs call overhead of its own (the scheduler's
+`_eval_nba` share), so the shares are of the blocks, not a prediction of the -O2 build's time.
+"""
+from __future__ import annotations
+
+import argparse
+import collections
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+from sim import frame_rtl
+
+PROF = re.compile(r"__PROF__(\w+?)__l(\d+)")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m sim.profile", description=__doc__.splitlines()[0])
+    ap.add_argument("--config", default="full")
+    ap.add_argument("--pixels", type=int, default=65536)
+    ap.add_argument("--top", type=int, default=15)
+    a = ap.parse_args(argv)
+    if shutil.which("perf") is None:
+        print("sim.profile: perf not found (apt-get install linux-perf)", file=sys.stderr)
+        return 2
+    frame_rtl.VERILATOR_ARGS = frame_rtl.VERILATOR_ARGS + ["--prof-cfuncs"]
+    frame_rtl.BUILD_TAG = "-profcfuncs"
+    tex, s, Jm, je = frame_rtl.synthetic_pass(a.config, a.pixels)
+    os.environ["FRAME_KEEP"] = "1"
+    frame_rtl.run_frame_rtl(a.config, "verilator", tex, s, Jm, je)
+    bdir = frame_rtl.build_dir(a.config, "verilator")
+    rdir = max((bdir / "runs").iterdir(), key=lambda p: p.stat().st_mtime)
+    args = (rdir / "cmdline.txt").read_text().split()
+    data = rdir / "perf.data"
+    subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-F", "10000", "-o", str(data), *args], cwd=rdir,
+                   check=True, stdout=subprocess.DEVNULL)
+    rep = subprocess.run(["perf", "report", "-i", str(data), "--stdio", "--no-children", "--sort", "symbol"],
+                         cwd=rdir, check=True, capture_output=True, text=True).stdout
+    by_mod, by_blk = collections.Counter(), collections.Counter()
+    for line in rep.splitlines():
+        m = re.match(r"\s*([\d.]+)%\s+\[[.k]\]\s+(\S+)", line)
+        if not m:
+            continue
+        pct, sym = float(m.group(1)), m.group(2)
+        p = PROF.search(sym)
+        if p:
+            by_mod[p.group(1)] += pct
+            by_blk[f"{p.group(1)}:{p.group(2)}"] += pct
+        else:
+            by_mod[sym.split("___024root___")[-1] if "___024root___" in sym else sym] += pct
+    print(f"{a.config}, {a.pixels} pixels, perf cpu-clock samples by module (%):\n")
+    print("| module or function | % |\n|---|---|")
+    for k, v in by_mod.most_common(a.top):
+        print(f"| {k} | {v:.1f} |")
+    print(f"\ntop blocks (module:line of rtl/<module>.v):\n\n| block | % |\n|---|---|")
+    for k, v in by_blk.most_common(a.top):
+        print(f"| {k} | {v:.1f} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
