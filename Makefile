@@ -48,7 +48,7 @@ help:
 	@echo "make filters [FILTERS_FLAGS=\"--configs full,full_fc --size 256\"]   the filters against the truth: docs/filters.md"
 	@echo "make precision       the precision test (Fig. 10): s_frac 6..16 on scenes/fig10/precision.toml, docs/precision.md (PRECISION_SIZE=)"
 	@echo "make animation SCENE=seascape [CONFIG=full] [FRAMES=16] [SIZE=128] [RTL=1]   section 4.4: frames vs truth, flicker, docs/animation.md"
-	@echo "make bench-sim       RTL simulation throughput"
+	@echo "make bench-sim       Verilator vs golden model pixels/s and ratio (full, compact, reduced), and Icarus"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
 	@echo "make fpga CONFIG=reduced [FREQ=100] [SEED=1] [FPGA_REGS=0] [DSP_REGS=0]   ECP5 85F place and route (yowasp) of the fpga_regs variant (FPGA_REGS=0: as configured): synth/reports/fpga_<name>[-fpga].json, docs/fpga.md"

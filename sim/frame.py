@@ -171,7 +171,7 @@ def conformance(size: int, sim: str, out_root: Path | None = None, strict: bool 
          "is compared with the golden model; `bit_exact` means no bit differs.", "",
          "![RTL images](images/conformance.png)", "",
          "RTL pixels/s: simulator wall time of the streaming loop; with start-up: including the simulator's "
-         "start (about 2 s, once a frame: every pass of a frame in one run). PSNR vs reference: the RTL image against the float64 reference of the "
+         "start (once a frame: every pass of a frame in one run; under Verilator's C++ main a few hundredths of a second). PSNR vs reference: the RTL image against the float64 reference of the "
          "scene's texture as written (all its noise terms, its blend); `reduced` keeps the first 2 terms and a "
          "linear blend, so its PSNR measures that approximation, not an arithmetic error; `compact` keeps every "
          "term and the cubic blend on one noise unit (noise_units = 1), so a pixel takes as many clocks as its "
