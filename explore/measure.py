@@ -46,8 +46,8 @@ TRUTH_SS, TRUTH_BAND_SS = 8, 16
 SOURCE_GLOBS = ("rtl/*.v", "rtl/*.vh", "model/hw/*.py", "model/reference.py", "model/texture.py", "model/imageio.py",
                 "model/scene/frontend.py", "model/scene/passes.py", "model/scene/scene.py", "model/scene/teapot.py",
                 "app/quality.py", "model/scene/truth.py", "scenes/*.toml", "sim/frame_tb.v",
-                "sim/frame_rtl.py", "sim/frame_cocotb.py", "synth/synth.py", "synth/run.py", "synth/cells.lib",
-                "hdlbuild/*.py", "explore/measure.py")
+                "sim/frame_rtl.py", "sim/frame_cocotb.py", "sim/frame_main.cpp", "synth/synth.py", "synth/run.py",
+                "synth/cells.lib", "hdlbuild/*.py", "explore/measure.py")
 
 
 def _hash(*parts) -> str:
