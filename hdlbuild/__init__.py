@@ -244,8 +244,8 @@ def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=No
     # drawn differently, an edited file) never reuses a stale build
     tag = hashlib.sha256(repr(sorted(parameters.items())).encode()).hexdigest()[:8]
     # a block testbench streams a few thousand vectors: its Verilator C++ is compiled without
-    # optimisation (half the build time; make test-long's 100,000 vectors and the frame harness,
-    # sim/frame_rtl.py, keep Verilator's -Os), in a build directory of its own
+    # optimisation (half the build time; make test-long's 100,000 vectors keep Verilator's -Os; the
+    # frame harness, sim/frame_rtl.py, builds its own C++ main at -O2), in a build directory of its own
     fast_build = sim == "verilator" and vectors() <= DEFAULT_VECTORS
     build_dir = ROOT / "build" / "sim" / toplevel / (f"{build_name or config}-{tag}-{sim}{'-O0' if fast_build else ''}"
                                                      f"{'-waves' if waves else ''}")
