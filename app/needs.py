@@ -41,6 +41,25 @@ def _rng(x) -> list[float] | None:
     return [float(x.min()), float(x.max())] if x.size else None
 
 
+FRAC_CAP = 24  # fraction bits past which a value counts as not exactly representable
+
+
+def precision(values) -> dict | None:
+    """The fixed-point precision values need: {"int_bits": bits left of the point (sign
+    included) for the largest |value|, "frac_bits": the fewest fraction bits that hold every
+    value exactly (None past FRAC_CAP: not a dyadic fraction, e.g. cos 30 degrees),
+    "frac_bits_rel12": the fewest that hold each within 2^-12 of its magnitude's scale}."""
+    v = np.asarray(values, dtype=np.float64).ravel()
+    if not v.size:
+        return None
+    m = float(np.max(np.abs(v)))
+    ib = max(1, int(math.floor(math.log2(m))) + 2) if m > 0 else 1
+    exact = next((f for f in range(FRAC_CAP + 1) if np.all(v * 2.0 ** f == np.rint(v * 2.0 ** f))), None)
+    rel = next((f for f in range(FRAC_CAP + 1)
+                if np.all(np.abs(np.rint(v * 2.0 ** f) / 2.0 ** f - v) <= 2.0 ** -12 * max(m, 1e-300))), FRAC_CAP)
+    return {"int_bits": ib, "frac_bits": exact, "frac_bits_rel12": rel}
+
+
 def texture_needs(tex) -> dict:
     terms = [t for t in tex.terms if t.a != 0]
     Q = np.asarray(tex.Q, dtype=np.float64)
@@ -59,6 +78,11 @@ def texture_needs(tex) -> dict:
         "range_T": _rng([t.T for t in terms]) if terms else None,
         "range_o": _rng([t.o for t in terms]) if terms else None,
         "range_a": _rng([t.a for t in terms]) if terms else None,
+        # the formats the parameters need (int bits with the sign, fraction bits: exact, and
+        # within 2^-12 of the largest): a format with fewer rounds them (render reports say by how much)
+        "precision": {"quadric": precision(Q), "T": precision([t.T for t in terms]) if terms else None,
+                      "a": precision([t.a for t in terms]) if terms else None,
+                      "o": precision([t.o for t in terms]) if terms else None},
     }
 
 

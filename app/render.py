@@ -27,7 +27,7 @@ from model.imageio import compare, contact_sheet, write_image
 from app.common import add_truth_args, check_truth_args, git_describe
 from model.cli import (Parser, UserError, check_config, check_range, memory_available, progress_bar, resolve_scene,
                        run_main, staged)
-from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, to8
+from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, strict_violations, to8
 from model.scene.truth import BAND_SS, TILE, TRUTH_SS, truth, truth_image  # noqa: F401 (truth_image: the API)
 
 
@@ -75,8 +75,9 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
         passes = render_passes(scene, W, H)
         pds = prepare_passes(cfg, passes)
         approx = scene_approximations(pds)
-        if strict and approx:
-            raise UserError(f"--strict: {approx[0]}" + (f" (and {len(approx) - 1} more)" if len(approx) > 1 else ""))
+        bad = strict_violations(pds) if strict else []
+        if bad:
+            raise UserError(f"--strict: {bad[0]}" + (f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""))
         tr = (path, passes, truth_ss, band_ss, truth_dir(out_root)) if truth else None
         rep = _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, tr, progress)
         rep["approximations"] = approx

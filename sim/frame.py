@@ -26,7 +26,7 @@ from model.cli import Parser, UserError, check_config, check_range, progress_bar
 from model.hw import golden
 from model.hw.config import CONFIG_NAMES, ROOT, load_config
 from model.imageio import compare, contact_sheet, read_image, write_image
-from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, to8
+from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, strict_violations, to8
 
 SIMS = ("verilator", "icarus")
 
@@ -80,8 +80,9 @@ def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, sta
     W, H = frame_size(scene, size)
     pds = prepare_passes(cfg, render_passes(scene, W, H))
     approx = scene_approximations(pds)
-    if strict and approx:
-        raise UserError(f"--strict: {approx[0]}" + (f" (and {len(approx) - 1} more)" if len(approx) > 1 else ""))
+    bad = strict_violations(pds) if strict else []
+    if bad:
+        raise UserError(f"--strict: {bad[0]}" + (f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""))
     bar = progress_bar(progress, total=len(pds), desc=f"{scene_name} {config_name} {sim} {W}x{H}", unit="pass")
     rtl_l, gold_l, ref_l, cref_l = [], [], [], []
     mismatches = []

@@ -134,6 +134,9 @@ class Config:
     fc_fade_log2: int
     seed: int
     path: str = ""
+    # the file's [promise] (PROMISE_KEYS; None for a configuration that states none): what the
+    # configuration keeps on the held-out corpus (explore.validate); not a parameter of the RTL
+    promise: dict = field(default=None, repr=False)
     perm: np.ndarray = field(default=None, repr=False)
     d: dict = field(default_factory=dict)  # derived widths
 
@@ -354,9 +357,10 @@ def _read_raw(p: Path, seen: tuple = ()) -> dict:
 def _from_raw(raw: dict, p: Path) -> Config:
     """Check a configuration's {section: {key: value}} table and derive its widths."""
     vals = {}
-    known_sections = {"features", "formats", "hash"}
+    known_sections = {"features", "formats", "hash", "promise"}
+    promise = _promise(raw.get("promise"), p)
     for sec in raw:
-        if sec == "name":
+        if sec in ("name", "promise"):
             continue
         if sec not in known_sections:
             raise ConfigError(f"{p}: unknown key '{sec}' (expected one of {sorted(known_sections)})")
@@ -374,7 +378,7 @@ def _from_raw(raw: dict, p: Path) -> Config:
         if typ is int and not (rng[0] <= v <= rng[1]):
             raise ConfigError(f"{p}: '{sec}.{key}' = {v}: expected {rng[0]}..{rng[1]}")
         vals[key] = v
-    cfg = Config(name=raw.get("name", p.stem), path=str(p), **vals)
+    cfg = Config(name=raw.get("name", p.stem), path=str(p), promise=promise, **vals)
     _check(cfg, p)
     cfg.perm = permutation(1 << cfg.hash_bits, cfg.seed)
     cfg.d = _derive(cfg)
@@ -384,6 +388,37 @@ def _from_raw(raw: dict, p: Path) -> Config:
         raise ConfigError(f"{p}: formats too wide: an intermediate needs {cfg.d['widest_product']} bits (> 62, int64)")
     _check_rtl(cfg, p)
     return cfg
+
+
+# [promise]: key -> (type, what)
+PROMISE_KEYS = {
+    "psnr_db": ((int, float), "the PSNR in dB it keeps, per scene"),
+    "against": (str, '"reference" (the float reference of the scene as written) or "truth" (the converged truth)'),
+    "share": ((int, float), "the share of the held-out scenes it accepts that must keep it, 0..1"),
+    "note": (str, "where the figure comes from"),
+}
+
+
+def _promise(tab, p: Path) -> dict | None:
+    """A file's [promise] table, checked: {psnr_db, against, share, note}."""
+    if tab is None:
+        return None
+    if not isinstance(tab, dict):
+        raise ConfigError(f"{p}: 'promise' must be a table")
+    for k, v in tab.items():
+        if k not in PROMISE_KEYS:
+            raise ConfigError(f"{p}: unknown key 'promise.{k}' (expected one of {sorted(PROMISE_KEYS)})")
+        typ, what = PROMISE_KEYS[k]
+        if not isinstance(v, typ) or isinstance(v, bool):
+            raise ConfigError(f"{p}: 'promise.{k}' = {v!r}: expected {what}")
+    for k in ("psnr_db", "against", "share"):
+        if k not in tab:
+            raise ConfigError(f"{p}: missing key 'promise.{k}'")
+    if tab["against"] not in ("reference", "truth"):
+        raise ConfigError(f"{p}: 'promise.against' = {tab['against']!r}: expected {PROMISE_KEYS['against'][1]}")
+    if not 0 < tab["share"] <= 1:
+        raise ConfigError(f"{p}: 'promise.share' = {tab['share']}: expected a share in (0, 1]")
+    return dict(tab)
 
 
 def _check(c: Config, p: Path) -> None:
@@ -437,6 +472,16 @@ def rel_path(path) -> str:
 def config_values(cfg: Config) -> dict:
     """{key: value} of every configuration key of cfg (the schema's keys)."""
     return {key: getattr(cfg, key) for key in SCHEMA}
+
+
+def config_hash(cfg: Config) -> str:
+    """A short hash of cfg's keys (not its name, path or promise): a generated report records it
+    for each configuration it measured, and tests/test_stale_docs.py fails when it no longer
+    matches the file."""
+    import hashlib
+    import json
+
+    return hashlib.sha256(json.dumps(config_values(cfg), sort_keys=True).encode()).hexdigest()[:12]
 
 
 def config_toml(cfg: Config) -> str:

@@ -96,6 +96,42 @@ def quantize_texture(cfg: Config, tex: TextureParams) -> tuple[TexInt, dict]:
     return tint, {"terms_used": len(used), "dropped_terms": max(0, len(tex.terms) - K)}
 
 
+def parameter_changes(cfg: Config, tex: TextureParams, ti: TexInt) -> list[dict]:
+    """Every texture parameter (quadric, noise[i].a, .T, .o) that quantizing changed:
+    [{"param", "format", "change": largest |quantized - value|, "value", "got"}] (the entry with
+    the largest change). The offsets are compared as phases (mod the lattice period)."""
+    out = []
+
+    def add(name, v, q, w, frac, signed=True):
+        v = np.asarray(v, dtype=np.float64)
+        q = np.asarray(q, dtype=np.float64) / (1 << frac)
+        d = np.abs(q - v)
+        if np.any(d > 0):
+            k = np.unravel_index(np.argmax(d), d.shape) if d.ndim else ()
+            out.append({"param": name, "format": fmt_name(w, frac, signed), "change": float(d[k]),
+                        "value": float(v[k]), "got": float(q[k])})
+
+    add("quadric", tex.Q, ti.Q, cfg.q_w, cfg.q_frac)
+    period = float(1 << cfg.hash_bits)
+    for i, term in enumerate(tex.terms[:ti.k_used]):
+        add(f"noise[{i}].a", term.a, ti.a[i], cfg.a_w, cfg.a_frac)
+        add(f"noise[{i}].T", term.T, ti.T[i], cfg.t_w, cfg.t_frac)
+        add(f"noise[{i}].o", np.mod(term.o, period), ti.o[i], cfg.d["o_w"], cfg.p_frac, signed=False)
+    return out
+
+
+def quantized_texture(cfg: Config, tex: TextureParams, ti: TexInt) -> TextureParams:
+    """The float texture with the quantized parameters (what the hardware holds), its first
+    ti.k_used terms."""
+    from dataclasses import replace
+
+    from model.texture import NoiseTerm
+
+    terms = [NoiseTerm(a=float(ti.a[i]) / (1 << cfg.a_frac), T=ti.T[i] / float(1 << cfg.t_frac),
+                       o=ti.o[i] / float(1 << cfg.p_frac)) for i in range(ti.k_used)]
+    return replace(tex, Q=ti.Q / float(1 << cfg.q_frac), terms=terms)
+
+
 def _check_pow2(cfg: Config, i: int, Tf, Ti) -> None:
     """pow2 transform: T diagonal, each entry 0 or 2^k exactly representable (a shift)."""
     Tf = np.asarray(Tf, dtype=np.float64)
