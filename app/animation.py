@@ -34,7 +34,7 @@ import numpy as np
 
 from app.common import add_truth_args, check_truth_args, git_describe
 from hdlbuild import need_tool
-from model.cli import Parser, UserError, check_config, check_range, progress_bar, run_main, staged
+from model.cli import Parser, UserError, check_config, config_label, check_range, progress_bar, run_main, staged
 from model.hw import golden
 from model.hw.config import CONFIG_NAMES, ROOT, load_config
 from model.imageio import compare
@@ -157,7 +157,7 @@ def run(scene_arg: str, config_name: str, frames: int | None, size: int, rtl: bo
     if not spath.is_file():
         raise UserError(f"{anim['path']}: animation.scene: no such scene {anim['scene']!r}")
     name = anim["path"].stem
-    target = Path(out_root or ROOT / "out") / "animation" / name / f"{config_name}-{size}"
+    target = Path(out_root or ROOT / "out") / "animation" / name / f"{config_label(config_name)}-{size}"
     command = f"make animation SCENE={name} CONFIG={config_name} FRAMES={n} SIZE={size}" + (" RTL=1" if rtl else "")
     with staged(target, command) as out:
         cfg = load_config(config_name)

@@ -25,7 +25,7 @@ from model.hw import golden
 from model.hw.config import CONFIG_NAMES, ROOT, load_config
 from model.imageio import compare, contact_sheet, write_image
 from app.common import add_truth_args, check_truth_args, git_describe
-from model.cli import (Parser, UserError, check_config, check_range, memory_available, progress_bar, resolve_scene,
+from model.cli import (Parser, UserError, check_config, config_label, check_range, memory_available, progress_bar, resolve_scene,
                        run_main, staged)
 from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, strict_violations, to8
 from model.scene.truth import BAND_SS, TILE, TRUTH_SS, truth, truth_image  # noqa: F401 (truth_image: the API)
@@ -61,7 +61,7 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
     check_range("--band-ss", band_ss, 1, 64)
     check_config(config_name)
     scene_name, path = resolve_scene(scene_name)
-    target = (out_root or ROOT / "out" / "render") / scene_name / f"{config_name}-{size}"
+    target = (out_root or ROOT / "out" / "render") / scene_name / f"{config_label(config_name)}-{size}"
     command = f"make render SCENE={scene_name} CONFIG={config_name} SIZE={size}"
     with staged(target, command) as out:
         cfg = load_config(config_name)

@@ -67,12 +67,26 @@ def check_range(flag: str, value: int, lo: int, hi: int, why: str = "") -> int:
 
 
 def check_config(name: str) -> str:
-    """--config: a configuration of config/ (the named ones, or a variant file such as full_fc)."""
-    from model.hw.config import config_file_names, is_config_file
+    """--config: a configuration of config/ (the named ones, or a variant file such as full_fc),
+    or the path of a configuration file (a .toml: make fit's answer, out/fit/<name>.toml)."""
+    from model.hw.config import config_file_names, is_config_file, load_config
 
+    if name.endswith(".toml") or os.sep in name:
+        if not Path(name).is_file():
+            raise UserError(f"--config {name}: no such configuration file")
+        try:
+            load_config(name)
+        except ConfigError as e:
+            raise UserError(f"--config {name}: {e}") from None
+        return name
     if name not in CONFIG_NAMES and not is_config_file(name):
         raise UserError(f"--config {name}: no such configuration (known: {', '.join(config_file_names())})")
     return name
+
+
+def config_label(arg: str) -> str:
+    """The name a --config argument's outputs go under: the name itself, or a file's stem."""
+    return Path(arg).stem if arg.endswith(".toml") or os.sep in arg else arg
 
 
 def resolve_scene(arg: str) -> tuple[str, Path]:

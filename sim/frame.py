@@ -22,7 +22,7 @@ import numpy as np
 
 from hdlbuild import need_tool
 from model import reference
-from model.cli import Parser, UserError, check_config, check_range, progress_bar, resolve_scene, run_main, staged
+from model.cli import Parser, UserError, check_config, config_label, check_range, progress_bar, resolve_scene, run_main, staged
 from model.hw import golden
 from model.hw.config import CONFIG_NAMES, ROOT, load_config
 from model.imageio import compare, contact_sheet, read_image, write_image
@@ -61,7 +61,7 @@ def run_frame(scene_name: str, config_name: str, sim: str, size: int, out_root: 
     makes to the scene is an error, raised before the simulation."""
     check_args(config_name, sim, size, gaps, stalls)
     scene_name, path = resolve_scene(scene_name)
-    target = (out_root or ROOT / "out" / "frames") / scene_name / config_name / f"{sim}-{size}"
+    target = (out_root or ROOT / "out" / "frames") / scene_name / config_label(config_name) / f"{sim}-{size}"
     command = f"make frame SCENE={scene_name} CONFIG={config_name} SIM={sim} SIZE={size}"
     with staged(target, command) as out:
         rep = _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, stalls, strict)

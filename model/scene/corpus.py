@@ -445,6 +445,7 @@ def scene_tags(path) -> dict:
             tags["modes"].append(tn["mode"])
         tags["table_entries"] = max(tags["table_entries"], tn["table_entries"])
         tags["filtered"] |= tn["filtered"]
+        tags["unfiltered"] = tags.get("unfiltered", False) or not tn["filtered"]
         tags["noise_gradient"] |= tn["noise_gradient"]
         tags["alpha"] |= bool(np.any(np.asarray(tex.clut)[:, 3] < 255))
     tags["objects"] = sorted({o.type for o in sc.objects})

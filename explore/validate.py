@@ -1,0 +1,386 @@
+"""Held-out validation: does a configuration keep its promise on scenes it was not tuned on?
+
+    python -m explore.validate corpus [--seed S] [--n N] [--hard]      (make corpus SEED= N=)
+    python -m explore.validate run --config NAME|PATH [--n N] [--size PX] [--rtl K] [--rtl-size PX]
+                                  [--jobs J] [--scheduler ADDR] [--no-doc]   (make validate CONFIG=)
+
+`corpus` writes a scene corpus (model/scene/corpus.py) under out/corpus/seed<S>/. `run` renders
+every scene of the held-out corpus (seed HELDOUT_SEED, N random scenes plus the hard cases)
+that the configuration accepts, on the golden model, as Dask tasks (a LocalCluster of --jobs
+workers, or the scheduler named by --scheduler / DASK_SCHEDULER_ADDRESS), and measures each
+against its float reference (the scene as written) and against its converged truth
+(model.scene.truth, cached in out/truth/), over the textured pixels. A scene is rejected when
+a value does not fit the configuration's formats (model.hw.quantize's one-line reason) or the
+configuration would change the texture (terms dropped, blend or filter replaced, noise gradient
+left out: model.scene.passes.approximations); rounding of parameters is not a rejection, it is
+what the promise is measured on. Then K accepted scenes (the rotated marble first, then evenly
+spread) go through the RTL under Verilator at --rtl-size, every pixel against the golden model.
+
+The configuration's [promise] (config/<name>.toml: psnr_db against "reference" or "truth", the
+share of accepted scenes that must keep it) is checked; the summary goes to
+docs/validation/<name>.json with the configuration's hash and the RTL source's hash, and
+docs/validation.md is rewritten from every summary there (the ten worst scenes of each on a
+contact sheet, docs/images/validation_<name>.png). Exit status 1 when the promise is broken,
+2 on bad input.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from model.hw.config import ROOT, ConfigError, config_hash, load_config
+from model.scene.corpus import FIT_SEED, HELDOUT_SEED, load_index, write_corpus
+
+CORPUS_DIR = ROOT / "out" / "corpus"
+DOC = ROOT / "docs" / "validation.md"
+SUMMARY_DIR = ROOT / "docs" / "validation"
+DEFAULT_N = 200
+DEFAULT_SIZE = 48
+
+
+def promised(r: dict) -> bool:
+    """A scene the promise covers: accepted, every texture filtered. A point-sampled table (filter
+    off) changes colour wherever f crosses an entry boundary, so the smallest rounding of f flips
+    whole pixels (random tables: up to 255 LSB); those scenes are measured and listed apart."""
+    return "rejected" not in r and not r["tags"].get("unfiltered", False)
+
+
+def corpus_dir(seed: int, n: int, hard: bool, root: Path = CORPUS_DIR) -> Path:
+    """The corpus folder, written when it is missing or holds another n (the generator is seeded:
+    the same seed and n give the same files)."""
+    d = root / f"seed{seed}"
+    idx = d / "index.json"
+    if idx.is_file():
+        meta = json.loads(idx.read_text())
+        if meta.get("n") == n and meta.get("hard") == hard:
+            return d
+    return write_corpus(root, seed, n, hard)
+
+
+def source_hash() -> str:
+    """A hash of rtl/ (the sources the bit-exact check ran on)."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for p in sorted((ROOT / "rtl").glob("*.v*")):
+        h.update(p.name.encode() + b"\0" + p.read_bytes())
+    return h.hexdigest()[:12]
+
+
+def reason_group(msg: str) -> str:
+    """A rejection reason with its numbers and names taken out, to group alike reasons."""
+    g = re.sub(r"'[^']*'", "'*'", msg)
+    g = re.sub(r"^(pass|texture) \S+: ", r"\1 *: ", g)
+    g = re.sub(r"\[[0-9, ]+\]", "[*]", g)
+    g = re.sub(r"-?\d+(\.\d+)?(e-?\d+)?", "#", g)
+    return g
+
+
+def measure_scene(config: str, path: str, size: int) -> dict:
+    """One scene on one configuration: accepted or the reason not; PSNR against the float
+    reference and the truth; what rounding moved. (A Dask task: plain arguments, a plain dict.)"""
+    from model import reference
+    from model.hw import golden
+    from model.hw.quantize import FormatError
+    from model.imageio import compare
+    from model.scene.frontend import render_passes
+    from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations
+    from model.scene.scene import load_scene
+    from model.scene.truth import truth
+
+    cfg = load_config(config)
+    name = Path(path).stem
+    sc = load_scene(path)
+    W, H = frame_size(sc, size)
+    passes = render_passes(sc, W, H)
+    out = {"name": name}
+    try:
+        pds = prepare_passes(cfg, passes)
+    except FormatError as e:
+        return {**out, "rejected": str(e)}
+    feat = scene_approximations(pds, quantized=False)
+    if feat:
+        return {**out, "rejected": feat[0]}
+    gold, ref = [], []
+    textured = np.zeros((H, W), bool)
+    for pd in pds:
+        gold.append((pd.mask, golden.texture_pipeline(cfg, pd.ti, pd.si, pd.Jm, pd.je)))
+        ref.append((pd.mask, reference.shade(pd.tex, pd.s, pd.J, cfg.perm, cfg.hash_bits)))
+        textured |= pd.mask
+    g = composite(gold, (H, W), sc.background)
+    r = composite(ref, (H, W), sc.background)
+    t_img, _ = truth(path, cfg, size, passes=passes)
+    if not textured.any():
+        return {**out, "rejected": "no textured pixel at this size"}
+    c_ref = compare(np.rint(g[textured]), r[textured])
+    c_tru = compare(np.rint(g[textured]), t_img[textured])
+    inf = 200.0  # an exact match (compare gives None) counts as 200 dB
+    moves = {k: max(pd.info["f_moves"][k] for pd in pds) for k in ("params", "s")}
+    return {**out, "psnr_ref": c_ref["psnr_db"] if c_ref["psnr_db"] is not None else inf,
+            "psnr_truth": c_tru["psnr_db"] if c_tru["psnr_db"] is not None else inf,
+            "max_err_ref": c_ref["max_abs_error_lsb"], "pixels": int(textured.sum()),
+            "f_moves_params": round(moves["params"], 4), "f_moves_s": round(moves["s"], 4),
+            "rounded": sum(len([ln for ln in pd.info["quantized"] if " rounded to " in ln and ln.startswith("texture")])
+                           for pd in pds)}
+
+
+def scene_images(config: str, path: str, size: int) -> dict:
+    """The golden, float reference and truth images of a scene (for the contact sheet)."""
+    from model import reference
+    from model.hw import golden
+    from model.scene.frontend import render_passes
+    from model.scene.passes import composite, frame_size, prepare_passes, to8
+    from model.scene.scene import load_scene
+    from model.scene.truth import truth
+
+    cfg = load_config(config)
+    sc = load_scene(path)
+    W, H = frame_size(sc, size)
+    passes = render_passes(sc, W, H)
+    pds = prepare_passes(cfg, passes)
+    g = composite([(pd.mask, golden.texture_pipeline(cfg, pd.ti, pd.si, pd.Jm, pd.je)) for pd in pds], (H, W),
+                  sc.background)
+    r = composite([(pd.mask, reference.shade(pd.tex, pd.s, pd.J, cfg.perm, cfg.hash_bits)) for pd in pds], (H, W),
+                  sc.background)
+    return {"golden": to8(g), "reference": to8(r), "truth": to8(truth(path, cfg, size, passes=passes)[0])}
+
+
+def rtl_check(config: str, paths: list[str], size: int, progress: bool = True) -> dict:
+    """Every pixel of each scene through the RTL under Verilator against the golden model."""
+    from tqdm import tqdm
+
+    from model.hw import golden
+    from model.scene.frontend import render_passes
+    from model.scene.passes import frame_size, prepare_passes
+    from model.scene.scene import load_scene
+    from sim.frame_rtl import run_passes_rtl
+
+    cfg = load_config(config)
+    out = {"scenes": 0, "exact": 0, "pixels": 0, "differing_pixels": 0, "failures": []}
+    for path in tqdm(paths, desc=f"RTL {cfg.name}", unit="scene", file=sys.stderr, disable=not progress):
+        sc = load_scene(path)
+        W, H = frame_size(sc, size)
+        pds = prepare_passes(cfg, render_passes(sc, W, H))
+        rgba = run_passes_rtl(config, "verilator", [(pd.ti, pd.si, pd.Jm, pd.je) for pd in pds])
+        bad = 0
+        for pd, got in zip(pds, rgba):
+            exp = golden.texture_pipeline(cfg, pd.ti, pd.si, pd.Jm, pd.je)
+            bad += int(np.any(np.asarray(got) != exp, axis=-1).sum())
+            out["pixels"] += len(pd.si)
+        out["scenes"] += 1
+        out["differing_pixels"] += bad
+        if bad:
+            out["failures"].append(f"{Path(path).stem}: {bad} pixels differ")
+        else:
+            out["exact"] += 1
+    return out
+
+
+def _pct(v, q):
+    return round(float(np.percentile(v, q)), 2) if len(v) else None
+
+
+def summarize(cfg, results: list[dict], n: int, size: int) -> dict:
+    acc = [r for r in results if "rejected" not in r]
+    rej = [r for r in results if "rejected" in r]
+    groups: dict = {}
+    for r in rej:
+        g = groups.setdefault(reason_group(r["rejected"]), {"count": 0, "example": r["rejected"], "scenes": []})
+        g["count"] += 1
+        g["scenes"].append(r["name"])
+    cov = [r for r in acc if promised(r)]
+    unf = [r for r in acc if not promised(r)]
+
+    def st(rs, key):
+        v = np.array([r[key] for r in rs])
+        return {"min": round(float(v.min()), 2) if len(v) else None, "p5": _pct(v, 5), "median": _pct(v, 50),
+                "count": len(v)}
+
+    stats = {"reference": st(cov, "psnr_ref"), "truth": st(cov, "psnr_truth"),
+             "unfiltered_reference": st(unf, "psnr_ref"), "unfiltered_truth": st(unf, "psnr_truth")}
+    promise = cfg.promise
+    held = None
+    if promise and cov:
+        v = np.array([r["psnr_ref" if promise["against"] == "reference" else "psnr_truth"] for r in cov])
+        keep = int((v >= promise["psnr_db"]).sum())
+        held = {"keep": keep, "of": len(cov), "share": round(keep / len(cov), 4),
+                "holds": keep / len(cov) >= promise["share"],
+                "below": sorted((r["name"] for r in cov if r["psnr_ref" if promise["against"] == "reference"
+                                                          else "psnr_truth"] < promise["psnr_db"]))}
+    key = "psnr_ref" if not promise or promise["against"] == "reference" else "psnr_truth"
+    worst = sorted(cov, key=lambda r: r[key])[:10]
+    return {"config": cfg.name, "config_path": str(Path(cfg.path).resolve().relative_to(ROOT))
+            if Path(cfg.path).resolve().is_relative_to(ROOT) else cfg.path,
+            "config_hash": config_hash(cfg), "source_hash": source_hash(), "corpus_seed": HELDOUT_SEED, "n": n,
+            "hard_cases": True, "size": size, "scenes": len(results), "accepted": len(acc), "covered": len(cov), "rejected": len(rej),
+            "rejections": sorted(groups.values(), key=lambda g: -g["count"]), "psnr": stats, "promise": promise,
+            "promise_result": held, "worst": worst, "results": results}
+
+
+def write_doc(summary_dir: Path = SUMMARY_DIR, doc: Path = DOC) -> None:
+    """docs/validation.md from every summary in docs/validation/."""
+    sums = [json.loads(p.read_text()) for p in sorted(summary_dir.glob("*.json"))]
+    order = {"full": 0, "reduced": 1, "compact": 2}
+    sums.sort(key=lambda s: (order.get(s["config"], 9), s["config"]))
+    L = ["# Held-out validation", "",
+         "Written by `make validate CONFIG=<name>` (explore/validate.py); each configuration's summary is "
+         "docs/validation/<name>.json. Every configuration is measured on the **held-out corpus** (model/scene/corpus.py, "
+         f"seed {HELDOUT_SEED}: random scenes of the kind a user writes, plus the fixed hard cases; the fit corpus is "
+         f"seed {FIT_SEED}), none of which any configuration was tuned on. A scene is *rejected* when a value does "
+         "not fit the configuration's formats or the configuration would change the texture (terms, blend, filter, "
+         "noise gradient); rounding a parameter is not a rejection: it is what the figures below measure. PSNR is "
+         "over the textured pixels, against the float reference of the scene as written and against the converged "
+         "truth (model.scene.truth). The promise is the configuration file's `[promise]`.", "",
+         "| configuration | hash | scenes | accepted | PSNR vs reference: min / 5% / median | vs truth: min / 5% / median "
+         "| promise | kept | RTL bit-exact |",
+         "|---|---|---|---|---|---|---|---|---|"]
+    for s in sums:
+        p, h, rtl = s["promise"], s["promise_result"], s.get("rtl") or {}
+        ps = f"{p['psnr_db']} dB vs {p['against']} on {p['share']:.0%}" if p else "none stated"
+        kept = (f"{h['keep']}/{h['of']} ({h['share']:.1%}) {'**holds**' if h['holds'] else '**broken**'}" if h else "-")
+        r, t = s["psnr"]["reference"], s["psnr"]["truth"]
+        L.append(f"| {s['config']} | {s['config_hash']} | {s['scenes']} at {s['size']} px | {s['accepted']} | "
+                 f"{r['min']} / {r['p5']} / {r['median']} | {t['min']} / {t['p5']} / {t['median']} | {ps} | {kept} | "
+                 + (f"{rtl['exact']}/{rtl['scenes']} scenes, {rtl['pixels']:,} pixels" if rtl else "-") + " |")
+    L += ["", f"RTL source hash of each RTL check: " + ", ".join(f"{s['config']} {s['source_hash']}" for s in sums), ""]
+    for s in sums:
+        L += [f"## {s['config']}", "", f"`make validate CONFIG={s['config']} N={s['n']} SIZE={s['size']}` "
+              f"(configuration hash {s['config_hash']}, {s['config_path']}).", ""]
+        if s["rejections"]:
+            L += ["Rejected, by reason:", "", "| scenes | reason (an example) |", "|---|---|"]
+            L += [f"| {g['count']} | {g['example']} |" for g in s["rejections"]]
+            L.append("")
+        if s["worst"]:
+            L += ["The ten worst accepted scenes (golden, float reference, truth: "
+                  f"docs/images/validation_{s['config']}.png):", "",
+                  "| scene | vs reference dB | vs truth dB | largest error (LSB) | f moved by rounded parameters (entries) |",
+                  "|---|---|---|---|---|"]
+            L += [f"| {w['name']} | {w['psnr_ref']:.2f} | {w['psnr_truth']:.2f} | {w['max_err_ref']:.0f} | "
+                  f"{w['f_moves_params']} |" for w in s["worst"]]
+            L += ["", f"![worst scenes of {s['config']}](images/validation_{s['config']}.png)", ""]
+        if s.get("rtl", {}).get("failures"):
+            L += ["RTL failures: " + "; ".join(s["rtl"]["failures"]), ""]
+    doc.write_text("\n".join(L) + "\n")
+
+
+def run(config: str, n: int, size: int, rtl: int, rtl_size: int, jobs: int, scheduler: str | None,
+        doc: bool, progress: bool = True) -> dict:
+    from explore.sweep import client_for
+    from model.imageio import contact_sheet
+
+    cfg = load_config(config)
+    d = corpus_dir(HELDOUT_SEED, n, True)
+    idx = load_index(d)
+    t0 = time.perf_counter()
+    client, cluster = client_for(scheduler, jobs)
+    try:
+        from distributed import as_completed
+        from tqdm import tqdm
+
+        futs = {client.submit(measure_scene, config, str(e["path"]), size, pure=False): e for e in idx}
+        results = []
+        with tqdm(total=len(futs), desc=f"validate {cfg.name}", unit="scene", file=sys.stderr,
+                  disable=not progress) as bar:
+            for f in as_completed(futs):
+                r = f.result()
+                r["tags"] = futs[f]["tags"]
+                results.append(r)
+                bar.update()
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    results.sort(key=lambda r: r["name"])
+    summ = summarize(cfg, results, n, size)
+    summ["model_seconds"] = round(time.perf_counter() - t0, 1)
+    acc = [r["name"] for r in results if "rejected" not in r]
+    if rtl and acc:
+        first = [a for a in acc if a == "hard_rotated_marble"]
+        rest = [a for a in acc if a not in first]
+        pick = first + [rest[i] for i in np.linspace(0, len(rest) - 1, max(0, min(rtl - len(first), len(rest))))
+                        .astype(int).tolist()] if rest else first
+        pick = list(dict.fromkeys(pick))[:rtl]
+        summ["rtl"] = {**rtl_check(config, [str(d / f"{p}.toml") for p in pick], rtl_size, progress),
+                       "size": rtl_size, "names": pick}
+    od = ROOT / "out" / "validate"
+    od.mkdir(parents=True, exist_ok=True)
+    (od / f"{cfg.name}.json").write_text(json.dumps(summ, indent=1) + "\n")
+    if doc:
+        SUMMARY_DIR.mkdir(parents=True, exist_ok=True)
+        rows = []
+        for w in summ["worst"]:
+            im = scene_images(config, str(d / f"{w['name']}.toml"), size)
+            rows.append([(f"{w['name']} golden {w['psnr_ref']:.1f} dB", im["golden"]), ("reference", im["reference"]),
+                         (f"truth ({w['psnr_truth']:.1f} dB)", im["truth"])])
+        if rows:
+            contact_sheet(ROOT / "docs" / "images" / f"validation_{cfg.name}.png", rows, tile=128,
+                          title=f"validate {cfg.name}: the ten worst held-out scenes")
+        (SUMMARY_DIR / f"{cfg.name}.json").write_text(json.dumps(summ, indent=1) + "\n")
+        write_doc()
+    return summ
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m explore.validate", description=__doc__.split("\n\n")[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    c = sub.add_parser("corpus", help="write a scene corpus under out/corpus/seed<S>/")
+    c.add_argument("--seed", type=int, default=HELDOUT_SEED)
+    c.add_argument("--n", type=int, default=DEFAULT_N)
+    c.add_argument("--hard", action="store_true", help="add the fixed hard cases (the held-out corpus has them)")
+    c.add_argument("--out", type=Path, default=CORPUS_DIR)
+    r = sub.add_parser("run", help="validate a configuration on the held-out corpus")
+    r.add_argument("--config", required=True, help="a configuration name or a .toml path")
+    r.add_argument("--n", type=int, default=DEFAULT_N)
+    r.add_argument("--size", type=int, default=DEFAULT_SIZE)
+    r.add_argument("--rtl", type=int, default=4, help="accepted scenes to check through the RTL (0: none)")
+    r.add_argument("--rtl-size", type=int, default=32)
+    r.add_argument("--jobs", type=int, default=2)
+    r.add_argument("--scheduler", default=None)
+    r.add_argument("--no-doc", action="store_true", help="print the summary; leave docs/ alone")
+    r.add_argument("--quiet", action="store_true")
+    a = ap.parse_args(argv)
+    if a.cmd == "corpus":
+        if not 0 <= a.n <= 100000 or a.seed < 0:
+            print(f"corpus: --n {a.n} --seed {a.seed}: expected n 0..100000 and seed >= 0", file=sys.stderr)
+            return 2
+        d = write_corpus(a.out, a.seed, a.n, a.hard)
+        print(f"corpus: {len(load_index(d))} scenes in {d}")
+        return 0
+    for k, lo, hi in (("n", 0, 100000), ("size", 8, 1024), ("rtl", 0, 1000), ("rtl_size", 8, 256), ("jobs", 1, 64)):
+        if not lo <= getattr(a, k) <= hi:
+            print(f"validate: --{k.replace('_', '-')} {getattr(a, k)}: expected {lo}..{hi}", file=sys.stderr)
+            return 2
+    try:
+        load_config(a.config)
+    except ConfigError as e:
+        print(f"validate: {e}", file=sys.stderr)
+        return 2
+    if a.rtl:
+        from hdlbuild import need_simulator
+
+        try:
+            need_simulator("verilator")
+        except Exception as e:  # the one-line error of a missing simulator
+            print(f"validate: {e}", file=sys.stderr)
+            return 2
+    s = run(a.config, a.n, a.size, a.rtl, a.rtl_size, a.jobs, a.scheduler, not a.no_doc, not a.quiet)
+    p, h = s["promise"], s["promise_result"]
+    r = s["psnr"]["reference"]
+    print(f"validate {s['config']}: {s['accepted']}/{s['scenes']} accepted; vs reference min {r['min']} p5 {r['p5']} "
+          f"median {r['median']} dB; vs truth median {s['psnr']['truth']['median']} dB"
+          + (f"; promise {p['psnr_db']} dB vs {p['against']}: {h['keep']}/{h['of']} ({h['share']:.1%}) "
+             f"{'holds' if h['holds'] else 'BROKEN'}" if h else "; no promise stated")
+          + (f"; RTL {s['rtl']['exact']}/{s['rtl']['scenes']} scenes bit-exact" if s.get("rtl") else ""))
+    if s.get("rtl") and s["rtl"]["exact"] != s["rtl"]["scenes"]:
+        return 1
+    return 0 if not h or h["holds"] else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
