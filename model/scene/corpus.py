@@ -7,7 +7,7 @@ the hard cases, which nothing is tuned on). `generate(seed, n)` returns n scenes
 (name, TOML text); the same seed gives the same scenes on any machine (numpy's PCG64 seeded
 with (seed, index), so scene k does not depend on n). `hard_cases()` returns the fixed list.
 `write_corpus(out_dir, seed, n, hard)` writes them as files with an index.json that tags each
-scene with what it needs of the hardware (model.scene.needs.texture_needs of each texture:
+scene with what it needs of the hardware (model.scene.texture_needs.texture_needs of each texture:
 transform, amplitude and quadric kinds, terms, blend, table size, mode, filter), so that a
 configuration that accepts only some kinds (pow2 T, a diagonal quadric, K terms) is measured
 on the sub-corpus it can render. The command is `make corpus SEED= N=` (explore.validate).
@@ -420,8 +420,8 @@ def hard_cases() -> list[tuple[str, str]]:
 
 def scene_tags(path) -> dict:
     """What a scene needs of the hardware, from its file alone (no rendering): the union over its
-    textures of model.scene.needs.texture_needs' kinds."""
-    from model.scene.needs import texture_needs
+    textures of model.scene.texture_needs.texture_needs' kinds."""
+    from model.scene.texture_needs import texture_needs
     from model.scene.scene import load_scene
 
     sc = load_scene(path)
