@@ -30,7 +30,7 @@ PERF_PIXELS  ?= 8192
 COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 TRUTH_FLAGS = $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS)) $(if $(BAND_SS),--band-ss $(BAND_SS))
 
-.PHONY: help setup setup-check gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
+.PHONY: corpus validate help setup setup-check gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
         synth synth-check synth-blocks fpga clean precision animation explore fit filters
 
 help:
@@ -48,6 +48,8 @@ help:
 	@echo "make filters [FILTERS_FLAGS=\"--configs full,full_fc --size 256\"]   the filters against the truth: docs/filters.md"
 	@echo "make precision       the precision test (Fig. 10): s_frac 6..16 on scenes/fig10/precision.toml, docs/precision.md (PRECISION_SIZE=)"
 	@echo "make animation SCENE=seascape [CONFIG=full] [FRAMES=16] [SIZE=128] [RTL=1]   section 4.4: frames vs truth, flicker, docs/animation.md"
+	@echo "make corpus [SEED=2] [N=200]   a scene corpus: out/corpus/seed<SEED>/ (2: held-out, with the hard cases; 1: fit)"
+	@echo "make validate CONFIG=full [N=200] [VALIDATE_SIZE=48] [RTL_SCENES=4]   the configuration's promise on the held-out corpus: docs/validation.md"
 	@echo "make bench-sim       Verilator vs golden model pixels/s and ratio (full, compact, reduced), and Icarus"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
@@ -163,3 +165,15 @@ fpga: gen
 
 clean:
 	rm -rf build out
+
+# held-out validation (issue 26): the scene corpus and each configuration's promise on it
+# corpus: SEED= (default 2, the held-out corpus, with the hard cases; 1 is the fit corpus) N= (200)
+# validate: CONFIG= (a name or a .toml path) N= VALIDATE_SIZE= (48 px) RTL_SCENES= (4 scenes through Verilator)
+VALIDATE_SIZE ?= 48
+RTL_SCENES ?= 4
+corpus:
+	$(PY) -m explore.validate corpus --seed $(or $(SEED),2) --n $(or $(N),200) $(if $(filter 2,$(or $(SEED),2)),--hard)
+
+validate:
+	$(VENV_ENV) $(PY) -m explore.validate run --config $(CONFIG) --n $(or $(N),200) --size $(VALIDATE_SIZE) \
+	  --rtl $(RTL_SCENES) --jobs $(JOBS) $(if $(DASK_SCHEDULER_ADDRESS),--scheduler $(DASK_SCHEDULER_ADDRESS))
