@@ -272,12 +272,14 @@ def write_doc(summary_dir: Path = SUMMARY_DIR, doc: Path = DOC) -> None:
 
 
 def run(config: str, n: int, size: int, rtl: int, rtl_size: int, jobs: int, scheduler: str | None,
-        doc: bool, progress: bool = True) -> dict:
+        doc: bool, progress: bool = True, out_root: Path | None = None, docs: Path | None = None) -> dict:
     from explore.sweep import client_for
     from model.imageio import contact_sheet
 
     cfg = load_config(config)
-    d = corpus_dir(HELDOUT_SEED, n, True)
+    out_root = Path(out_root) if out_root else ROOT / "out"
+    docs = Path(docs) if docs else ROOT / "docs"
+    d = corpus_dir(HELDOUT_SEED, n, True, out_root / "corpus")
     idx = load_index(d)
     t0 = time.perf_counter()
     client, cluster = client_for(scheduler, jobs)
@@ -310,21 +312,22 @@ def run(config: str, n: int, size: int, rtl: int, rtl_size: int, jobs: int, sche
         pick = list(dict.fromkeys(pick))[:rtl]
         summ["rtl"] = {**rtl_check(config, [str(d / f"{p}.toml") for p in pick], rtl_size, progress),
                        "size": rtl_size, "names": pick}
-    od = ROOT / "out" / "validate"
+    od = out_root / "validate"
     od.mkdir(parents=True, exist_ok=True)
     (od / f"{cfg.name}.json").write_text(json.dumps(summ, indent=1) + "\n")
     if doc:
-        SUMMARY_DIR.mkdir(parents=True, exist_ok=True)
+        (docs / "validation").mkdir(parents=True, exist_ok=True)
         rows = []
         for w in summ["worst"]:
             im = scene_images(config, str(d / f"{w['name']}.toml"), size)
             rows.append([(f"{w['name']} golden {w['psnr_ref']:.1f} dB", im["golden"]), ("reference", im["reference"]),
                          (f"truth ({w['psnr_truth']:.1f} dB)", im["truth"])])
         if rows:
-            contact_sheet(ROOT / "docs" / "images" / f"validation_{cfg.name}.png", rows, tile=128,
+            (docs / "images").mkdir(parents=True, exist_ok=True)
+            contact_sheet(docs / "images" / f"validation_{cfg.name}.png", rows, tile=128,
                           title=f"validate {cfg.name}: the ten worst held-out scenes")
-        (SUMMARY_DIR / f"{cfg.name}.json").write_text(json.dumps(summ, indent=1) + "\n")
-        write_doc()
+        (docs / "validation" / f"{cfg.name}.json").write_text(json.dumps(summ, indent=1) + "\n")
+        write_doc(docs / "validation", docs / "validation.md")
     return summ
 
 
@@ -346,6 +349,8 @@ def main(argv=None) -> int:
     r.add_argument("--scheduler", default=None)
     r.add_argument("--no-doc", action="store_true", help="print the summary; leave docs/ alone")
     r.add_argument("--quiet", action="store_true")
+    r.add_argument("--out", type=Path, default=None, help="output root (corpus, results), default out/")
+    r.add_argument("--docs", type=Path, default=None, help="docs folder to write, default docs/")
     a = ap.parse_args(argv)
     if a.cmd == "corpus":
         if not 0 <= a.n <= 100000 or a.seed < 0:
@@ -371,7 +376,7 @@ def main(argv=None) -> int:
         except Exception as e:  # the one-line error of a missing simulator
             print(f"validate: {e}", file=sys.stderr)
             return 2
-    s = run(a.config, a.n, a.size, a.rtl, a.rtl_size, a.jobs, a.scheduler, not a.no_doc, not a.quiet)
+    s = run(a.config, a.n, a.size, a.rtl, a.rtl_size, a.jobs, a.scheduler, not a.no_doc, not a.quiet, a.out, a.docs)
     p, h = s["promise"], s["promise_result"]
     r = s["psnr"]["reference"]
     print(f"validate {s['config']}: {s['accepted']}/{s['scenes']} accepted; vs reference min {r['min']} p5 {r['p5']} "
