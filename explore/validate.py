@@ -268,6 +268,16 @@ def write_doc(summary_dir: Path = SUMMARY_DIR, doc: Path = DOC) -> None:
             L += ["", f"![worst scenes of {s['config']}](images/validation_{s['config']}.png)", ""]
         if s.get("rtl", {}).get("failures"):
             L += ["RTL failures: " + "; ".join(s["rtl"]["failures"]), ""]
+    steps_dir = summary_dir / "steps"
+    for p in sorted(steps_dir.glob("*.json")) if steps_dir.is_dir() else []:
+        t = json.loads(p.read_text())
+        L += [f"## Steps from {t['config']} on the fit corpus", "",
+              f"What each width is worth on the fit corpus (seed {t['seed']}, {t['n']} random scenes, filtered ones, "
+              f"{t['size']} px), against the float reference (configuration hash {t['config_hash']}): `{t['command']}`.",
+              "", "| step | scenes | rejected | min | 5% | median | share at the promise |", "|---|---|---|---|---|---|---|"]
+        L += [f"| {r['step']} | {r['scenes']} | {r['rejected']} | {r['min']} | {r['p5']} | {r['median']} | "
+              f"{r['at_promise']} (>= {r['promise_db']} dB) |" for r in t["rows"]]
+        L.append("")
     doc.write_text("\n".join(L) + "\n")
 
 
@@ -331,6 +341,76 @@ def run(config: str, n: int, size: int, rtl: int, rtl_size: int, jobs: int, sche
     return summ
 
 
+def _parse_step(text: str) -> dict:
+    ch = {}
+    for item in text.split(","):
+        k, sep, v = item.partition("=")
+        if not sep:
+            raise ValueError(f"--step {text!r}: expected KEY=VALUE[,KEY=VALUE]")
+        v = v.strip()
+        ch[k.strip()] = (v == "true") if v in ("true", "false") else int(v) if v.lstrip("-").isdigit() else v
+    return ch
+
+
+def steps(config: str, step_texts: list[str], seed: int, n: int, size: int, progress: bool = True,
+          out_root: Path | None = None) -> list[dict]:
+    """The configuration and one-or-more-key steps from it on a corpus (seed; the fit corpus by
+    default), against the float reference only (the arithmetic; no truth): per step the covered
+    scenes' PSNR (min, 5th percentile, median) and the share at the promise. The figures behind
+    a configuration's re-derivation: `python -m explore.validate steps --config full --step t_w=17,t_frac=10`."""
+    from model import reference
+    from model.hw import golden
+    from model.hw.config import variant
+    from model.hw.quantize import FormatError
+    from model.imageio import compare
+    from model.scene.frontend import render_passes
+    from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations
+    from model.scene.scene import load_scene
+    from tqdm import tqdm
+
+    base = load_config(config)
+    cfgs = [("(as written)", base)] + [(t, variant(base, f"{base.name}-step", **_parse_step(t))) for t in step_texts]
+    d = corpus_dir(seed, n, seed == HELDOUT_SEED, (Path(out_root) if out_root else ROOT / "out") / "corpus")
+    idx = load_index(d)
+    vals = {label: [] for label, _ in cfgs}
+    rej = {label: 0 for label, _ in cfgs}
+    for e in tqdm(idx, desc=f"steps {base.name}", unit="scene", file=sys.stderr, disable=not progress):
+        if e["tags"].get("unfiltered"):
+            continue
+        sc = load_scene(e["path"])
+        W, H = frame_size(sc, size)
+        passes = render_passes(sc, W, H)
+        ref_img = None
+        for label, cfg in cfgs:
+            try:
+                pds = prepare_passes(cfg, passes)
+            except FormatError:
+                rej[label] += 1
+                continue
+            if [a for a in scene_approximations(pds, quantized=False) if " box filter replaced by " not in a]:
+                rej[label] += 1
+                continue
+            if ref_img is None:  # the reference depends on the lattice only, the same for every step
+                ref_img = composite([(pd.mask, reference.shade(pd.tex, pd.s, pd.J, cfg.perm, cfg.hash_bits))
+                                     for pd in pds], (H, W), sc.background)
+            g = composite([(pd.mask, golden.texture_pipeline(cfg, pd.ti, pd.si, pd.Jm, pd.je)) for pd in pds],
+                          (H, W), sc.background)
+            t = np.zeros((H, W), bool)
+            for pd in pds:
+                t |= pd.mask
+            if t.any():
+                c = compare(np.rint(g[t]), ref_img[t])["psnr_db"]
+                vals[label].append(200.0 if c is None else c)
+    out = []
+    pdb = (base.promise or {}).get("psnr_db", 50.0)
+    for label, _ in cfgs:
+        v = np.array(vals[label])
+        out.append({"step": label, "scenes": len(v), "rejected": rej[label],
+                    "min": round(float(v.min()), 2) if len(v) else None, "p5": _pct(v, 5), "median": _pct(v, 50),
+                    "at_promise": round(float((v >= pdb).mean()), 4) if len(v) else None, "promise_db": pdb})
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m explore.validate", description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -351,7 +431,40 @@ def main(argv=None) -> int:
     r.add_argument("--quiet", action="store_true")
     r.add_argument("--out", type=Path, default=None, help="output root (corpus, results), default out/")
     r.add_argument("--docs", type=Path, default=None, help="docs folder to write, default docs/")
+    st = sub.add_parser("steps", help="a configuration and steps from it on a corpus, against the float reference")
+    st.add_argument("--config", required=True)
+    st.add_argument("--step", action="append", default=[], help="KEY=VALUE[,KEY=VALUE]: one step")
+    st.add_argument("--seed", type=int, default=FIT_SEED, help="the corpus (default the fit corpus)")
+    st.add_argument("--n", type=int, default=DEFAULT_N)
+    st.add_argument("--size", type=int, default=DEFAULT_SIZE)
+    st.add_argument("--quiet", action="store_true")
+    st.add_argument("--write", action="store_true",
+                    help="keep the table as docs/validation/steps/<config>.json (docs/validation.md shows it)")
     a = ap.parse_args(argv)
+    if a.cmd == "steps":
+        try:
+            rows = steps(a.config, a.step, a.seed, a.n, a.size, not a.quiet)
+        except (ConfigError, ValueError) as e:
+            print(f"validate steps: {e}", file=sys.stderr)
+            return 2
+        if a.write:
+            sd = SUMMARY_DIR / "steps"
+            sd.mkdir(parents=True, exist_ok=True)
+            cfg = load_config(a.config)
+            cmd = (f"python -m explore.validate steps --config {a.config} --seed {a.seed} --n {a.n} --size {a.size} "
+                   + " ".join(f"--step {t}" for t in a.step))
+            (sd / f"{cfg.name}.json").write_text(json.dumps(
+                {"config": cfg.name, "config_hash": config_hash(cfg), "seed": a.seed, "n": a.n, "size": a.size,
+                 "command": cmd, "rows": rows}, indent=1) + "\n")
+            write_doc()
+        print(f"PSNR (dB) against the float reference, corpus seed {a.seed} (filtered scenes), {a.size} px, "
+              f"configuration {a.config}")
+        print("| step | scenes | rejected | min | 5% | median | share >= promise |")
+        print("|---|---|---|---|---|---|---|")
+        for r in rows:
+            print(f"| {r['step']} | {r['scenes']} | {r['rejected']} | {r['min']} | {r['p5']} | {r['median']} | "
+                  f"{r['at_promise']} (>= {r['promise_db']} dB) |")
+        return 0
     if a.cmd == "corpus":
         if not 0 <= a.n <= 100000 or a.seed < 0:
             print(f"corpus: --n {a.n} --seed {a.seed}: expected n 0..100000 and seed >= 0", file=sys.stderr)

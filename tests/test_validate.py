@@ -149,7 +149,7 @@ def test_validate_bad_input():
 def test_validation_docs_are_current():
     """Every summary in docs/validation/ was measured on the configuration as it is now (its keys'
     hash); a changed configuration makes its held-out figures stale: rerun make validate."""
-    for p in sorted((ROOT / "docs" / "validation").glob("*.json")):
+    for p in sorted((ROOT / "docs" / "validation").rglob("*.json")):
         s = json.loads(p.read_text())
         if s["config"] in config_file_names():
             assert s["config_hash"] == config_hash(load_config(s["config"])), (
