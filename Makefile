@@ -168,12 +168,15 @@ clean:
 
 # held-out validation (issue 26): the scene corpus and each configuration's promise on it
 # corpus: SEED= (default 2, the held-out corpus, with the hard cases; 1 is the fit corpus) N= (200)
-# validate: CONFIG= (a name or a .toml path) N= VALIDATE_SIZE= (48 px) RTL_SCENES= (4 scenes through Verilator)
+# validate: CONFIG= (a name or a .toml path) N= VALIDATE_SIZE= (48 px) RTL_SCENES= (4 scenes through Verilator);
+# OUT= writes the corpus, results and docs under OUT/ instead of out/ and docs/
 VALIDATE_SIZE ?= 48
 RTL_SCENES ?= 4
 corpus:
-	$(PY) -m explore.validate corpus --seed $(or $(SEED),2) --n $(or $(N),200) $(if $(filter 2,$(or $(SEED),2)),--hard)
+	$(PY) -m explore.validate corpus --seed $(or $(SEED),2) --n $(or $(N),200) $(if $(filter 2,$(or $(SEED),2)),--hard) \
+	  $(if $(OUT),--out $(OUT)/corpus)
 
 validate:
 	$(VENV_ENV) $(PY) -m explore.validate run --config $(CONFIG) --n $(or $(N),200) --size $(VALIDATE_SIZE) \
-	  --rtl $(RTL_SCENES) --jobs $(JOBS) $(if $(DASK_SCHEDULER_ADDRESS),--scheduler $(DASK_SCHEDULER_ADDRESS))
+	  --rtl $(RTL_SCENES) --jobs $(JOBS) $(if $(DASK_SCHEDULER_ADDRESS),--scheduler $(DASK_SCHEDULER_ADDRESS)) \
+	  $(if $(OUT),--out $(OUT) --docs $(OUT)/docs)

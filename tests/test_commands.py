@@ -133,6 +133,14 @@ COMMANDS = {
     "bench-sim": (["bench-sim", "CONFIG=reduced"], {"PIXELS_VERILATOR": "16", "PIXELS_ICARUS": "16"},
                   lambda r, out: (_ok(r), len(_json_lines(r.stdout)) == 2,
                                   all(x["bit_exact"] for x in _json_lines(r.stdout)))),
+    "corpus": (["corpus", "SEED=1", "N=3"], {}, lambda r, out: (
+        _ok(r), len(json.loads((out / "corpus" / "seed1" / "index.json").read_text())["scenes"]) == 3)),
+    "validate": (["validate", "CONFIG={tiny_cfg}", "N=2", "VALIDATE_SIZE=8", "RTL_SCENES=1", "JOBS=1"], {},
+                 lambda r, out: (_ok(r),
+                                 (out / "docs" / "validation.md").is_file(),
+                                 json.loads((out / "docs" / "validation" / "reduced_low.json").read_text())["rtl"]["scenes"] == 1)),
+    "validate steps": ([PY, "-m", "explore.validate", "steps", "--config", "reduced", "--n", "2", "--size", "8",
+                        "--quiet", "--step", "f_frac=14"], {}, lambda r, out: (_ok(r), "| f_frac=14 |" in r.stdout)),
     "icarus-perf": (["icarus-perf", "CONFIG=reduced", "PERF_PIXELS=4"], {}, lambda r, out: _ok(r)),
     "synth-check": (["synth-check"], {}, lambda r, out: _ok(r)),
     "synth / synth-blocks (entry point, one block)": (None, {}, None),
@@ -154,11 +162,14 @@ def test_command_runs(name, tmp_path):
     tiny = tmp_path / "tiny.toml"
     tiny.write_text(TINY_SCENE)
     out = tmp_path / "out"
-    args = [a.replace("{tiny}", str(tiny)).replace("{out}", str(out)) for a in args]
+    tiny_cfg = tmp_path / "reduced_low.toml"  # reduced with a promise any run keeps (validate's exit 0)
+    tiny_cfg.write_text((ROOT / "config" / "reduced.toml").read_text().replace('name = "reduced"', 'name = "reduced_low"')
+                        .replace("psnr_db = 30.0", "psnr_db = 1.0").replace("share = 0.99", "share = 0.01"))
+    args = [a.replace("{tiny}", str(tiny)).replace("{tiny_cfg}", str(tiny_cfg)).replace("{out}", str(out)) for a in args]
     if args[0] == PY:
         r = subprocess.run(args, cwd=ROOT, capture_output=True, text=True, timeout=300)
     else:
-        if args[0] in ("render", "renders", "frame", "frames", "precision", "animation"):
+        if args[0] in ("render", "renders", "frame", "frames", "precision", "animation", "corpus", "validate"):
             args.append(f"OUT={out}")
         r = _make(*args, env=env)
     res = check(r, out)
