@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from model.hw.config import ROOT, ConfigError, config_hash, load_config
+from model.hw.config import ROOT, STAMP, ConfigError, config_hash, load_config
 from model.scene.corpus import FIT_SEED, HELDOUT_SEED, load_index, write_corpus
 
 CORPUS_DIR = ROOT / "out" / "corpus"
@@ -65,12 +65,9 @@ def corpus_dir(seed: int, n: int, hard: bool, root: Path = CORPUS_DIR) -> Path:
 
 def source_hash() -> str:
     """A hash of rtl/ (the sources the bit-exact check ran on)."""
-    import hashlib
+    from model.hw.config import rtl_source_hash
 
-    h = hashlib.sha256()
-    for p in sorted((ROOT / "rtl").glob("*.v*")):
-        h.update(p.name.encode() + b"\0" + p.read_bytes())
-    return h.hexdigest()[:12]
+    return rtl_source_hash()
 
 
 def reason_group(msg: str) -> str:
@@ -278,6 +275,8 @@ def write_doc(summary_dir: Path = SUMMARY_DIR, doc: Path = DOC) -> None:
         L += [f"| {r['step']} | {r['scenes']} | {r['rejected']} | {r['min']} | {r['p5']} | {r['median']} | "
               f"{r['at_promise']} (>= {r['promise_db']} dB) |" for r in t["rows"]]
         L.append("")
+    # the stamp: every configuration summarised, as measured (test_validate checks them against the files)
+    L.append(STAMP + " " + " ".join(f"{x['config']}={x['config_hash']}" for x in sums) + " -->")
     doc.write_text("\n".join(L) + "\n")
 
 

@@ -24,7 +24,7 @@ from hdlbuild import need_tool
 from model import reference
 from model.cli import Parser, UserError, check_config, config_label, check_range, progress_bar, resolve_scene, run_main, staged
 from model.hw import golden
-from model.hw.config import CONFIG_NAMES, ROOT, load_config
+from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, load_config
 from model.imageio import compare, contact_sheet, read_image, write_image
 from model.scene.passes import SCENES, composite, configured_texture, frame_size, prepare_passes, scene_approximations, strict_violations, to8
 
@@ -184,6 +184,7 @@ def conformance(size: int, sim: str, out_root: Path | None = None, strict: bool 
         L.append(f"| {r['scene']} | {r['config']} | {r['bit_exact']} | {r['mismatched_pixels']} | "
                  f"{r['psnr_vs_reference_db']} | {r['cycles_per_pixel']} | {r['rtl_pixels_per_second']} | "
                  f"{r['rtl_pixels_per_second_with_startup']} |")
+    L.append(doc_stamp([load_config(c) for c in CONFIG_NAMES]))
     (docs / "conformance.md").write_text("\n".join(L) + "\n")
     return 0 if all(r["bit_exact"] for r in reps) else 1
 

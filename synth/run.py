@@ -25,7 +25,8 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from hdlbuild import ROOT, block_params, config_of
-from model.hw.config import CONFIG_NAMES, base_of, clocks_per_pixel, is_config_file, load_config, noise_term_instances
+from model.hw.config import (CONFIG_NAMES, STAMP, base_of, clocks_per_pixel, config_hash, is_config_file, load_config,
+                             noise_term_instances, rtl_source_hash)
 from model.hw.config import fc_variant as config_fc_variant
 
 REPORTS = ROOT / "synth" / "reports"
@@ -132,7 +133,8 @@ def synth_config(config: str, jobs: int = 2) -> dict:
     budget = BUDGET.get(config) or BUDGET.get(base_of(config))  # a variant file: its base's budget
     rep.update({"budget_ge": budget, "paper_gates": budget if config in PAPER_MODELS else None,
                 "within_budget": budget is not None and rep["ge_total"] <= budget,
-                "seconds": round(time.perf_counter() - t0, 1)})
+                "seconds": round(time.perf_counter() - t0, 1),
+                "config_hash": config_hash(cfg), "rtl_hash": rtl_source_hash()})
     REPORTS.mkdir(parents=True, exist_ok=True)
     (REPORTS / f"{config}.json").write_text(json.dumps(rep, indent=2) + "\n")
     (REPORTS / f"{config}.md").write_text(markdown(rep))
@@ -233,7 +235,11 @@ def write_doc() -> None:
     L += ["## Reproduce", "", "    make setup", "    make synth          # every configuration, synth/reports/",
           "    make synth-check    # fails when a configuration is over budget",
           "    make synth-blocks   # GE of each block for every configuration", ""]
-    (ROOT / "docs" / "synthesis.md").write_text("\n".join(L))
+    # the stamp: the configurations' hashes the reports recorded (none before issue 26's reports)
+    if all("config_hash" in r for r in reps.values()):
+        L.append(STAMP + " " + " ".join(f"{c}={r['config_hash']}" for c, r in reps.items())
+                 + f" rtl={next(iter(reps.values()))['rtl_hash']} -->")
+    (ROOT / "docs" / "synthesis.md").write_text("\n".join(L) + "\n")
 
 
 def check() -> int:

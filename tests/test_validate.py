@@ -155,3 +155,30 @@ def test_validation_docs_are_current():
             assert s["config_hash"] == config_hash(load_config(s["config"])), (
                 f"{p.name}: measured on {s['config']} {s['config_hash']}, now {config_hash(load_config(s['config']))}: "
                 f"rerun make validate CONFIG={s['config']}")
+
+
+def test_generated_docs_are_current():
+    """Every generated doc under docs/ that carries a stamp (model.hw.config.doc_stamp: `make frames`,
+    `make synth`, `make validate`) was measured on the named configurations as they are now."""
+    from model.hw.config import read_stamp
+
+    stamped = 0
+    for p in sorted((ROOT / "docs").glob("*.md")):
+        st = read_stamp(p.read_text())
+        if not st:
+            continue
+        stamped += 1
+        for name, h in st.items():
+            if name != "rtl" and name in config_file_names():
+                now = config_hash(load_config(name))
+                assert h == now, f"docs/{p.name}: measured on {name} {h}, now {now}: regenerate it"
+    assert stamped >= 1  # docs/validation.md at least
+
+
+def test_stamp_round_trip():
+    from model.hw.config import doc_stamp, read_stamp, variant
+
+    cfgs = [load_config("full"), variant(load_config("reduced"), "reduced", t_frac=5)]
+    st = read_stamp("# doc\n\n" + doc_stamp(cfgs) + "\n")
+    assert st["full"] == config_hash(cfgs[0]) and st["reduced"] != config_hash(load_config("reduced"))
+    assert len(st["rtl"]) == 12 and read_stamp("no stamp") is None

@@ -484,6 +484,35 @@ def config_hash(cfg: Config) -> str:
     return hashlib.sha256(json.dumps(config_values(cfg), sort_keys=True).encode()).hexdigest()[:12]
 
 
+def rtl_source_hash() -> str:
+    """A short hash of rtl/ (every file's name and bytes): what a generated doc's RTL figures ran on."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for p in sorted((ROOT / "rtl").glob("*.v*")):
+        h.update(p.name.encode() + b"\0" + p.read_bytes())
+    return h.hexdigest()[:12]
+
+
+STAMP = "<!-- measured on:"
+
+
+def doc_stamp(configs, rtl: bool = True) -> str:
+    """The line a generated doc ends with: the hash of each configuration it measured (and of rtl/),
+    as `<!-- measured on: full=<hash> reduced=<hash> rtl=<hash> -->`;
+    tests/test_validate.py fails when a configuration changed since (rerun the doc's command)."""
+    parts = [f"{c.name}={config_hash(c)}" for c in configs]
+    return f"{STAMP} {' '.join(parts)}{' rtl=' + rtl_source_hash() if rtl else ''} -->"
+
+
+def read_stamp(text: str) -> dict | None:
+    """{name: hash} of a doc's stamp (rtl included), or None when it has none."""
+    for line in text.splitlines():
+        if line.startswith(STAMP):
+            return dict(kv.split("=", 1) for kv in line[len(STAMP):].replace("-->", "").split())
+    return None
+
+
 def config_toml(cfg: Config) -> str:
     """cfg as configuration-file text (load_config of it gives the same configuration)."""
     lines = [f"# Configuration `{cfg.name}`, written by model/hw/config.py config_toml.", "",
