@@ -19,4 +19,7 @@
 `define LAT_COLOUR_MAP_FPGA   19
 `define LAT_FC_WEIGHT         8
 `define LAT_FC_SCALE          1
+// sum_tree: an adder tree of this arity, its latency the levels down to one node
+// (tw_tree_levels in rtl/tex_widths.vh, model/hw/config.py sum_tree_levels)
+`define SUM_TREE_ARITY        4
 `endif

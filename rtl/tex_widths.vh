@@ -78,6 +78,29 @@ function [63:0] tw_isqrt;
     end
 endfunction
 
+// adder tree shape (sum_tree, texture_pipeline): nodes on level l of a tree of the given
+// arity over n leaves (level 0: the leaves), and its levels down to one node (its latency;
+// model/hw/config.py sum_tree_levels)
+function integer tw_tree_nodes;
+    input integer n, l, arity;
+    integer i;
+    begin
+        tw_tree_nodes = n;
+        for (i = 0; i < l; i = i + 1)
+            tw_tree_nodes = (tw_tree_nodes + arity - 1) / arity;
+    end
+endfunction
+
+function integer tw_tree_levels;
+    input integer n, arity;
+    integer m;
+    begin
+        tw_tree_levels = 0;
+        for (m = n; m > 1; m = (m + arity - 1) / arity)
+            tw_tree_levels = tw_tree_levels + 1;
+    end
+endfunction
+
 // ---------------------------------------------------------------------------
 // quadric: v_k = (Q x)_k and q (fraction q_frac)
 

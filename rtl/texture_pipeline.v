@@ -37,7 +37,7 @@
 // parameters while no pixel is in flight; they are held, unchanged, during a pass.
 //
 // Pipeline: quadric_mac and K noise_term instances in parallel on s, a registered adder tree
-// of arity 4 for f (TREE_LEVELS = ceil(log4(K+1)) stages), filter_width, then colour_map.
+// (sum_tree) of arity 4 for f (TREE_LEVELS = ceil(log4(K+1)) stages), filter_width, then colour_map.
 // With the noise gradient (NOISE_GRADIENT 1: grad f = grad q + sum a_i grad n_i), the
 // tree also sums the gradients and filter_width follows it; the quadric's input waits so that
 // its outputs meet the terms'. Without it (grad f = grad q), filter_width runs on the
@@ -168,31 +168,6 @@ output wire             m_axis_tlast;
 // ---------------------------------------------------------------------------
 // Latencies and alignment
 
-// adder tree shape (arity TREE_ARITY, below): nodes on level l of a tree over n leaves
-function integer tree_nodes_of;
-    input integer n;
-    input integer l;
-    input integer arity;
-    integer i;
-    begin
-        tree_nodes_of = n;
-        for (i = 0; i < l; i = i + 1)
-            tree_nodes_of = (tree_nodes_of + arity - 1) / arity;
-    end
-endfunction
-
-// levels of register nodes down to one node
-function integer tree_levels_of;
-    input integer n;
-    input integer arity;
-    integer m;
-    begin
-        tree_levels_of = 0;
-        for (m = n; m > 1; m = (m + arity - 1) / arity)
-            tree_levels_of = tree_levels_of + 1;
-    end
-endfunction
-
 // each block's latency under FPGA_REGS (the block picks the same value from the same parameter)
 localparam LAT_QM      = FPGA_REGS ? `LAT_QUADRIC_MAC_FPGA  : `LAT_QUADRIC_MAC;
 localparam LAT_NT      = FPGA_REGS ? `LAT_NOISE_TERM_FPGA   : `LAT_NOISE_TERM;
@@ -204,8 +179,7 @@ localparam LAT_NF      = FPGA_REGS ? `LAT_NOISE_FOLD_FPGA   : `LAT_NOISE_FOLD;
 localparam LAT_NS      = FOLD ? LAT_NT + LAT_NF : LAT_NT + LAT_FCS;      // noise leaves (noise_fold: + LAT_NF)
 localparam LAT_FRONT   = (K > 0 && LAT_NS > LAT_QM) ? LAT_NS : LAT_QM;  // q and the terms meet here
 localparam DLY_N       = LAT_FRONT - LAT_NS;                             // extra stages for an, ag
-localparam TREE_ARITY  = 4;                                              // adder tree fan-in
-localparam TREE_LEVELS = tree_levels_of(NLEAF + 1, TREE_ARITY);          // adder tree stages
+localparam TREE_LEVELS = tw_tree_levels(NLEAF + 1, `SUM_TREE_ARITY);     // adder tree (sum_tree) stages
 localparam T_F         = LAT_FRONT + TREE_LEVELS;                        // f (and c) out of the tree
 // With the noise gradient (NG), grad f = grad q + sum a_i grad n_i comes out of the tree with
 // f, and filter_width follows the tree: the quadric's input waits DLY_Q so that its outputs
@@ -420,9 +394,9 @@ quadric_mac #(
 );
 
 // Each term's outputs and the quadric's, sign-extended to the exact-sum widths, are the
-// leaves of the adder tree, g_leaf[0] the quadric and g_leaf[1 + k] noise term k. (For
-// event-driven simulation speed, no wide bus gathers them: every node of the tree reads its
-// children by name, and sign extension happens inside processes, not in net concatenations.)
+// leaves of the adder trees (sum_tree: f, and with NG the three components of c), leaf 0
+// the quadric and leaf 1 + k noise term k. (Sign extension happens inside processes, not in
+// net concatenations, for event-driven simulation speed.)
 
 // !NG: q (and its valid) wait DLY_QO stages for the terms; its gradient goes to filter_width
 wire [QF_W-1:0] qo_q;
@@ -431,6 +405,11 @@ delay_line #(.W(QF_W), .N(DLY_QO))        u_dly_qo (.clk(clk), .rst(rst), .ce(ce
 delay_line #(.W(1), .N(DLY_QO), .CLEAR(1)) u_dly_qov (.clk(clk), .rst(rst), .ce(ce), .d_in(qm_valid),
                                                        .d_out(qo_valid));
 wire sum_in_valid;  // every block of the front agrees on validity (shared in_valid and ce)
+// the leaves of the adder trees: leaf i at [i*F_W +: F_W], [i*3*C_W +: 3*C_W]
+wire [(NLEAF+1)*F_W-1:0]   f_leaves;
+/* verilator lint_off UNUSEDSIGNAL */  // !NG: no gradient tree
+wire [(NLEAF+1)*3*C_W-1:0] c_leaves;
+/* verilator lint_on UNUSEDSIGNAL */
 
 // sign extension to the exact-sum widths (F_W >= QF_W, AN_W; C_W >= AG_W: exact-sum bounds)
 localparam FX_Q = F_W - QF_W;  // sign bits added to q
@@ -544,107 +523,41 @@ generate
                 assign c = {3*C_W{1'b0}};
             end
         end
+        assign f_leaves[gi*F_W +: F_W]       = f;
+        assign c_leaves[gi*3*C_W +: 3*C_W]   = c;
     end
 endgenerate
 
 // ---------------------------------------------------------------------------
-// Adder tree of arity TREE_ARITY: level 0 is the K + 1 leaves, level l has
-// tree_nodes(l) = ceil(tree_nodes(l - 1) / TREE_ARITY) nodes, each a register holding the
-// sum of its (up to TREE_ARITY) children; TREE_LEVELS levels down to one node (fewer
-// registers than a binary tree: one level for K <= 3, two for K <= 15). Sums are modulo
-// 2^F_W / 2^C_W of sign-extended operands, i.e. exact two's complement sums: every partial
-// sum is bounded by the whole sum's bound, which F_W and C_W hold (model/hw/config.py f_w, c_w).
-// Each node is one clocked process reading its children by name.
+// Adder trees (sum_tree, TREE_LEVELS register levels): f = q + sum a_i n_i over the leaves,
+// and with NG c = dq/ds + sum a_i grad n_i, three lanes; sums modulo 2^F_W / 2^C_W of
+// sign-extended operands, i.e. exact (F_W and C_W bound the whole sums, model/hw/config.py
+// f_w, c_w). !NG: the tree carries no gradient (the quadric's goes to filter_width).
 
 wire [F_W-1:0]   f_sum;
-// !NG: the c sums of the tree are constant 0 and not read (no register survives synthesis)
-/* verilator lint_off UNUSEDSIGNAL */
+wire             sum_valid;
+/* verilator lint_off UNUSEDSIGNAL */  // !NG: c is constant 0 and not read
 wire [3*C_W-1:0] c_sum;
 /* verilator lint_on UNUSEDSIGNAL */
 
-genvar gl;
-generate
-    for (gl = 1; gl <= TREE_LEVELS; gl = gl + 1) begin : g_lvl
-        localparam NN = tree_nodes_of(NLEAF + 1, gl, TREE_ARITY);      // nodes on this level
-        localparam NP = tree_nodes_of(NLEAF + 1, gl - 1, TREE_ARITY);  // children on the level below
-        // the children: the leaves (level 1) or the node registers of the level below
-        for (gi = 0; gi < NP; gi = gi + 1) begin : g_kid
-            wire [F_W-1:0]   f;
-            wire [3*C_W-1:0] c;
-            if (gl == 1) begin : g_from_leaf
-                assign f = g_leaf[gi].f;
-                assign c = g_leaf[gi].c;
-            end else begin : g_from_node
-                assign f = g_lvl[gl-1].g_node[gi].f_reg;
-                assign c = g_lvl[gl-1].g_node[gi].c_reg;
-            end
-        end
-        for (gi = 0; gi < NN; gi = gi + 1) begin : g_node
-            localparam B  = TREE_ARITY*gi;                                // first child
-            localparam NC = (NP - B < TREE_ARITY) ? NP - B : TREE_ARITY;  // children (1..4)
-            // children 1..3, 0 where absent
-            wire [F_W-1:0]   f1, f2, f3;
-            wire [3*C_W-1:0] c1, c2, c3;
-            if (NC > 1) begin : g_k1
-                assign f1 = g_kid[B+1].f;
-                assign c1 = g_kid[B+1].c;
-            end else begin : g_z1
-                assign f1 = {F_W{1'b0}};
-                assign c1 = {3*C_W{1'b0}};
-            end
-            if (NC > 2) begin : g_k2
-                assign f2 = g_kid[B+2].f;
-                assign c2 = g_kid[B+2].c;
-            end else begin : g_z2
-                assign f2 = {F_W{1'b0}};
-                assign c2 = {3*C_W{1'b0}};
-            end
-            if (NC > 3) begin : g_k3
-                assign f3 = g_kid[B+3].f;
-                assign c3 = g_kid[B+3].c;
-            end else begin : g_z3
-                assign f3 = {F_W{1'b0}};
-                assign c3 = {3*C_W{1'b0}};
-            end
-            wire [F_W-1:0]   f0 = g_kid[B].f;
-            wire [3*C_W-1:0] c0 = g_kid[B].c;
-            reg  [F_W-1:0]   f_reg;
-            reg  [3*C_W-1:0] c_reg;
-            always @(posedge clk) begin
-                if (ce) begin
-                    f_reg <= f0 + f1 + f2 + f3;
-                    c_reg <= {c0[2*C_W +: C_W] + c1[2*C_W +: C_W] + c2[2*C_W +: C_W] + c3[2*C_W +: C_W],
-                              c0[C_W +: C_W] + c1[C_W +: C_W] + c2[C_W +: C_W] + c3[C_W +: C_W],
-                              c0[0 +: C_W] + c1[0 +: C_W] + c2[0 +: C_W] + c3[0 +: C_W]};
-                end
-            end
-        end
-    end
+sum_tree #(.N(NLEAF + 1), .W(F_W), .LANES(1), .LATENCY(TREE_LEVELS)) u_f_tree (
+    .clk(clk), .rst(rst), .ce(ce),
+    .in_valid(sum_in_valid), .leaves(f_leaves),
+    .out_valid(sum_valid), .sum_out(f_sum)
+);
 
-    if (TREE_LEVELS == 0) begin : g_sum_leaf
-        assign f_sum = g_leaf[0].f;
-        assign c_sum = g_leaf[0].c;
-    end else begin : g_sum_node
-        assign f_sum = g_lvl[TREE_LEVELS].g_node[0].f_reg;
-        assign c_sum = g_lvl[TREE_LEVELS].g_node[0].c_reg;
-    end
-endgenerate
-
-// valid through the tree (reset: no spurious pixel after rst)
-wire sum_valid;
 generate
-    if (TREE_LEVELS == 0) begin : g_tv0
-        assign sum_valid = sum_in_valid;
-    end else begin : g_tv
-        // TREE_LEVELS + 1 bits so that one level still has a legal shift expression
-        reg [TREE_LEVELS:0] v_reg;
-        always @(posedge clk) begin
-            if (rst)
-                v_reg <= {(TREE_LEVELS+1){1'b0}};
-            else if (ce)
-                v_reg <= {v_reg[TREE_LEVELS-1:0], sum_in_valid};
-        end
-        assign sum_valid = v_reg[TREE_LEVELS-1];
+    if (NG) begin : g_c_tree
+        /* verilator lint_off UNUSEDSIGNAL */  // the same as sum_valid (f's tree)
+        wire c_valid;
+        /* verilator lint_on UNUSEDSIGNAL */
+        sum_tree #(.N(NLEAF + 1), .W(C_W), .LANES(3), .LATENCY(TREE_LEVELS)) u_c_tree (
+            .clk(clk), .rst(rst), .ce(ce),
+            .in_valid(sum_in_valid), .leaves(c_leaves),
+            .out_valid(c_valid), .sum_out(c_sum)
+        );
+    end else begin : g_c_zero
+        assign c_sum = {3*C_W{1'b0}};
     end
 endgenerate
 

@@ -171,6 +171,19 @@ def latency(module: str, cfg: Config | None = None) -> int:
     return int(m.group(1))
 
 
+def sum_tree_levels(n: int) -> int:
+    """The register levels (= latency) of rtl/sum_tree.v over n leaves: an adder tree of arity
+    `SUM_TREE_ARITY (rtl/tex_latency.vh) down to one node (rtl/tex_widths.vh tw_tree_levels)."""
+    import re
+
+    text = (ROOT / "rtl" / "tex_latency.vh").read_text()
+    arity = int(re.search(r"`define\s+SUM_TREE_ARITY\s+(\d+)", text).group(1))
+    levels = 0
+    while n > 1:
+        n, levels = -(-n // arity), levels + 1
+    return levels
+
+
 def folded(cfg: Config) -> bool:
     """The noise terms run on fewer units than there are terms (rtl/noise_fold.v)."""
     return cfg.noise_terms > 0 and cfg.noise_units < cfg.noise_terms

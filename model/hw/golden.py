@@ -371,6 +371,17 @@ def mul_pipe(a, b):
     return np.asarray(a, dtype=object) * np.asarray(b, dtype=object)
 
 
+def sum_tree(leaves, w: int):
+    """The sum of rtl/sum_tree.v: the leaves (a sequence of equal-shape int arrays, each a
+    w-bit two's-complement word) added modulo 2^w (w <= 62), a signed w-bit result; exact
+    when w bounds the whole sum (texture_pipeline's f_w, c_w)."""
+    total = np.zeros(np.shape(leaves[0]), dtype=I64)
+    for x in leaves:
+        total = total + np.asarray(x, dtype=I64)
+    half = I64(1) << (w - 1)
+    return ((total + half) & ((half << 1) - 1)) - half
+
+
 def box_divide(num, den, q_w: int = 8, sat: bool = False):
     """floor(num / den) per lane (rtl/box_divide.v; precondition num < den 2^q_w, with sat
     num < den 2^(q_w+1) and the quotient saturated to 2^q_w - 1). den broadcasts."""
@@ -537,14 +548,17 @@ def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
     fc = cfg.filter == "sat_fc"
     if fc:
         alpha, wv = fc_weight(cfg, tex, Jm, je)
-    f, c = quadric_mac(cfg, tex.Q, s)
+    q, cq = quadric_mac(cfg, tex.Q, s)
+    fl, cl = [q], [cq]  # the leaves of the adder trees (sum_tree)
     for i in range(min(tex.k_used, len(tex.a), cfg.noise_terms)):
         if tex.a[i] == 0:
             continue
         an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s)
         if fc:
             an, ag = fc_scale(cfg, alpha[..., i], an, ag)
-        f, c = f + an, c + ag
+        fl.append(an)
+        cl.append(ag)
+    f, c = sum_tree(fl, cfg.f_w), sum_tree(cl, cfg.c_w)
     w = filter_width(cfg, c, np.asarray(Jm, dtype=I64), je, tex.n_log2)
     if fc:  # the faded terms' spread widens the box (texture_pipeline: a register after filter_width)
         w = np.maximum(w, wv)

@@ -1,0 +1,118 @@
+// sum_tree: a registered adder tree, the exact sum of N words (texture_pipeline: f = q +
+// sum_i a_i n_i, and each component of c = dq/ds + sum_i a_i grad n_i).
+//
+// Level 0 is the N leaves; level l has nodes_of(N, l) = ceil(nodes_of(N, l - 1) / ARITY)
+// nodes, each a register holding the sum of its (up to ARITY) children on level l - 1, the
+// missing children of the last node 0; LATENCY levels down to one node, the sum. ARITY is
+// `SUM_TREE_ARITY (rtl/tex_latency.vh): fewer registers than a binary tree (one level for
+// N <= 4, two for N <= 16). LANES independent sums run side by side (texture_pipeline sums
+// the three components of c in one tree), each lane a node register of its own.
+//
+// Formats: every leaf and the sum are W-bit two's-complement words (any binary point, the
+// same for all); sums are modulo 2^W, i.e. exact when the caller's W bounds the whole sum
+// (then every partial sum fits too: texture_pipeline's F_W, C_W, model/hw/config.py f_w, c_w).
+// Leaf i, lane j at leaves[(i*LANES + j)*W +: W]; lane j of the sum at sum_out[j*W +: W].
+// Latency LATENCY = tw_tree_levels(N, `SUM_TREE_ARITY) register stages (0 for N = 1: a wire;
+// the parent passes the value it aligns to, elaboration fails on another); one sum per
+// enabled clock. Reset: synchronous, active high, clears the valid bits only (data
+// registers have no reset).
+
+`default_nettype none
+
+`include "tex_latency.vh"
+
+module sum_tree #(
+    parameter N       = 2,  // leaves (>= 1)
+    parameter W       = 8,  // word width of every leaf, partial sum and the sum
+    parameter LANES   = 1,  // independent sums side by side
+    parameter LATENCY = 1   // register levels: must be tw_tree_levels(N, `SUM_TREE_ARITY)
+) (
+    /* verilator lint_off UNUSEDSIGNAL */  // LATENCY = 0: a wire, no register
+    input  wire                 clk,
+    input  wire                 rst,
+    input  wire                 ce,
+    /* verilator lint_on UNUSEDSIGNAL */
+    input  wire                 in_valid,
+    input  wire [N*LANES*W-1:0] leaves,
+    output wire                 out_valid,
+    output wire [LANES*W-1:0]   sum_out
+);
+
+`include "tex_widths.vh"
+
+localparam ARITY = `SUM_TREE_ARITY;  // children of a node
+localparam LW    = LANES*W;          // one leaf (all lanes)
+
+// elaboration fails (unknown module) when the parent's latency is not the tree's
+generate
+    if (N < 1 || W < 1 || LANES < 1 || ARITY != 4 || LATENCY != tw_tree_levels(N, ARITY)) begin : g_bad_params
+        sum_tree_latency_must_be_its_levels u_error ();
+    end
+endgenerate
+
+genvar gl, gi;
+generate
+    for (gl = 1; gl <= LATENCY; gl = gl + 1) begin : g_lvl
+        localparam NN = tw_tree_nodes(N, gl, ARITY);      // nodes on this level
+        localparam NP = tw_tree_nodes(N, gl - 1, ARITY);  // children on the level below
+        // the children: the leaves (level 1) or the node registers of the level below
+        for (gi = 0; gi < NP; gi = gi + 1) begin : g_kid
+            wire [LW-1:0] v;
+            if (gl == 1) begin : g_from_leaf
+                assign v = leaves[gi*LW +: LW];
+            end else begin : g_from_node
+                assign v = g_lvl[gl-1].g_node[gi].s_reg;
+            end
+        end
+        for (gi = 0; gi < NN; gi = gi + 1) begin : g_node
+            localparam B  = ARITY*gi;                           // first child
+            localparam NC = (NP - B < ARITY) ? NP - B : ARITY;  // children (1..4)
+            // children 1..3, 0 where absent
+            wire [LW-1:0] k1, k2, k3;
+            if (NC > 1) begin : g_k1
+                assign k1 = g_kid[B+1].v;
+            end else begin : g_z1
+                assign k1 = {LW{1'b0}};
+            end
+            if (NC > 2) begin : g_k2
+                assign k2 = g_kid[B+2].v;
+            end else begin : g_z2
+                assign k2 = {LW{1'b0}};
+            end
+            if (NC > 3) begin : g_k3
+                assign k3 = g_kid[B+3].v;
+            end else begin : g_z3
+                assign k3 = {LW{1'b0}};
+            end
+            wire [LW-1:0] k0 = g_kid[B].v;
+            reg  [LW-1:0] s_reg;
+            integer       j;
+            always @(posedge clk) begin
+                if (ce)
+                    for (j = 0; j < LANES; j = j + 1)
+                        s_reg[j*W +: W] <= k0[j*W +: W] + k1[j*W +: W] + k2[j*W +: W] + k3[j*W +: W];
+            end
+        end
+    end
+
+    if (LATENCY == 0) begin : g_sum_leaf
+        assign sum_out   = leaves[0 +: LW];
+        assign out_valid = in_valid;
+    end else begin : g_sum_node
+        assign sum_out = g_lvl[LATENCY].g_node[0].s_reg;
+        // valid through the tree (reset: no spurious sum after rst); LATENCY + 1 bits so that
+        // one level still has a legal shift expression
+        reg [LATENCY:0] v_reg;
+        always @(posedge clk) begin
+            if (rst)
+                v_reg <= {(LATENCY+1){1'b0}};
+            else if (ce)
+                v_reg <= {v_reg[LATENCY-1:0], in_valid};
+        end
+        assign out_valid = v_reg[LATENCY-1];
+    end
+endgenerate
+
+endmodule
+
+`default_nettype wire
