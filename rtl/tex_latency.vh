@@ -11,6 +11,9 @@
 `define LAT_QUADRIC_MAC_FPGA  6
 `define LAT_NOISE_TERM        8
 `define LAT_NOISE_TERM_FPGA   16
+`define LAT_NOISE_XFORM       2
+`define LAT_NOISE_GRAD        5
+`define LAT_NOISE_GRAD_FPGA   11
 `define LAT_NOISE_FOLD        1
 `define LAT_NOISE_FOLD_FPGA   2
 `define LAT_FILTER_WIDTH      8

@@ -159,21 +159,46 @@ def lerp(pf, a, b, t):
     return a + (((b - a) * t) >> pf)
 
 
+def noise_xform(cfg: Config, t_row, o_j, s):
+    """One axis of a term's transform (rtl/noise_xform.v): p_j = ((sum_k T_jk s_k) >> ts_shift)
+    + o_j mod 2^p_w, u{p_w}.{p_frac} (the lattice cell p_j >> p_frac, the fraction below).
+    s: int64 [..., 3]; t_row: row j of T (3 entries s{t_w}.{t_frac}); o_j u{p_w}.{p_frac}."""
+    d = cfg.d
+    acc = int(t_row[0]) * s[..., 0] + int(t_row[1]) * s[..., 1] + int(t_row[2]) * s[..., 2]
+    return ((acc >> d["ts_shift"]) + int(o_j)) & ((1 << d["p_w"]) - 1)
+
+
+def noise_grad(cfg: Config, a: int, T, v, e, fz, wy, wz, dw):
+    """A term's texture-space gradient a (dn/dp) T (rtl/noise_grad.v) from its value path's
+    corner values v[i][j][k], x lerps e[j][k], y lerps fz[k] (s.{n_frac}), the weights wy, wz
+    and the slopes dw[j] (u.{p_frac}). Returns ag [..., 3] (c_frac bits)."""
+    d, pf = cfg.d, cfg.p_frac
+    dx = [[v[1][j][k] - v[0][j][k] for k in range(2)] for j in range(2)]
+    gx = (lerp(pf, lerp(pf, dx[0][0], dx[1][0], wy), lerp(pf, dx[0][1], dx[1][1], wy), wz) * dw[0]) >> pf
+    gy = (lerp(pf, e[1][0] - e[0][0], e[1][1] - e[0][1], wz) * dw[1]) >> pf
+    gz = ((fz[1] - fz[0]) * dw[2]) >> pf
+    ag = []
+    for k in range(3):
+        h = shift(gx * T[0, k] + gy * T[1, k] + gz * T[2, k], -d["h_shift"])
+        ag.append((int(a) * h) >> cfg.a_frac)
+    return np.stack(ag, axis=-1)
+
+
 def noise_term(cfg: Config, a: int, T, o, s):
     """One term: a n(T s + o) and its texture-space gradient a (dn/dp) T.
 
     s: int64 [..., 3]; a: s{a_w}.{a_frac}; T [3, 3] s{t_w}.{t_frac}; o [3] u{p_w}.{p_frac}.
-    Returns an [...] (f_frac bits) and ag [..., 3] (c_frac bits).
+    Returns an [...] (f_frac bits) and ag [..., 3] (c_frac bits). The transform is
+    noise_xform (once per axis), the gradient noise_grad, as in the RTL.
     """
     d = cfg.d
-    pf, mask_p = cfg.p_frac, (1 << d["p_w"]) - 1
+    pf = cfg.p_frac
     T = np.asarray(T, dtype=I64)
     o = np.asarray(o, dtype=I64)
     mask_h = (1 << cfg.hash_bits) - 1
     ip, sw, ds = [], [], []
     for j in range(3):
-        acc = T[j, 0] * s[..., 0] + T[j, 1] * s[..., 1] + T[j, 2] * s[..., 2]
-        p = ((acc >> d["ts_shift"]) + o[j]) & mask_p
+        p = noise_xform(cfg, T[j], o[j], s)
         ip.append(p >> pf)
         w_, dw_ = noise_blend(cfg, p & ((1 << pf) - 1))
         sw.append(w_)
@@ -196,15 +221,7 @@ def noise_term(cfg: Config, a: int, T, o, s):
     an = shift(int(a) * n, -d["an_shift"])
     if not cfg.noise_gradient:
         return an, np.zeros(n.shape + (3,), dtype=I64)
-    dx = [[v[1][j][k] - v[0][j][k] for k in range(2)] for j in range(2)]
-    gx = (lerp(pf, lerp(pf, dx[0][0], dx[1][0], sy), lerp(pf, dx[0][1], dx[1][1], sy), sz) * ds[0]) >> pf
-    gy = (lerp(pf, e[1][0] - e[0][0], e[1][1] - e[0][1], sz) * ds[1]) >> pf
-    gz = ((fz[1] - fz[0]) * ds[2]) >> pf
-    ag = []
-    for k in range(3):
-        h = shift(gx * T[0, k] + gy * T[1, k] + gz * T[2, k], -d["h_shift"])
-        ag.append((int(a) * h) >> cfg.a_frac)
-    return an, np.stack(ag, axis=-1)
+    return an, noise_grad(cfg, a, T, v, e, fz, sy, sz, ds)
 
 
 def filter_width(cfg: Config, c, Jm, je, n_log2: int):

@@ -1,0 +1,243 @@
+// noise_grad: the texture-space gradient of one noise term, a (dn/dp) T, beside noise_term's
+// value path (stages 4..8 of noise_term), from the value path's own intermediate values:
+//   dx_jk = v1jk - v0jk,  g_x = (lerp(lerp(dx00, dx10, wy), lerp(dx01, dx11, wy), wz) dw_x) >> P_FRAC
+//   g_y   = (lerp(e10 - e00, e11 - e01, wz) dw_y) >> P_FRAC,  g_z = ((fz1 - fz0) dw_z) >> P_FRAC
+//   h_k   = (sum_j g_j T_jk) >> H_SHIFT,  ag_k = (a h_k) >> A_FRAC
+// (">>" a floor; a negative shift count a left shift; BLEND linear: dw = 1, g_j is the lerped
+// difference). Stages 6, 7 and 8 are written once for the three axes (g_axis). The bit-exact
+// twin is model/hw/golden.py noise_grad(cfg, a, T, v, e, fz, wy, wz, dw).
+//
+// Formats (derived widths from rtl/tex_widths.vh, as noise_term's):
+//   v      8 x s{N_W}.{N_FRAC}, corner (i, j, k) at element 4*i + 2*j + k (the lattice values)
+//   e      4 x s{N_W}.{N_FRAC}, e[j][k] = lerp(v0jk, v1jk, wx) at element 2*j + k; fz 2 x, fz[k]
+//   wy, wz s{BW}.{P_FRAC}, dw 3 x s{BW}.{P_FRAC} {z, y, x} (noise_blend's weights, slopes)
+//   t_in   T as noise_term decodes it: affine 9 x s{T_W}.{T_FRAC}, T[j][k] at element 3*j + k;
+//          pow2 3 x {zero, e} of T_jj (E_W + 1 bits, entry j at element j): g_k T_kk = g_k << e
+//   a_in   a as noise_term decodes it: any s{A_W}.{A_FRAC}; pow2 {zero, neg, e} (noise_term's
+//          header: sign(a) h_k << e, exact)
+//   ag_out 3 x s{AG_W}.{C_FRAC}, component k at element k
+//   Internal: differences s{N_W+1}.{N_FRAC}, g s{GN_W}.{N_FRAC}, h s{H_W}.{C_FRAC + A_FRAC}.
+// Timing: the inputs of one vector arrive at the stages that read them, counted in enabled
+// clocks after v, wy, dw (noise_term's stage 3 registers): e, wz 1 + LP later, fz 2 + 2 LP,
+// t_in 3 + 3 LP, a_in and load 4 + 3 LP (LP = 2 with FPGA_REGS, else 0: each lerp's extra
+// registers). ag_out holds the vector LATENCY = `LAT_NOISE_GRAD (FPGA_REGS:
+// `LAT_NOISE_GRAD_FPGA = `LAT_NOISE_GRAD + 3 LP) enabled clocks after its v: stages 4 (the
+// x differences' y lerps), 5 (z lerps), 6 (g; FPGA_REGS: LP more beside the z lerp), 7 (h),
+// 8 (ag, the output registers, loaded when load = 1, the caller's valid bit of that stage).
+// One vector per enabled clock; ce = 0 holds every register; rst clears the outputs only.
+//
+// Multipliers (affine, cubic, any amplitude): 4 lerps + 3 slopes + 9 g T + 3 a h.
+
+`default_nettype none
+
+`include "tex_latency.vh"
+
+module noise_grad #(
+    parameter T_W       = 17,  // [t_w] transform entry word s{T_W}.{T_FRAC}
+    parameter T_FRAC    = 10,  // [t_frac]
+    parameter A_W       = 16,  // [a_w] amplitude word s{A_W}.{A_FRAC}
+    parameter A_FRAC    = 12,  // [a_frac]
+    parameter P_FRAC    = 12,  // [p_frac] blend weight fraction bits
+    parameter N_FRAC    = 12,  // [n_frac] noise value / gradient fraction bits
+    parameter C_FRAC    = 12,  // [c_frac] fraction bits of ag_out
+    parameter TRANSFORM = 0,   // [transform] 0 affine, 1 pow2 (diagonal 0 / 2^k: shifts)
+    parameter BLEND     = 1,   // [blend] 0 linear (dw = 1), 1 cubic
+    parameter AMPLITUDE = 0,   // [amplitude] 0 any, 1 pow2 (0 / +-2^k: shifts)
+    parameter FPGA_REGS = 0    // [fpga_regs] 1: each lerp in three stages (LP = 2)
+) (clk, rst, ce, v, wy, dw, e, wz, fz, t_in, a_in, load, ag_out);
+
+// (Verilator inlines this block into noise_term, whose copy of these functions it then reports
+// as hidden: the same functions, not a conflict)
+/* verilator lint_off VARHIDDEN */
+`include "tex_widths.vh"
+/* verilator lint_on VARHIDDEN */
+
+localparam LP       = FPGA_REGS ? 2 : 0;                      // each lerp's optional register stages
+localparam STAGES   = 5 + 3*LP;                               // register stages of this implementation
+localparam LATENCY  = FPGA_REGS ? `LAT_NOISE_GRAD_FPGA : `LAT_NOISE_GRAD;  // must equal STAGES
+localparam AFFINE   = (TRANSFORM == 0);
+localparam CUBIC    = (BLEND == 1);
+localparam AMP_POW2 = (AMPLITUDE == 1);
+localparam N_W      = tw_bits_signed(64'd1 << N_FRAC);        // n in [-1, 1]
+localparam D_W      = N_W + 1;                                // difference of two lattice-range values
+localparam GN_W     = tw_bits_signed(3 * (64'd1 << N_FRAC));  // |dn/dp| <= 2 * 1.5
+localparam BW       = P_FRAC + 2;                             // blend weight / slope, [0, 1.5]
+localparam H_W      = tw_h_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC);
+localparam AG_W     = tw_ag_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC);
+localparam H_SHIFT  = N_FRAC + T_FRAC - C_FRAC;
+localparam H_R      = (H_SHIFT > 0) ? H_SHIFT : 0;            // h: floor shift right by H_SHIFT,
+localparam H_L      = (H_SHIFT < 0) ? -H_SHIFT : 0;           //    or left by -H_SHIFT
+localparam HX_W     = GN_W + T_W + 2 + H_L;                   // h before its shift
+localparam E_W      = $clog2(T_W - 1);                        // pow2 T shift amount 0..T_W-2
+localparam TC_W     = AFFINE ? 9*T_W : 3*(E_W + 1);           // t_in
+localparam EA_W     = $clog2(A_W);                            // pow2 amplitude shift 0..A_W-1
+localparam AC_W     = AMP_POW2 ? EA_W + 2 : A_W;              // a_in
+localparam AGP_W    = A_W + H_W;                              // a h
+
+input  wire               clk;
+input  wire               rst;
+input  wire               ce;
+input  wire [8*N_W-1:0]   v;
+input  wire [BW-1:0]      wy;
+/* verilator lint_off UNUSEDSIGNAL */  // linear: dw = 1, not read
+input  wire [3*BW-1:0]    dw;
+/* verilator lint_on UNUSEDSIGNAL */
+input  wire [4*N_W-1:0]   e;
+input  wire [BW-1:0]      wz;
+input  wire [2*N_W-1:0]   fz;
+input  wire [TC_W-1:0]    t_in;
+input  wire [AC_W-1:0]    a_in;
+input  wire               load;
+output wire [3*AG_W-1:0]  ag_out;
+
+generate
+    if (LATENCY != STAGES) begin : g_latency_mismatch
+        // elaboration error on purpose: rtl/tex_latency.vh and this block disagree
+        noise_grad_latency_mismatch_see_tex_latency_vh u_error ();
+    end
+endgenerate
+
+// stage 4: dx[j][k] = v1jk - v0jk (operands sign-extended to D_W bits: exact);
+// dxy[k] = lerp(dx0k, dx1k, wy)
+reg signed [D_W-1:0]  dx00, dx01, dx10, dx11;
+always @* begin
+    dx00 = $signed(v[4*N_W +: N_W]) - $signed(v[0*N_W +: N_W]);
+    dx01 = $signed(v[5*N_W +: N_W]) - $signed(v[1*N_W +: N_W]);
+    dx10 = $signed(v[6*N_W +: N_W]) - $signed(v[2*N_W +: N_W]);
+    dx11 = $signed(v[7*N_W +: N_W]) - $signed(v[3*N_W +: N_W]);
+end
+wire signed [D_W-1:0] dxy0_next, dxy1_next;
+lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_dxy0 (
+    .clk(clk), .ce(ce), .a(dx00), .b(dx10), .t(wy), .y(dxy0_next)
+);
+lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_dxy1 (
+    .clk(clk), .ce(ce), .a(dx01), .b(dx11), .t(wy), .y(dxy1_next)
+);
+
+// stage 5: gxl = lerp(dxy0, dxy1, wz); gyl = lerp(e10 - e00, e11 - e01, wz)
+reg signed [D_W-1:0]  dxy0_reg, dxy1_reg, ey0, ey1;
+always @* begin
+    ey0 = $signed(e[2*N_W +: N_W]) - $signed(e[0*N_W +: N_W]);  // sign-extended to D_W bits: exact
+    ey1 = $signed(e[3*N_W +: N_W]) - $signed(e[1*N_W +: N_W]);
+end
+wire signed [D_W-1:0] gxl_next, gyl_next;
+lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_gx (
+    .clk(clk), .ce(ce), .a(dxy0_reg), .b(dxy1_reg), .t(wz), .y(gxl_next)
+);
+lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_gy (
+    .clk(clk), .ce(ce), .a(ey0), .b(ey1), .t(wz), .y(gyl_next)
+);
+
+// the slopes beside stages 4 and 5 (FPGA_REGS: beside the lerps' extra registers)
+reg  [3*BW-1:0] dw4_reg, dw5_reg;
+wire [3*BW-1:0] dw3_p, dw4_p;
+delay_line #(.W(3*BW), .N(LP)) u_dly_dw3 (.clk(clk), .rst(rst), .ce(ce), .d_in(dw), .d_out(dw3_p));
+delay_line #(.W(3*BW), .N(LP)) u_dly_dw4 (.clk(clk), .rst(rst), .ce(ce), .d_in(dw4_reg), .d_out(dw4_p));
+
+reg signed [D_W-1:0] gxl_reg, gyl_reg;
+always @(posedge clk) begin
+    if (ce) begin
+        dxy0_reg <= dxy0_next;
+        dxy1_reg <= dxy1_next;
+        dw4_reg  <= dw3_p;
+        dw5_reg  <= dw4_p;
+        gxl_reg  <= gxl_next;
+        gyl_reg  <= gyl_next;
+    end
+end
+
+// the lerped difference of each axis at stage 6 (gl_z = fz1 - fz0, sign-extended: exact)
+wire signed [D_W-1:0] glz = $signed(fz[1*N_W +: N_W]) - $signed(fz[0*N_W +: N_W]);
+wire [3*D_W-1:0]      gl  = {glz, gyl_reg, gxl_reg};
+/* verilator lint_off UNUSEDSIGNAL */  // pow2: each axis reads its own g
+wire [3*GN_W-1:0]     g_all;  // g_j at element j (stage 6 registers)
+/* verilator lint_on UNUSEDSIGNAL */
+
+genvar gk;
+generate
+    for (gk = 0; gk < 3; gk = gk + 1) begin : g_axis
+        // stage 6: g_k = (gl_k dw_k) >> P_FRAC (linear: dw = 1, g = gl); |g| <= 3 * 2^N_FRAC
+        // fits GN_W bits, the rest of sh are sign copies
+        wire signed [D_W-1:0] gl_k = gl[gk*D_W +: D_W];
+        reg signed [GN_W-1:0] g_next;
+        if (CUBIC) begin : g_cubic
+            /* verilator lint_off UNUSEDSIGNAL */
+            reg signed [D_W+BW-1:0] sh;
+            /* verilator lint_on UNUSEDSIGNAL */
+            always @* begin
+                sh     = (gl_k * $signed(dw5_reg[gk*BW +: BW])) >>> P_FRAC;  // exact product
+                g_next = sh[GN_W-1:0];
+            end
+        end else begin : g_linear
+            always @* g_next = gl_k;
+        end
+        // FPGA_REGS: g beside the z lerp's extra registers
+        wire [GN_W-1:0] g_p;
+        delay_line #(.W(GN_W), .N(LP)) u_dly_g (.clk(clk), .rst(rst), .ce(ce), .d_in(g_next), .d_out(g_p));
+        reg signed [GN_W-1:0] g_reg;
+        assign g_all[gk*GN_W +: GN_W] = g_reg;
+
+        // stage 7: h_k = (sum_j g_j T_jk) >> H_SHIFT (pow2: g_k T_kk = g_k << e_k, or 0); h fits
+        // H_W bits (model/hw/config.py bound), the rest of the word are sign copies
+        reg [H_W-1:0]         h_next;
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg signed [HX_W-1:0] hsum;
+        /* verilator lint_on UNUSEDSIGNAL */
+        if (AFFINE) begin : g_h_affine
+            always @* begin
+                hsum = (($signed(g_all[0*GN_W +: GN_W]) * $signed(t_in[(0+gk)*T_W +: T_W])
+                       + $signed(g_all[1*GN_W +: GN_W]) * $signed(t_in[(3+gk)*T_W +: T_W])
+                       + $signed(g_all[2*GN_W +: GN_W]) * $signed(t_in[(6+gk)*T_W +: T_W])) <<< H_L) >>> H_R;
+                h_next = hsum[H_W-1:0];
+            end
+        end else begin : g_h_pow2
+            always @* begin
+                hsum   = {{(HX_W-GN_W){g_reg[GN_W-1]}}, g_reg};
+                hsum   = t_in[gk*(E_W+1) + E_W] ? {HX_W{1'b0}} : (hsum <<< t_in[gk*(E_W+1) +: E_W]);
+                hsum   = (hsum <<< H_L) >>> H_R;
+                h_next = hsum[H_W-1:0];
+            end
+        end
+        reg signed [H_W-1:0] h_reg;
+
+        // stage 8: ag_k = (a h_k) >> A_FRAC; ag fits AG_W bits (model/hw/config.py bound), the
+        // rest of the product are sign copies
+        reg [AG_W-1:0]          ag_next;
+        /* verilator lint_off UNUSEDSIGNAL */
+        reg signed [AGP_W-1:0]  agp;
+        /* verilator lint_on UNUSEDSIGNAL */
+        if (AMP_POW2) begin : g_ag_pow2
+            // a h_k = sign(a) h_k << e (0 when a = 0); sign-extended first: even the most
+            // negative word negates
+            reg signed [H_W:0] h_ext;
+            always @* begin
+                h_ext   = {h_reg[H_W-1], h_reg};
+                h_ext   = a_in[EA_W + 1] ? {(H_W+1){1'b0}} : (a_in[EA_W] ? -h_ext : h_ext);
+                agp     = ({{(AGP_W-H_W-1){h_ext[H_W]}}, h_ext} <<< a_in[EA_W-1:0]) >>> A_FRAC;
+                ag_next = agp[AG_W-1:0];
+            end
+        end else begin : g_ag_any
+            always @* begin
+                agp     = ($signed(a_in) * h_reg) >>> A_FRAC;
+                ag_next = agp[AG_W-1:0];
+            end
+        end
+        reg [AG_W-1:0] ag_reg;
+        assign ag_out[gk*AG_W +: AG_W] = ag_reg;
+
+        always @(posedge clk) begin
+            if (ce) begin
+                g_reg <= g_p;
+                h_reg <= h_next;
+            end
+            if (rst)
+                ag_reg <= {AG_W{1'b0}};
+            else if (ce && load)
+                ag_reg <= ag_next;
+        end
+    end
+endgenerate
+
+endmodule
+
+`default_nettype wire
