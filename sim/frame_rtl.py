@@ -3,14 +3,14 @@
 `run_passes_rtl(cfg_name, sim, passes)` runs a list of texture passes (a pass: one texture's
 parameter writes, then its pixel stream) through the streaming harness sim/frame_tb.v in as
 few simulator runs as its memories allow (one for everything that fits) and returns each
-pass's colours. It writes the passes' segment list and their parameter writes (each concatenated) as
-$readmemh files, and their pixel words: under Verilator a binary file that the harness's C++
-main (sim/frame_main.cpp: no cocotb, no VPI) loads into the harness's pixel memory, under
-Icarus a $readmemh file; the harness does every per-pixel action inside the simulator (under
-Icarus the cocotb test sim/frame_cocotb.py only clocks, resets and waits for `done`), pass
-after pass, and writes the colours back (Verilator: binary, from its C++ main). When the
-passes exceed the harness memories
-(MEMORY: pixels, writes, passes of a run) they are split, in order, into the fewest runs
+pass's colours. It writes the passes' segment list and their parameter writes (each
+concatenated) as $readmemh files, and their pixel words: under Verilator a binary file that
+the harness's C++ main (sim/frame_main.cpp: no cocotb, no VPI) loads into the harness's pixel
+memory, under Icarus a $readmemh file; the harness does every per-pixel action inside the
+simulator (under Icarus the cocotb test sim/frame_cocotb.py only clocks, resets and waits for
+`done`), pass after pass, and writes the colours back (Verilator: binary, from its C++ main).
+When the passes exceed the harness memories (MEMORY: pixels, writes, passes of a run) they are
+split, in order, into the fewest runs
 (plan_runs: a pass longer than what a run has left is cut, each piece reloading the
 parameters). `run_frame_rtl(cfg_name, sim, texint, s_int, Jm, je)` is the one-pass case.
 `STARTS` counts the simulator starts of this process.
@@ -103,8 +103,8 @@ def _stamp(config: str, sim: str, gdir: Path) -> str:
 def _verilator_build(cfg, gdir: Path, bdir: Path) -> None:
     """Verilate frame_tb with its C++ main (sim/frame_main.cpp) and compile it: bdir/frame_tb.
 
-    No cocotb, no VPI: the executable clocks the harness itself (the cocotb runner's
-    --vpi --public-flat-rw build with its GPI clock cost a third of the time of a frame)."""
+    No cocotb, no VPI: the executable clocks the harness itself (the cocotb runner's --vpi
+    build with its GPI clock streamed 1.8x slower, docs/simulation.md)."""
     params = {**memory("verilator"), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)}
     cmd = ["verilator", "--cc", "--exe", "--build", "-j", "2", "-Mdir", str(bdir), "--top-module", TOPLEVEL,
            "-o", TOPLEVEL, *VERILATOR_ARGS, f"-I{ROOT / 'rtl'}", *[f"-G{k}={v}" for k, v in params.items()],
@@ -154,20 +154,18 @@ def build(config, sim: str) -> Path:
             wipe_build(bdir)
             if sim == "verilator":
                 _verilator_build(cfg, gdir, bdir)
-                stamp_file.write_text(stamp)
-                _built[(config, sim, BUILD_TAG)] = stamp
-                return bdir
-            from cocotb_tools.runner import get_runner
+            else:
+                from cocotb_tools.runner import get_runner
 
-            get_runner(sim).build(
-                sources=_sources(gdir),
-                includes=[ROOT / "rtl"],
-                hdl_toplevel=TOPLEVEL,
-                parameters={**memory(sim), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)},
-                build_dir=bdir,
-                always=True,
-                timescale=("1ns", "1ps"),
-            )
+                get_runner(sim).build(
+                    sources=_sources(gdir),
+                    includes=[ROOT / "rtl"],
+                    hdl_toplevel=TOPLEVEL,
+                    parameters={**memory(sim), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)},
+                    build_dir=bdir,
+                    always=True,
+                    timescale=("1ns", "1ps"),
+                )
             stamp_file.write_text(stamp)
     _built[(config, sim, BUILD_TAG)] = stamp
     return bdir
