@@ -25,7 +25,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from hdlbuild import ROOT, block_params, config_of
-from model.hw.config import (CONFIG_NAMES, STAMP, base_of, clocks_per_pixel, config_hash, is_config_file, load_config,
+from model.hw.config import (CONFIG_NAMES, STAMP, ConfigError, base_of, clocks_per_pixel, config_hash, is_config_file, load_config,
                              noise_term_instances, rtl_source_hash)
 from model.hw.config import fc_variant as config_fc_variant
 
@@ -123,21 +123,25 @@ def combine(config: str, cfg, res: dict) -> dict:
     return rep
 
 
-def synth_config(config: str, jobs: int = 2) -> dict:
+def synth_config(config: str, jobs: int = 2, reports: Path | None = None) -> dict:
+    """Every block of a configuration (a name, or a configuration file's path); the report goes to
+    synth/reports/<name>.json (reports: elsewhere, e.g. out/synth/ for a file outside config/)."""
     t0 = time.perf_counter()
     cfg = load_config(config)
+    reports = reports or REPORTS
+    config = cfg.name if Path(config).suffix == ".toml" else config
     with ThreadPoolExecutor(max_workers=jobs) as ex:
         futs = {label: ex.submit(synth_one, config, mod, lib) for label, (mod, lib) in block_jobs(cfg).items()}
         res = {k: f.result() for k, f in futs.items()}
-    rep = combine(config, cfg, res)
+    rep = combine(cfg.name, cfg, res)
     budget = BUDGET.get(config) or BUDGET.get(base_of(config))  # a variant file: its base's budget
     rep.update({"budget_ge": budget, "paper_gates": budget if config in PAPER_MODELS else None,
                 "within_budget": budget is not None and rep["ge_total"] <= budget,
                 "seconds": round(time.perf_counter() - t0, 1),
                 "config_hash": config_hash(cfg), "rtl_hash": rtl_source_hash()})
-    REPORTS.mkdir(parents=True, exist_ok=True)
-    (REPORTS / f"{config}.json").write_text(json.dumps(rep, indent=2) + "\n")
-    (REPORTS / f"{config}.md").write_text(markdown(rep))
+    reports.mkdir(parents=True, exist_ok=True)
+    (reports / f"{cfg.name}.json").write_text(json.dumps(rep, indent=2) + "\n")
+    (reports / f"{cfg.name}.md").write_text(markdown(rep))
     return rep
 
 
@@ -290,13 +294,21 @@ def blocks_table() -> int:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m synth.run")
-    ap.add_argument("--config", help="a configuration of config/ (named, or a variant file such as full_fc)")
+    ap.add_argument("--config", help="a configuration of config/ (named, or a variant file such as full_fc), or a "
+                                     "configuration file's path (its report goes to out/synth/<name>.json)")
     ap.add_argument("--all", action="store_true")
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--blocks", action="store_true")
     ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", 2)))
     a = ap.parse_args(argv)
-    if a.config is not None and not is_config_file(a.config):
+    path_cfg = a.config is not None and (a.config.endswith(".toml") or os.sep in a.config)
+    if path_cfg:
+        try:
+            load_config(a.config)
+        except ConfigError as e:
+            print(f"synth: --config {a.config}: {e}", file=sys.stderr)
+            return 2
+    elif a.config is not None and not is_config_file(a.config):
         print(f"synth: --config {a.config}: no such configuration in config/", file=sys.stderr)
         return 2
     if a.check:
@@ -305,7 +317,7 @@ def main(argv=None) -> int:
         return blocks_table()
     cfgs = CONFIG_NAMES if a.all or not a.config else (a.config,)
     for c in cfgs:
-        rep = synth_config(c, a.jobs)
+        rep = synth_config(c, a.jobs, ROOT / "out" / "synth" if path_cfg else None)
         print(json.dumps({k: rep[k] for k in ("config", "ge_total", "ge_comb", "ge_seq", "storage_bits",
                                                "logic_depth", "blocks", "within_budget", "seconds")}, indent=1))
     write_doc()

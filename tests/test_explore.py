@@ -172,7 +172,7 @@ def test_fit_renders_bit_exact(tmp_path):
 
     out = tmp_path / "fit"
     r = _run(["make", "-s", "--no-print-directory", "fit", "SCENE=zone_plate", "DB=20", f"OUT={out}",
-              f"FIT_FLAGS=--size 16 --rtl-size 8 --quiet --results {tmp_path / 'ex' / 'results.json'}"])
+              f"FIT_FLAGS=--size 16 --rtl-size 8 --quiet --corpus 4 --results {tmp_path / 'ex' / 'results.json'}"])
     _ok(r)
     summ = json.loads(r.stdout[r.stdout.index("{"):])
     assert summ["rtl_bit_exact"] and summ["rtl_pixels"] > 0 and summ["worst_psnr_db"] >= 20
@@ -180,4 +180,8 @@ def test_fit_renders_bit_exact(tmp_path):
     assert cfg.noise_terms == 0  # the zone plate has no noise: the fit keeps none
     rep = json.loads(next(out.glob("*.json")).read_text())
     assert rep["steps"] and rep["record"]["status"] == "ok"
+    # issue 26: the descent watched fit-corpus scenes; the answer is checked on views it never saw
+    assert rep["fit_corpus"]["scenes"] == 4 and any("fit corpus" in st["move"] for st in rep["steps"])
+    assert {v["view"] for v in rep["held_out_views"]} == {"8 px", "24 px"}  # the zone plate is screen-space: sizes only
+    assert rep["held_out_worst_db"] == min(v["psnr_db"] for v in rep["held_out_views"])
     assert (out / cfg.name / "zone_plate.png").is_file()
