@@ -20,6 +20,14 @@
 `define LAT_FILTER_WIDTH_FPGA 12
 `define LAT_COLOUR_MAP        14
 `define LAT_COLOUR_MAP_FPGA   19
+`define LAT_CMAP_SAT          13
+`define LAT_CMAP_SAT_FPGA     17
+`define LAT_CMAP_DIVIDE       9
+`define LAT_CMAP_DIVIDE_FPGA  10
+`define LAT_CMAP_MIP          13
+`define LAT_CMAP_MIP_FPGA     17
+`define LAT_CMAP_POINT        13
+`define LAT_CMAP_POINT_FPGA   17
 `define LAT_FC_WEIGHT         8
 `define LAT_FC_SCALE          1
 // sum_tree: an adder tree of this arity, its latency the levels down to one node

@@ -432,6 +432,77 @@ def colour_divide(cfg: Config, D, w):
     return box_divide(num, den, sat=True)
 
 
+def cmap_u(cfg: Config, f, mode, n_log2):
+    """colour_map's stage 1: the colour index u = f N (units 2^-f_frac entries), mod: u taken
+    mod N; clamp: u saturated to [-W/2, N + W/2], W = 2^w_cap_log2 (exact: any window beyond it
+    sees only an edge entry). f, mode [...] (n_log2 a scalar)."""
+    ff = cfg.f_frac
+    f = np.asarray(f, dtype=I64)
+    guard = 1 << (cfg.w_cap_log2 + ff - 1)
+    u_mod = (f & ((1 << ff) - 1)) << n_log2
+    u_clamp = np.clip(f << n_log2, -guard, ((1 << n_log2) << ff) + guard)
+    return np.where(np.asarray(mode) == MODE_MOD, u_mod, u_clamp)
+
+
+def cmap_divide(cfg: Config, D, w, point):
+    """rtl/cmap_divide.v: per channel the box average D / (2w) rounded by the configuration's
+    method (colour_divide: div_bits = 0 exact, B > 0 normalised), or, where w = 0, the point
+    lookup `point` passed through. D, point [..., 4]; w [...]."""
+    w = np.asarray(w, dtype=I64)
+    return np.where((w > 0)[..., None], colour_divide(cfg, np.asarray(D, dtype=I64), np.maximum(w, 1)),
+                    np.asarray(point, dtype=I64))
+
+
+def cmap_sat(cfg: Config, tables: dict, u, w, mode, n_log2):
+    """rtl/cmap_sat.v, the box-filter family: RGBA8 [..., 4] of the colour index u (s.f_frac
+    entries, after colour_map's stage 1) averaged over width w (0: the point lookup) from the
+    tables held (colour_tables / host_tables): D = I(u + w/2) - I(u - w/2) (eq. 15 and every
+    edge case of 3.3.2 as one integral), then cmap_divide."""
+    ff, nmax = cfg.f_frac, cfg.n_log2_max
+    u = np.asarray(u, dtype=I64)
+    w = np.asarray(w, dtype=I64)
+    clamp = np.asarray(mode) == MODE_CLAMP
+    # D = I(b) - I(a) over the window [a, b] = [2u - w, 2u + w] (units 2^-xf entries):
+    # sat_index at both ends, the table reads, sat_integral at both ends
+    xf = ff + 1
+    ia = sat_index(2 * u - w, xf, mode, n_log2, nmax)
+    ib = sat_index(2 * u + w, xf, mode, n_log2, nmax)
+    rd = colour_table(tables, 1, clut_addr_a=ia["kk"], clut_addr_b=ib["kk"], csat_addr_a=ia["km1"],
+                      csat_addr_b=ib["km1"])
+    # mod: whole tables, (kx_b - kx_a) total as its two bytes; clamp: whole entries past an
+    # edge, kx clut[kk] at each end
+    dk = (ib["kx"] - ia["kx"])
+    ka = np.where(clamp, ia["kx"], dk)
+    kb = np.where(clamp, ib["kx"], dk)
+    qa = np.where(clamp[..., None], rd["clut_a"], rd["total"] >> 8)
+    qb = np.where(clamp[..., None], rd["clut_b"], rd["total"] & 255)
+    pa, ea = sat_integral(xf, rd["clut_a"], rd["csat_a"], ia["first"], ia["fr"], ka, qa)
+    pb, eb = sat_integral(xf, rd["clut_b"], rd["csat_b"], ib["first"], ib["fr"], kb, qb)
+    whole = np.where(clamp[..., None], eb - ea, eb + (ea << 8))
+    D = (whole << xf) + pb - pa
+    # 0 <= D <= 255 * 2w for consistent tables (the average is in 0..255): never wrap silently
+    if D.size and ((D < 0).any() or (D > 510 * w[..., None]).any()):
+        raise ValueError("colour_map: average outside 0..255 (inconsistent csat/clut tables?)")
+    # w = 0: a = b = 2u, and clut at end a is the point lookup clut[k]
+    return cmap_divide(cfg, D, w, rd["clut_a"])
+
+
+def cmap_mip(cfg: Config, tables: dict, u, w, mode, n_log2, filter_en):
+    """rtl/cmap_mip.v, the MIP-map family: RGBA8 [..., 4] of the colour index u (s.f_frac
+    entries, after colour_map's stage 1) in the MIP level of width w (mip_index), or, filter_en
+    0, clut[k] (the point lookup), from the tables held (colour_tables / host_tables)."""
+    addr, use_mip = mip_index(2, cfg.f_frac, cfg.n_log2_max, u, w, mode, n_log2, filter_en)
+    rd = colour_table(tables, 2, clut_addr_a=addr & ((1 << cfg.n_log2_max) - 1), mip_addr=addr)
+    return np.where((use_mip != 0)[..., None], rd["mip_data"], rd["clut_a"])
+
+
+def cmap_point(cfg: Config, tables: dict, u, mode, n_log2):
+    """rtl/cmap_point.v, the point-lookup family (filter "none"): clut[k] [..., 4], k =
+    floor(u) mod N or clamped to [0, N - 1] (mip_index at level 0), from the tables held."""
+    k, _ = mip_index(0, cfg.f_frac, cfg.n_log2_max, u, 0, mode, n_log2, 0)
+    return colour_table(tables, 0, clut_addr_a=k)["clut_a"]
+
+
 def colour_map(cfg: Config, tex: TexInt, f, w):
     """RGBA8 of f (f_frac bits, 1.0 = whole table) box-filtered over width w.
 
@@ -439,7 +510,8 @@ def colour_map(cfg: Config, tex: TexInt, f, w):
     [-W/2, N + W/2] with W = 2^w_cap_log2 (exact: any window beyond it sees only an
     edge entry). Filter "sat": D = I(u + w/2) - I(u - w/2) (eq. 15 and every edge
     case of 3.3.2 as one integral), out = floor(D / w + 1/2) (div_bits = 0) or the
-    normalised division of colour_divide; w = 0 or filter off: the point lookup C(u).
+    normalised division of colour_divide (cmap_sat, cmap_divide); w = 0 or filter off: the
+    point lookup C(u).
     Filter "mip": level floor(log2 w), point lookup in it.
 
     Contract (as the RTL's): 0 <= w <= 2^(w_cap_log2 + f_frac) (filter_width saturates
@@ -448,46 +520,17 @@ def colour_map(cfg: Config, tex: TexInt, f, w):
     if np.any(np.asarray(w) > (1 << (cfg.w_cap_log2 + cfg.f_frac))) or np.any(np.asarray(w) < 0):
         raise ValueError(f"colour_map: w outside [0, 2^{cfg.w_cap_log2 + cfg.f_frac}]")
     n_log2 = tex.n_log2
-    n = 1 << n_log2
-    ff = cfg.f_frac
     f = np.asarray(f, dtype=I64)
     w = np.asarray(w, dtype=I64)
-    if tex.mode == MODE_MOD:
-        u = (f & ((1 << ff) - 1)) << n_log2
-    else:
-        guard = 1 << (cfg.w_cap_log2 + ff - 1)
-        u = np.clip(f << n_log2, -guard, (n << ff) + guard)
+    u = cmap_u(cfg, f, tex.mode, n_log2)
     filt = {"none": 0, "sat": 1, "sat_fc": 1, "mip": 2}[cfg.filter]
-    nmax = cfg.n_log2_max
     tables = host_tables(tex)
-    # the point lookup clut[k], k = floor(u) mod N or clamped: mip_index at level 0
-    k, _ = mip_index(0, ff, nmax, u, w, tex.mode, n_log2, 0)
-    point = colour_table(tables, filt, clut_addr_a=k)["clut_a"]
-    if not tex.filter or cfg.filter == "none":
-        return point.astype(np.uint8)
-    if cfg.filter == "mip":
-        addr, _ = mip_index(2, ff, nmax, u, w, tex.mode, n_log2, 1)
-        return colour_table(tables, filt, mip_addr=addr)["mip_data"].astype(np.uint8)
-    # D = I(b) - I(a) over the window [a, b] = [2u - w, 2u + w] (units 2^-xf entries):
-    # sat_index at both ends, the table reads, sat_integral at both ends
-    xf = ff + 1
-    ia = sat_index(2 * u - w, xf, tex.mode, n_log2, nmax)
-    ib = sat_index(2 * u + w, xf, tex.mode, n_log2, nmax)
-    rd = colour_table(tables, filt, clut_addr_a=ia["kk"], clut_addr_b=ib["kk"], csat_addr_a=ia["km1"],
-                      csat_addr_b=ib["km1"])
-    if tex.mode == MODE_MOD:  # whole tables: (kx_b - kx_a) total, as its two bytes
-        dk = ib["kx"] - ia["kx"]
-        ka, qa, kb, qb = dk, rd["total"] >> 8, dk, rd["total"] & 255
-    else:  # whole entries past an edge: kx clut[kk] at each end
-        ka, qa, kb, qb = ia["kx"], rd["clut_a"], ib["kx"], rd["clut_b"]
-    pa, ea = sat_integral(xf, rd["clut_a"], rd["csat_a"], ia["first"], ia["fr"], ka, qa)
-    pb, eb = sat_integral(xf, rd["clut_b"], rd["csat_b"], ib["first"], ib["fr"], kb, qb)
-    whole = (eb + (ea << 8)) if tex.mode == MODE_MOD else (eb - ea)
-    D = (whole << xf) + pb - pa
-    # 0 <= D <= 255 * 2w for consistent tables (the average is in 0..255): never wrap silently
-    if D.size and ((D < 0).any() or (D > 510 * w[..., None]).any()):
-        raise ValueError("colour_map: average outside 0..255 (inconsistent csat/clut tables?)")
-    out = np.where((w > 0)[..., None], colour_divide(cfg, D, np.maximum(w, 1)), point)
+    if filt == 1:  # the box filter; filter off: w = 0, its point lookup
+        out = cmap_sat(cfg, tables, u, w if tex.filter else np.zeros_like(w), tex.mode, n_log2)
+    elif filt == 2:
+        out = cmap_mip(cfg, tables, u, w if tex.filter else np.zeros_like(w), tex.mode, n_log2, int(tex.filter))
+    else:
+        out = cmap_point(cfg, tables, u, tex.mode, n_log2)
     return out.astype(np.uint8)
 
 

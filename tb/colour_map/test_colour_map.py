@@ -1,6 +1,7 @@
 """colour_map (rtl/colour_map.v) against model/hw/golden.py colour_map, bit for bit.
 
-Two halves in one file (the project's testbench convention):
+Two halves in one file (the project's testbench convention; each build by tb/pipe.py's
+run_block with the configuration's parameters, hdlbuild.block_params):
 - pytest entries: `test_colour_map_rtl` over (simulator, configuration),
   `test_colour_map_filter_variants_rtl`, the same cocotb test on each configuration with
   its filter switched to "mip" and to "none" (model.hw.config.variant), so that every
@@ -41,8 +42,8 @@ from model.hw.config import SAT_FILTERS, load_config, variant
 from tb import pipe
 
 ROOT = Path(__file__).resolve().parents[2]
-SOURCES = ["colour_map.v", "colour_table.v", "sat_index.v", "sat_integral.v", "box_divide.v", "mip_index.v",
-           "delay_line.v"]
+SOURCES = ["colour_map.v", "cmap_sat.v", "cmap_divide.v", "cmap_mip.v", "cmap_point.v", "colour_table.v", "sat_index.v",
+           "sat_integral.v", "box_divide.v", "mip_index.v", "delay_line.v"]
 TABLE_CLUT, TABLE_CSAT, TABLE_MIP = 0, 1, 2
 
 
@@ -66,7 +67,7 @@ def table_sets(cfg, r, variant=False):
     edges[0], edges[-1] = 255, 0
     if variant:  # mip / none builds: fewer tables
         sets = [("random N=1", 0, r.integers(0, 256, size=(1, 4)), True),
-                ("random N=8", 3, r.integers(0, 256, size=(8, 4)), False),
+                (f"random N={1 << min(3, nmax)}", min(3, nmax), r.integers(0, 256, size=(1 << min(3, nmax), 4)), False),
                 (f"random N={big}", nmax, r.integers(0, 256, size=(big, 4)), True),
                 (f"zebra N={big}", nmax, zebra, False)]
         return [(name, n, np.asarray(c, dtype=np.int64), full) for name, n, c, full in sets]
@@ -276,10 +277,16 @@ async def colour_map_vs_golden(dut):
 # pytest side
 
 
+def run_colour_map(sim: str, config, extra_env=None) -> None:
+    """colour_map built with the parameters of `config` (a name or a variant), by pipe.run_block."""
+    cfg = hdlbuild.config_of(config)
+    pipe.run_block("colour_map", sim, cfg.name, hdlbuild.block_params(cfg, "colour_map"), __file__, config=cfg,
+                   sources=SOURCES, extra_env=extra_env)
+
+
 @pytest.mark.parametrize("sim,config", hdlbuild.family_params(fpga_regs=True))
 def test_colour_map_rtl(sim, config):
-    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim, config=config,
-                  test_dir=Path(__file__).parent)
+    run_colour_map(sim, config)
 
 
 def _variant_params():
@@ -292,9 +299,7 @@ def _variant_params():
 @pytest.mark.parametrize("sim,config,filt", _variant_params())
 def test_colour_map_filter_variants_rtl(sim, config, filt):
     """The same cocotb test with the configuration's filter switched to mip / none."""
-    cfg = variant(load_config(config), f"{config}_{filt}", filter=filt)
-    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim, config=cfg,
-                  extra_env={"CM_VARIANT": "1"}, test_dir=Path(__file__).parent)
+    run_colour_map(sim, variant(load_config(config), f"{config}_{filt}", filter=filt), extra_env={"CM_VARIANT": "1"})
 
 
 def _div_variant_params():
@@ -302,7 +307,7 @@ def _div_variant_params():
     sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["icarus"]
     cfgs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(hdlbuild.CONFIGS)
     # 1: the narrowest divisor, where D + w + 2 h(sh) of a whole 255-valued window reaches 2^D_W
-    # (found by `make fit`'s descent; colour_map's sum is one bit wider since)
+    # (found by `make fit`'s descent; cmap_divide's sum is one bit wider since)
     bits = {"reduced": (1, 4, 9, load_config("reduced").w_w - 1), "full": (10,)}
     return [(s, c, b) for s in sims for c in cfgs for b in bits.get(c, ())]
 
@@ -310,9 +315,7 @@ def _div_variant_params():
 @pytest.mark.parametrize("sim,config,bits", _div_variant_params())
 def test_colour_map_div_variants_rtl(sim, config, bits):
     """The same cocotb test with the configuration's div_bits switched."""
-    cfg = variant(load_config(config), f"{config}_div{bits}", div_bits=bits)
-    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=sim, config=cfg,
-                  test_dir=Path(__file__).parent)
+    run_colour_map(sim, variant(load_config(config), f"{config}_div{bits}", div_bits=bits))
 
 
 @pytest.mark.parametrize("bits", (0, 1, 9))
@@ -321,6 +324,5 @@ def test_colour_map_fpga_div_variants_rtl(bits):
     two candidates, the shift a stage after the sum, 6c) and div_bits switched to the exact
     division (its operands registered in 6c), the narrowest divisor and a saturating one, under
     Icarus (SIM= picks the simulator)."""
-    cfg = variant(load_config("reduced"), f"reduced_fpga_div{bits}", div_bits=bits, fpga_regs=True)
-    hdlbuild.run("colour_map", sources=SOURCES, test_module="test_colour_map", sim=os.environ.get("SIM", "icarus"),
-                 config=cfg, test_dir=Path(__file__).parent)
+    run_colour_map(os.environ.get("SIM", "icarus"),
+                   variant(load_config("reduced"), f"reduced_fpga_div{bits}", div_bits=bits, fpga_regs=True))
