@@ -235,7 +235,15 @@ def write_doc() -> None:
           "old bound on c), texture_pipeline masks the amplitudes of the terms past k_used, and the off-diagonal "
           "T entries (pow2 transforms) and B, C, F (diagonal quadric), which the blocks never read, no longer "
           "reach them, so their registers go. Against the reports of commit cdb7f89 (`git show "
-          "cdb7f89:synth/reports/reduced.json`): full +0.5% (the wider g and the k_used masks), reduced -1.8% (the registers).", ""]
+          "cdb7f89:synth/reports/reduced.json`): full +0.5% (the wider g and the k_used masks), reduced -1.8% (the registers).", "",
+          "colour_map split into filter-family modules (issue 25: cmap_sat, cmap_divide, cmap_mip, cmap_point; "
+          "the same flip-flops, the same function; D in one expression, the FPGA build's two-carry-chain form, in "
+          "both builds). Against the reports of commit ccbc7bc, colour_map: full -0.60% (35,239 -> 35,027 GE), "
+          "reduced -0.67% (31,587 -> 31,374), compact +0.03% (30,337 -> 30,345); sequential GE unchanged in all "
+          "three. That is Yosys/ABC noise: the same run moved blocks whose RTL and flow did not change since "
+          "ccbc7bc by as much (quadric -0.13 / -0.33 / -1.11%, noise_term +0.19 / -0.38 / -1.05%, filter_width "
+          "+0.61 / -0.08 / +0.87%), and the old colour_map with only the D expression swapped synthesizes to "
+          "35,297 (full) and 31,574 (reduced) GE.", ""]
     L += ["## Reproduce", "", "    make setup", "    make synth          # every configuration, synth/reports/",
           "    make synth-check    # fails when a configuration is over budget",
           "    make synth-blocks   # GE of each block for every configuration", ""]

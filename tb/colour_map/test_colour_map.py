@@ -1,7 +1,7 @@
 """colour_map (rtl/colour_map.v) against model/hw/golden.py colour_map, bit for bit.
 
 Two halves in one file (the project's testbench convention; each build by tb/pipe.py's
-run_block with the configuration's parameters, hdlbuild.block_params):
+run_block with the configuration's parameters):
 - pytest entries: `test_colour_map_rtl` over (simulator, configuration),
   `test_colour_map_filter_variants_rtl`, the same cocotb test on each configuration with
   its filter switched to "mip" and to "none" (model.hw.config.variant), so that every
@@ -279,9 +279,7 @@ async def colour_map_vs_golden(dut):
 
 def run_colour_map(sim: str, config, extra_env=None) -> None:
     """colour_map built with the parameters of `config` (a name or a variant), by pipe.run_block."""
-    cfg = hdlbuild.config_of(config)
-    pipe.run_block("colour_map", sim, cfg.name, hdlbuild.block_params(cfg, "colour_map"), __file__, config=cfg,
-                   sources=SOURCES, extra_env=extra_env)
+    pipe.run_block("colour_map", sim, test_file=__file__, config=config, sources=SOURCES, extra_env=extra_env)
 
 
 @pytest.mark.parametrize("sim,config", hdlbuild.family_params(fpga_regs=True))
