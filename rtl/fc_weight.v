@@ -40,9 +40,9 @@ module fc_weight #(
     parameter J_W          = 12,  // Jacobian mantissas s{J_W}.0
     parameter JE_W         = 8,   // Jacobian exponent s{JE_W}.0
     parameter T_W          = 17,  // transform entries s{T_W}.{T_FRAC}
-    parameter T_FRAC       = 10,
+    parameter T_FRAC       = 10,  // transform fraction bits
     parameter A_W          = 16,  // amplitudes s{A_W}.{A_FRAC}
-    parameter A_FRAC       = 12,
+    parameter A_FRAC       = 12,  // amplitude fraction bits
     parameter F_FRAC       = 16,  // w fraction bits (entries)
     parameter W_CAP_LOG2   = 16,  // wv saturates at 2^W_CAP_LOG2 entries
     parameter N_LOG2_MAX   = 8,   // n_log2 0..N_LOG2_MAX
@@ -50,23 +50,9 @@ module fc_weight #(
     parameter FC_KNEE      = 112, // the fade's end, log2 phi in 2^-LF octaves
     parameter FC_FADE_LOG2 = 2,   // the fade spans 2^FC_FADE_LOG2 octaves
     parameter FC_KS        = 328, // sigma sqrt(12) of the lattice noise, u.FC_KSF (the configuration's blend)
-    parameter FC_KSF       = 8
-) (
-    input  wire                              clk,
-    input  wire                              rst,
-    input  wire                              ce,
-    input  wire                              in_valid,
-    input  wire [6*J_W-1:0]                  jm_in,
-    input  wire [JE_W-1:0]                   je_in,
-    input  wire [NOISE_TERMS*A_W-1:0]        a_all,
-    input  wire [NOISE_TERMS*9*T_W-1:0]      t_all,
-    input  wire [KU_W-1:0]                   k_used,
-    input  wire                              filter_en,
-    input  wire [NL_W-1:0]                   n_log2,
-    output wire                              out_valid,
-    output wire [NOISE_TERMS*(AF+1)-1:0]     alpha_out,
-    output reg  [W_W-1:0]                    wv_out
-);
+    parameter FC_KSF       = 8    // FC_KS's fraction bits
+) (clk, rst, ce, in_valid, jm_in, je_in, a_all, t_all, k_used, filter_en, n_log2, out_valid, alpha_out,
+   wv_out);
 localparam K     = NOISE_TERMS;
 localparam LF    = FC_LOG_FRAC;
 localparam AF    = FC_LOG_FRAC + FC_FADE_LOG2;
@@ -97,6 +83,33 @@ localparam integer   ONE_I  = ONE;
 localparam signed [L_W-1:0] ONE_L  = ONE_I[L_W-1:0];      // 2^AF < 2^(L_W-1): AF <= LF + 4
 localparam integer   TF_SHI = T_FRAC << LF;                 // T_FRAC 2^LF
 localparam [L_W-1:0] TF_SH  = TF_SHI[L_W-1:0];
+
+// the ports (declared after the widths they use)
+input  wire                              clk;
+input  wire                              rst;
+input  wire                              ce;
+input  wire                              in_valid;
+input  wire [6*J_W-1:0]                  jm_in;
+input  wire [JE_W-1:0]                   je_in;
+input  wire [NOISE_TERMS*A_W-1:0]        a_all;
+input  wire [NOISE_TERMS*9*T_W-1:0]      t_all;
+input  wire [KU_W-1:0]                   k_used;
+input  wire                              filter_en;
+input  wire [NL_W-1:0]                   n_log2;
+output wire                              out_valid;
+output wire [NOISE_TERMS*(AF+1)-1:0]     alpha_out;
+output reg  [W_W-1:0]                    wv_out;
+
+localparam STAGES  = 8;               // register stages of this implementation (below)
+localparam LATENCY = `LAT_FC_WEIGHT;  // must equal STAGES
+localparam AL_DLY  = STAGES - 4;      // alpha (stage 4) waits for wv
+
+// elaboration fails (unknown module) when rtl/tex_latency.vh and this block disagree
+generate
+    if (LATENCY != STAGES) begin : g_latency_mismatch
+        fc_weight_latency_mismatch_see_tex_latency_vh u_error ();
+    end
+endgenerate
 
 // static: per term and axis tn_ik = max_j |T_i,jk| (column k), registered; then from it
 // lt_ik = fc_log2(tn_ik) - T_FRAC 2^LF and tz_ik = (tn_ik = 0), |a_i|, t_on_i, registered.
@@ -384,7 +397,7 @@ always @(posedge clk) begin
     end
 end
 assign out_valid = v7;
-// alpha, from stage 4, waits the four stages of wv (delay_line)
+// alpha, from stage 4, waits the AL_DLY stages of wv (delay_line)
 wire [K*(AF+1)-1:0] al3_v;
 genvar go;
 generate
@@ -392,7 +405,7 @@ generate
         assign al3_v[go*(AF+1) +: AF+1] = al3[go];
     end
 endgenerate
-delay_line #(.W(K*(AF+1)), .N(4)) u_dly_alpha (.clk(clk), .rst(rst), .ce(ce), .d_in(al3_v), .d_out(alpha_out));
+delay_line #(.W(K*(AF+1)), .N(AL_DLY)) u_dly_alpha (.clk(clk), .rst(rst), .ce(ce), .d_in(al3_v), .d_out(alpha_out));
 
 endmodule
 

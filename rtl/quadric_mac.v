@@ -96,13 +96,16 @@ output wire              out_valid;
 output wire [QF_W-1:0]   q_out;
 output wire [3*C_W-1:0]  cq_out;
 
-localparam LATENCY = FPGA_REGS ? `LAT_QUADRIC_MAC_FPGA : `LAT_QUADRIC_MAC;
+localparam LATENCY = FPGA_REGS ? `LAT_QUADRIC_MAC_FPGA : `LAT_QUADRIC_MAC;  // must equal STAGES
 localparam XIN     = (FPGA_REGS && !DIAG) ? 2 : 0;  // input register stages (full quadric, FPGA_REGS)
+// register stages of this implementation: the input stages, stages 1-3 (diagonal with
+// FPGA_REGS: 1-5, the products on mul_pipe) and stage 4 (q, the outputs)
+localparam STAGES  = XIN + ((DIAG && FPGA_REGS) ? 6 : 4);
 
 // elaboration fails (unknown module) if tex_latency.vh disagrees with the stages below
 generate
-    if (LATENCY != (FPGA_REGS ? 6 : 4)) begin : g_bad_latency
-        quadric_mac_latency_must_be_4 u_error ();
+    if (LATENCY != STAGES) begin : g_bad_latency
+        quadric_mac_latency_mismatch_see_tex_latency_vh u_error ();
     end
 endgenerate
 

@@ -16,7 +16,6 @@ every output.
 from __future__ import annotations
 
 import os
-from pathlib import Path
 from types import SimpleNamespace
 
 import numpy as np
@@ -26,7 +25,7 @@ import cocotb
 
 import hdlbuild
 from model.hw import golden as G
-from model.hw.config import FC_KSF, load_config, random_config
+from model.hw.config import FC_KSF, latency, load_config, random_config
 from model.hw.config import fc_variant as config_fc_variant
 from tb import pipe
 
@@ -47,9 +46,7 @@ CASES = [(s, c) for s in hdlbuild.SIMS
 
 @pytest.mark.parametrize("sim,config", CASES)
 def test_fc_weight_rtl(sim, config):
-    cfg = fc_variant(config)
-    hdlbuild.run("fc_weight", sources=SOURCES, test_module="test_fc_weight", sim=sim, config=cfg,
-                 test_dir=Path(__file__).parent)
+    pipe.run_block("fc_weight", sim, test_file=__file__, config=fc_variant(config), sources=SOURCES)
 
 
 def mitchell(x: int, lf: int) -> int:
@@ -144,7 +141,7 @@ async def passes_bit_exact(dut):
     r = pipe.rng(77)
     await pipe.start(dut)
     K, af = cfg.noise_terms, cfg.fc_af
-    lat = hdlbuild.latency("fc_weight")
+    lat = latency("fc_weight")
     kinds = ["config", "config", "hard", "k_used", "filter_off", "pow2"]
     n = max(64, pipe.n_vectors() // len(kinds))
     total = 0

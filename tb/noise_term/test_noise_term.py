@@ -37,10 +37,10 @@ import math
 import os
 
 import numpy as np
+import pytest
 import cocotb
 
 import hdlbuild
-from hdlbuild.params import block_params
 from model.hw import golden as G
 from tb import pipe
 
@@ -52,23 +52,9 @@ def latency(cfg) -> int:
     return hdlbuild.latency("noise_term", cfg)
 
 
-def family():
-    """[(set name, configuration reference, under Verilator too)]: the design family
-    (hdlbuild.family_params: the named configurations, random valid ones, compact with
-    fpga_regs under Icarus), narrowed by CONFIG= and SIM= as there."""
-    out = {}
-    for sim, ref in hdlbuild.family_params(fpga_regs=True):
-        name = ref.replace(":", "_")
-        out[name] = (ref, out.get(name, (ref, False))[1] or sim == "verilator")
-    return [(name, ref, v) for name, (ref, v) in out.items()]
-
-
-# one block_test a configuration (the cocotb side reads the configuration, CONFIG=, for the
-# golden model): noise_term with the parameters texture_pipeline gives it there
-for _name, _ref, _v in family():
-    globals()[f"test_noise_term_{_name}"] = pipe.block_test(
-        "noise_term", {_name: block_params(hdlbuild.config_of(_ref), "noise_term")}, (_name,) if _v else (),
-        __file__, sources=SOURCES, config=_ref)
+@pytest.mark.parametrize("sim,config", hdlbuild.family_params(fpga_regs=True))
+def test_noise_term_rtl(sim, config):
+    pipe.run_block("noise_term", sim, test_file=__file__, config=config, sources=SOURCES)
 
 
 # ---------------------------------------------------------------------------

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import math
 import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -53,8 +52,7 @@ def latency(cfg) -> int:
 
 @pytest.mark.parametrize("sim,config", hdlbuild.family_params(fpga_regs=True))
 def test_quadric_mac_rtl(sim, config):
-    hdlbuild.run("quadric_mac", sources=SOURCES, test_module="test_quadric_mac", sim=sim, config=config,
-                  test_dir=Path(__file__).parent)
+    pipe.run_block("quadric_mac", sim, test_file=__file__, config=config, sources=SOURCES)
 
 
 # ---------------------------------------------------------------------------
