@@ -129,7 +129,9 @@ lerp #(.W(D_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_gy (
 );
 
 // the slopes beside stages 4 and 5 (FPGA_REGS: beside the lerps' extra registers)
+/* verilator lint_off UNUSEDSIGNAL */  // linear: dw = 1, not read
 reg  [3*BW-1:0] dw4_reg, dw5_reg;
+/* verilator lint_on UNUSEDSIGNAL */
 wire [3*BW-1:0] dw3_p, dw4_p;
 delay_line #(.W(3*BW), .N(LP)) u_dly_dw3 (.clk(clk), .rst(rst), .ce(ce), .d_in(dw), .d_out(dw3_p));
 delay_line #(.W(3*BW), .N(LP)) u_dly_dw4 (.clk(clk), .rst(rst), .ce(ce), .d_in(dw4_reg), .d_out(dw4_p));
