@@ -243,7 +243,16 @@ def write_doc() -> None:
           "three. That is Yosys/ABC noise: the same run moved blocks whose RTL and flow did not change since "
           "ccbc7bc by as much (quadric -0.13 / -0.33 / -1.11%, noise_term +0.19 / -0.38 / -1.05%, filter_width "
           "+0.61 / -0.08 / +0.87%), and the old colour_map with only the D expression swapped synthesizes to "
-          "35,297 (full) and 31,574 (reduced) GE.", ""]
+          "35,297 (full) and 31,574 (reduced) GE.", "",
+          "texture_pipeline's adder tree as its own block (sum_tree, counted with the glue), noise_term split "
+          "into noise_xform (the transform, once per axis) and noise_grad (the gradient): the same flip-flops "
+          "(sequential GE unchanged in all three), the same function (bit-exact block and frame tests). Against "
+          "the reports of commit cc7172b (before both splits), noise_term (each): full +1.20% (57,559 -> 58,249 "
+          "GE), reduced -0.26%, compact -0.05%; control (with the tree) -0.04 / +0.25 / +0.03%; totals +0.87 / "
+          "-0.31 / -0.15%. That is Yosys/ABC noise: the same noise_term RTL synthesized before the colour_map "
+          "split reached main (another set of rtl/ files) gave full +0.55%, reduced +0.28%, compact +0.47%, and "
+          "this run moved blocks that did not change by as much (quadric -0.16 / -0.42 / -1.21%, filter_width "
+          "+0.30 / +0.57 / +0.89%).", ""]
     L += ["## Reproduce", "", "    make setup", "    make synth          # every configuration, synth/reports/",
           "    make synth-check    # fails when a configuration is over budget",
           "    make synth-blocks   # GE of each block for every configuration", ""]
