@@ -12,7 +12,11 @@ A point is a configuration (its keys, model.hw.config.SCHEMA). Its record holds:
   against the float reference of the scene as written and against the supersampled truth, and
   the largest error in LSB;
 - a bit-exact check: `rtl_scenes` at `rtl_size` px streamed through the RTL under Verilator
-  (sim.frame_rtl), every pixel against the golden model.
+  (sim.frame_rtl), every pixel against the golden model;
+- with opts["corpus"] = {"n", "size"}: the held-out corpus (explore.validate.corpus_quality,
+  against the float reference): scenes accepted and covered, the covered scenes' worst, 5th
+  percentile and median PSNR, and the share at 50 dB (issue 26: no point is judged only on the
+  scenes the formats were narrowed on).
 A point the configuration checks reject, that a scene's values do not fit, that fails to
 synthesize or whose RTL differs from the golden model is recorded with its error (status
 "failed" or "mismatch"), never dropped.
@@ -47,7 +51,8 @@ SOURCE_GLOBS = ("rtl/*.v", "rtl/*.vh", "model/hw/*.py", "model/reference.py", "m
                 "model/scene/frontend.py", "model/scene/passes.py", "model/scene/scene.py", "model/scene/teapot.py",
                 "app/quality.py", "model/scene/truth.py", "scenes/*.toml", "sim/frame_tb.v",
                 "sim/frame_rtl.py", "sim/frame_cocotb.py", "sim/frame_main.cpp", "synth/synth.py", "synth/run.py",
-                "synth/cells.lib", "hdlbuild/*.py", "explore/measure.py")
+                "synth/cells.lib", "hdlbuild/*.py", "explore/measure.py", "explore/validate.py",
+                "model/scene/corpus.py")
 
 
 def _hash(*parts) -> str:
@@ -255,6 +260,10 @@ def measure(values: dict, opts: dict) -> dict:
         rec["worst_psnr_ref_db"] = min(v["psnr_ref_db"] for v in ok)
         rec["worst_psnr_truth_db"] = min(v["psnr_truth_db"] for v in ok)
         rec["min_pixels_per_clock"] = min(v["pixels_per_clock"] for v in ok if v["pixels_per_clock"])
+        if opts.get("corpus"):
+            from explore.validate import corpus_quality
+
+            rec["corpus"] = corpus_quality(cfg, n=opts["corpus"]["n"], size=opts["corpus"]["size"])
         rec.update(gates(cfg))
         if opts.get("rtl", True):
             with _output_to(LOG_DIR / f"{cfg.name}.log"):

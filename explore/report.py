@@ -119,6 +119,14 @@ def plot_knobs(rows: list[dict], path: Path) -> None:
 HELD_OUT_HEAD = "## The named configurations on the held-out corpus"
 
 
+def _corpus_cell(r: dict) -> str:
+    """A point's held-out corpus figures (explore.measure with opts corpus), or '-' when it has none."""
+    c = r.get("corpus")
+    if not c or c.get("min") is None:
+        return "-"
+    return f"{c['min']:.1f} / {c['p5']:.1f} / {c['share_at_db']:.0%} ({c['covered']} scenes)"
+
+
 def held_out_section(docs: Path) -> list[str]:
     """The held-out figures of the named configurations (docs/validation/<name>.json, `make validate`),
     to stand next to the eight scenes' figures above."""
@@ -180,10 +188,11 @@ def write(res: dict, out: Path | None = None, docs: Path | None = None) -> Path:
          "![GE against worst-scene PSNR](images/tradeoffs.png)", "",
          "## The Pareto front", "",
          "No other configuration has fewer gates and a better worst scene.", "",
-         "| configuration | GE | worst PSNR vs reference (dB) | worst PSNR vs truth (dB) | slowest px/clock | logic depth |",
-         "|---|---|---|---|---|---|"]
+         "| configuration | GE | worst PSNR vs reference (dB) | worst PSNR vs truth (dB) | slowest px/clock | logic depth "
+         "| held-out corpus: worst / 5% / share at 50 dB |",
+         "|---|---|---|---|---|---|---|"]
     L += [f"| {r['label']} | {r['ge_total']:,.0f} | {r['worst_psnr_ref_db']:.1f} | {r['worst_psnr_truth_db']:.1f} | "
-          f"{r['min_pixels_per_clock']:.3g} | {r['logic_depth']} |" for r in front]
+          f"{r['min_pixels_per_clock']:.3g} | {r['logic_depth']} | {_corpus_cell(r)} |" for r in front]
     L += [""] + held_out_section(docs)
     L += ["## What one step of a knob costs", "",
           "Against its base (the worst scene, PSNR against the float reference); negative GE is a saving.", "",
@@ -198,18 +207,18 @@ def write(res: dict, out: Path | None = None, docs: Path | None = None) -> Path:
     L += ["", "## Every point", "",
           "PSNR per scene against the float reference (dB); GE; bit-exact: the Verilator check.", "",
           "| configuration | status | GE | comb | seq | depth | px/clock | " + " | ".join(scenes)
-          + " | worst vs truth | max err (LSB) | bit-exact |",
-          "|---|---|---|---|---|---|---|" + "---|" * len(scenes) + "---|---|---|"]
+          + " | worst vs truth | max err (LSB) | bit-exact | held-out: worst / 5% / at 50 dB |",
+          "|---|---|---|---|---|---|---|" + "---|" * len(scenes) + "---|---|---|---|"]
     for r in recs:
         if r["status"] == "failed":
-            L.append(f"| {r['label']} | failed | " + " | ".join(["-"] * (6 + len(scenes) + 3)) + " |")
+            L.append(f"| {r['label']} | failed | " + " | ".join(["-"] * (6 + len(scenes) + 4)) + " |")
             continue
         sc = r["scenes"]
         L.append(f"| {r['label']} | {r['status']} | {r['ge_total']:,.0f} | {r['ge_comb']:,.0f} | {r['ge_seq']:,.0f} | "
                  f"{r['logic_depth']} | {r['min_pixels_per_clock']:.3g} | "
                  + " | ".join(f"{sc[s]['psnr_ref_db']:.1f}" for s in scenes)
                  + f" | {r['worst_psnr_truth_db']:.1f} | {max(v['max_error_lsb'] for v in sc.values())} | "
-                 f"{'yes' if r['rtl']['bit_exact'] else 'NO'} ({r['rtl']['pixels']} px) |")
+                 f"{'yes' if r['rtl']['bit_exact'] else 'NO'} ({r['rtl']['pixels']} px) | {_corpus_cell(r)} |")
     bad = [r for r in recs if r["status"] != "ok"]
     if bad:
         L += ["", "## Points that failed, and why", ""] + [f"- {r['label']}: {r['error']}" for r in bad]

@@ -86,13 +86,19 @@ def _run_points(client, pts: list[dict], opts: dict, pdir: Path, src: str, progr
 
 def sweep(size: int = 256, rtl_size: int = 32, points: int | None = None, scenes=SCENES, jobs: int = 2,
           scheduler: str | None = None, out: Path | None = None, docs: bool = True, refine: bool = True,
-          progress: bool = True, plan: str = "full", docs_dir: Path | None = None) -> dict:
+          progress: bool = True, plan: str = "full", docs_dir: Path | None = None,
+          corpus_n: int = 40, corpus_size: int = 32) -> dict:
     t0 = time.perf_counter()
     out = out or ROOT / "out" / "explore"
     pdir = out / "points"
     pdir.mkdir(parents=True, exist_ok=True)
     opts = {"scenes": list(scenes), "size": size, "rtl_scenes": [s for s in RTL_SCENES if s in scenes] or list(scenes[:2]),
             "rtl_size": rtl_size, "rtl": True, "truth_ss": TRUTH_SS, "truth_band_ss": TRUTH_BAND_SS}
+    if corpus_n:  # every point also on the held-out corpus (written once here, read by every worker)
+        from explore.validate import HELDOUT_SEED, corpus_dir
+
+        corpus_dir(HELDOUT_SEED, corpus_n, True)
+        opts["corpus"] = {"n": corpus_n, "size": corpus_size}
     src = measure.source_hash()
     pts = space.plan(plan)
     pts = pts[:points] if points else pts
@@ -162,6 +168,8 @@ def main(argv=None) -> int:
     ap.add_argument("--plan", choices=("full", "test"), default="full",
                     help="full: explore/space.py's plan; test: three cheap points (the machinery's test)")
     ap.add_argument("--docs", type=Path, default=None, help="where tradeoffs.md and its images go (default docs/)")
+    ap.add_argument("--corpus", type=int, default=40, help="held-out corpus scenes every point is measured on (0: none)")
+    ap.add_argument("--corpus-size", type=int, default=32)
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
     a = ap.parse_args(argv)
 
@@ -169,6 +177,8 @@ def main(argv=None) -> int:
         check_range("--size", a.size, 8, 1024)
         check_range("--rtl-size", a.rtl_size, 2, 512)
         check_range("--jobs", a.jobs, 1, 64)
+        check_range("--corpus", a.corpus, 0, 10000)
+        check_range("--corpus-size", a.corpus_size, 8, 512)
         if a.points is not None:
             check_range("--points", a.points, 1, 100000)
         scenes = tuple(s.strip() for s in a.scenes.split(",") if s.strip())
@@ -176,7 +186,7 @@ def main(argv=None) -> int:
         if bad or not scenes:
             raise UserError(f"--scenes: unknown scene '{bad[0] if bad else a.scenes}' (expected some of {', '.join(SCENES)})")
         res = sweep(a.size, a.rtl_size, a.points, scenes, a.jobs, a.scheduler, a.out, not a.no_docs,
-                    not a.no_refine, not a.quiet, a.plan, a.docs)
+                    not a.no_refine, not a.quiet, a.plan, a.docs, a.corpus, a.corpus_size)
         print(json.dumps(res["summary"], indent=1))
         return 0 if res["summary"]["points"] else 1
 

@@ -353,6 +353,60 @@ def run(config: str, n: int, size: int, rtl: int, rtl_size: int, jobs: int, sche
     return summ
 
 
+_CQ_PASSES: dict = {}
+_CQ_REFS: dict = {}
+
+
+def corpus_quality(cfg, seed: int = HELDOUT_SEED, n: int = 40, size: int = 32, db: float = 50.0,
+                   root: Path | None = None) -> dict:
+    """A configuration on a corpus against the float reference only (no truth: cheap enough for
+    every sweep point): scenes accepted and covered (filtered), the covered scenes' PSNR min, 5th
+    percentile and median, and the share at `db`. The ray casting and the reference (which depend
+    on the scene and the lattice only) are cached per process."""
+    from model import reference
+    from model.hw import golden
+    from model.hw.quantize import FormatError
+    from model.imageio import compare
+    from model.scene.frontend import render_passes
+    from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations
+    from model.scene.scene import load_scene
+
+    d = corpus_dir(seed, n, seed == HELDOUT_SEED, (Path(root) if root else ROOT / "out") / "corpus")
+    vals, acc = [], 0
+    for e in load_index(d):
+        key = (str(e["path"]), size)
+        if key not in _CQ_PASSES:
+            sc = load_scene(e["path"])
+            W, H = frame_size(sc, size)
+            _CQ_PASSES[key] = (sc, W, H, render_passes(sc, W, H))
+        sc, W, H, passes = _CQ_PASSES[key]
+        try:
+            pds = prepare_passes(cfg, passes)
+        except FormatError:
+            continue
+        if [a for a in scene_approximations(pds, quantized=False) if " box filter replaced by " not in a]:
+            continue
+        acc += 1
+        if e["tags"].get("unfiltered"):
+            continue
+        rk = (*key, cfg.seed, cfg.hash_bits)
+        if rk not in _CQ_REFS:
+            _CQ_REFS[rk] = composite([(pd.mask, reference.shade(pd.tex, pd.s, pd.J, cfg.perm, cfg.hash_bits))
+                                      for pd in pds], (H, W), sc.background)
+        g = composite([(pd.mask, golden.texture_pipeline(cfg, pd.ti, pd.si, pd.Jm, pd.je)) for pd in pds], (H, W),
+                      sc.background)
+        t = np.zeros((H, W), bool)
+        for pd in pds:
+            t |= pd.mask
+        if t.any():
+            c = compare(np.rint(g[t]), _CQ_REFS[rk][t])["psnr_db"]
+            vals.append(200.0 if c is None else c)
+    v = np.array(vals)
+    return {"seed": seed, "n": n, "size": size, "accepted": acc, "covered": len(v),
+            "min": round(float(v.min()), 2) if len(v) else None, "p5": _pct(v, 5), "median": _pct(v, 50),
+            "db": db, "share_at_db": round(float((v >= db).mean()), 4) if len(v) else None}
+
+
 def _parse_step(text: str) -> dict:
     ch = {}
     for item in text.split(","):

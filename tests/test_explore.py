@@ -18,7 +18,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 PY = sys.executable
 SWEEP = ["-m", "explore.sweep", "--plan", "test", "--size", "8", "--rtl-size", "4", "--scenes", "zone_plate,marble",
-         "--jobs", "1", "--quiet"]
+         "--jobs", "1", "--quiet", "--corpus", "6", "--corpus-size", "8"]
 
 
 def _run(args, env=None, timeout=900):
@@ -52,6 +52,9 @@ def test_sweep_records_every_point(swept):
         assert r["rtl"]["bit_exact"] and r["rtl"]["pixels"] > 0
         assert set(r["scenes"]) == {"zone_plate", "marble"}
         assert all(v["pixels_per_clock"] == 1.0 for v in r["scenes"].values())  # reduced: one pixel a clock
+        # issue 26: every point also measured on the held-out corpus (6 random scenes and the hard cases)
+        c = r["corpus"]
+        assert c["n"] == 6 and c["size"] == 8 and 0 < c["accepted"] and c["covered"] <= c["accepted"]
         assert r["config"]["name"] if "name" in r["config"] else True
     # the step changes only colour_map's parameters: every other block came from the cache
     assert step["blocks_cached"] >= 3 and step["blocks_synthesized"] <= 2, step
@@ -64,6 +67,7 @@ def test_sweep_writes_tradeoffs(swept):
     out, res, _ = swept
     md = (out / "docs" / "tradeoffs.md").read_text()
     assert "## The Pareto front" in md and "reduced div_bits-2" in md and "w_cap_log2" in md
+    assert "held-out corpus: worst / 5% / share at 50 dB" in md
     for png in ("tradeoffs.png", "tradeoffs_knobs.png"):
         assert (out / "docs" / "images" / png).stat().st_size > 10_000
 
