@@ -116,7 +116,7 @@ def plot_knobs(rows: list[dict], path: Path) -> None:
     write_figure(path, fig)
 
 
-HELD_OUT_HEAD = "## The named configurations on the held-out corpus"
+HELD_OUT_HEAD = "## The configurations on the held-out corpus"
 
 
 def _corpus_cell(r: dict) -> str:

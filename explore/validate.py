@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-from model.hw.config import ROOT, STAMP, ConfigError, config_hash, load_config
+from model.hw.config import ROOT, STAMP, ConfigError, config_hash, load_config, rel_path
 from model.scene.corpus import FIT_SEED, HELDOUT_SEED, load_index, write_corpus
 
 CORPUS_DIR = ROOT / "out" / "corpus"
@@ -214,8 +214,7 @@ def summarize(cfg, results: list[dict], n: int, size: int) -> dict:
                                                           else "psnr_truth"] < promise["psnr_db"]))}
     key = "psnr_ref" if not promise or promise["against"] == "reference" else "psnr_truth"
     worst = sorted(cov, key=lambda r: r[key])[:10]
-    return {"config": cfg.name, "config_path": str(Path(cfg.path).resolve().relative_to(ROOT))
-            if Path(cfg.path).resolve().is_relative_to(ROOT) else cfg.path,
+    return {"config": cfg.name, "config_path": rel_path(cfg.path),
             "config_hash": config_hash(cfg), "source_hash": source_hash(), "corpus_seed": HELDOUT_SEED, "n": n,
             "hard_cases": True, "size": size, "scenes": len(results), "accepted": len(acc), "covered": len(cov), "rejected": len(rej),
             "rejections": sorted(groups.values(), key=lambda g: -g["count"]), "psnr": stats, "promise": promise,
@@ -239,15 +238,18 @@ def write_doc(summary_dir: Path = SUMMARY_DIR, doc: Path = DOC) -> None:
          "The promise covers the accepted scenes whose textures are all filtered (`covered`): a point-sampled table "
          "changes colour wherever f crosses an entry boundary, so the smallest rounding of f flips whole pixels (up to "
          "255 LSB on a random table); the unfiltered ones are measured apart, in each configuration's section.", "",
-         "| configuration | hash | scenes | accepted | covered | PSNR vs reference: min / 5% / median | vs truth: "
+         "GE is `make synth`'s total (synth/reports/<name>.json) where the configuration has a report.", "",
+         "| configuration | hash | GE | scenes | accepted | covered | PSNR vs reference: min / 5% / median | vs truth: "
          "min / 5% / median | promise | kept | RTL bit-exact |",
-         "|---|---|---|---|---|---|---|---|---|---|"]
+         "|---|---|---|---|---|---|---|---|---|---|---|"]
     for s in sums:
         p, h, rtl = s["promise"], s["promise_result"], s.get("rtl") or {}
         ps = f"{p['psnr_db']} dB vs {p['against']} on {p['share']:.0%}" if p else "none stated"
         kept = (f"{h['keep']}/{h['of']} ({h['share']:.1%}) {'**holds**' if h['holds'] else '**broken**'}" if h else "-")
         r, t = s["psnr"]["reference"], s["psnr"]["truth"]
-        L.append(f"| {s['config']} | {s['config_hash']} | {s['scenes']} at {s['size']} px | {s['accepted']} | "
+        rp = ROOT / "synth" / "reports" / f"{s['config']}.json"
+        ge = f"{json.loads(rp.read_text())['ge_total']:,.0f}" if rp.is_file() else "-"
+        L.append(f"| {s['config']} | {s['config_hash']} | {ge} | {s['scenes']} at {s['size']} px | {s['accepted']} | "
                  f"{s.get('covered', '-')} | "
                  f"{r['min']} / {r['p5']} / {r['median']} | {t['min']} / {t['p5']} / {t['median']} | {ps} | {kept} | "
                  + (f"{rtl['exact']}/{rtl['scenes']} scenes, {rtl['pixels']:,} pixels" if rtl else "-") + " |")
@@ -520,7 +522,8 @@ def main(argv=None) -> int:
             cmd = (f"python -m explore.validate steps --config {a.config} --seed {a.seed} --n {a.n} --size {a.size} "
                    + " ".join(f"--step {t}" for t in a.step))
             (sd / f"{cfg.name}.json").write_text(json.dumps(
-                {"config": cfg.name, "config_hash": config_hash(cfg), "seed": a.seed, "n": a.n, "size": a.size,
+                {"config": cfg.name, "config_path": rel_path(cfg.path), "config_hash": config_hash(cfg), "seed": a.seed,
+                 "n": a.n, "size": a.size,
                  "command": cmd, "rows": rows}, indent=1) + "\n")
             write_doc()
         print(f"PSNR (dB) against the float reference, corpus seed {a.seed} (filtered scenes), {a.size} px, "
