@@ -36,7 +36,7 @@ from app.common import add_truth_args, check_truth_args, git_describe
 from hdlbuild import need_tool
 from model.cli import Parser, UserError, check_config, config_label, check_range, progress_bar, run_main, staged
 from model.hw import golden
-from model.hw.config import CONFIG_NAMES, ROOT, load_config
+from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, load_config
 from model.imageio import compare
 from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations, scene_path, to8
 from model.scene import truth as T
@@ -300,7 +300,8 @@ def write_docs(rep: dict, docs: Path) -> None:
                      f"{x.get('flicker_filtered_lsb', '-')} | {x.get('flicker_unfiltered_lsb', '-')} | "
                      f"{x['truth_moves_band_db']} |")
         L.append("")
-    (docs / "animation.md").write_text("\n".join(L))
+    L.append(doc_stamp(sorted({r["config"] for r in reps.values()})))
+    (docs / "animation.md").write_text("\n".join(L) + "\n")
 
 
 def main(argv=None) -> int:

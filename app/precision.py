@@ -30,7 +30,7 @@ import numpy as np
 
 from model import reference
 from model.hw import golden
-from model.hw.config import CONFIG_NAMES, ROOT, ConfigError, load_config, variant
+from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, ConfigError, load_config, variant
 from model.hw.quantize import FormatError
 from model.imageio import compare, contact_sheet, write_image
 from app.common import git_describe
@@ -234,7 +234,8 @@ def write_docs(rep: dict, images: dict, docs: Path) -> None:
         L += ["", "Variants that are not valid or that the scene does not fit:", ""]
         L += [f"- {c} s_frac {x['s_frac']}: {x['error']}" for c, x in errs]
     L.append("")
-    (docs / "precision.md").write_text("\n".join(L))
+    L.append(doc_stamp(list(rep["configs"])))
+    (docs / "precision.md").write_text("\n".join(L) + "\n")
 
 
 def main(argv=None) -> int:

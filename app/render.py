@@ -22,7 +22,7 @@ import numpy as np
 
 from model import reference
 from model.hw import golden
-from model.hw.config import CONFIG_NAMES, ROOT, load_config
+from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, load_config
 from model.imageio import compare, contact_sheet, write_image
 from app.common import add_truth_args, check_truth_args, git_describe
 from model.cli import (Parser, UserError, check_config, config_label, check_range, memory_available, progress_bar, resolve_scene,
@@ -268,7 +268,8 @@ def write_scenes_md(reps: list[dict], size: int, docs: Path = ROOT / "docs", tru
                      f"{f(cv['all'].get('psnr_db'))} / {f(cv['band'].get('psnr_db'))}; {f(cv['all'].get('max_abs_lsb'))} | "
                      f"{f(mg.get('all'))} / {f(mg.get('band'))} | {used} | {r['seconds']} |")
         L.append("")
-    (docs / "scenes.md").write_text("\n".join(L))
+    L.append(doc_stamp(sorted({r["config"] for r in reps})))
+    (docs / "scenes.md").write_text("\n".join(L) + "\n")
 
 
 def main(argv=None) -> int:

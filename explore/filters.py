@@ -174,9 +174,12 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
     L += ["", "Goals (issue 15): in the horizon band at least 6 dB above unfiltered on the seascape (full); flicker "
               "in the band at most half the unfiltered animation's; on every scene the whole image no worse than "
               "the box filter. The table above gives each figure as measured; docs/numerics.md has the formats.", ""]
+    from model.hw.config import doc_stamp
+
+    L.append(doc_stamp(list(configs)))
     out = docs / "filters.md"
     tmp = out.with_name(".filters.md")
-    tmp.write_text("\n".join(L))
+    tmp.write_text("\n".join(L) + "\n")
     tmp.replace(out)
     (docs / "images" / "filters.json").write_text(json.dumps(
         {"scenes": {f"{c}/{s}": v for (c, s), v in rows.items()},

@@ -225,9 +225,12 @@ def write(res: dict, out: Path | None = None, docs: Path | None = None) -> Path:
     L += ["", "## Reproduce", "", "    make explore                 # the sweep (JOBS= workers; DASK_SCHEDULER_ADDRESS= or "
           "EXPLORE_FLAGS=--scheduler tcp://HOST:PORT for a cluster)",
           "    python -m explore.report     # this page again from out/explore/results.json", ""]
+    from model.hw.config import doc_stamp
+
+    L.append(doc_stamp(list(space.NAMED)))
     docs.mkdir(parents=True, exist_ok=True)
     p = docs / "tradeoffs.md"
-    p.write_text("\n".join(L))
+    p.write_text("\n".join(L) + "\n")
     return p
 
 

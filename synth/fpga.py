@@ -45,7 +45,7 @@ from pathlib import Path
 
 from hdlbuild import ROOT, gen_dir
 from model.cli import Parser  # one-line errors, exit 2
-from model.hw.config import CONFIG_NAMES, clocks_per_pixel, latency, load_config, variant
+from model.hw.config import CONFIG_NAMES, clocks_per_pixel, doc_stamp, latency, load_config, variant
 from synth import dsp_regs
 
 REPORTS = ROOT / "synth" / "reports"
@@ -473,8 +473,9 @@ def write_doc() -> Path:
                          "device or fewer multipliers.")
     tools = next((r["tools"] for r in reps if r.get("tools")), {})
     L += ["", "Tools: " + ", ".join(f"{k} {v}" for k, v in tools.items()) + ". Logs: build/fpga/<name>/.", ""]
+    L.append(doc_stamp(sorted({str(r.get("config", "")) for r in reps})))
     DOC.parent.mkdir(parents=True, exist_ok=True)
-    DOC.write_text("\n".join(L))
+    DOC.write_text("\n".join(L) + "\n")
     return DOC
 
 

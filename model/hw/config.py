@@ -514,7 +514,13 @@ def doc_stamp(configs, rtl: bool = True) -> str:
     """The line a generated doc ends with: the hash of each configuration it measured (and of rtl/),
     as `<!-- measured on: full=<hash> reduced=<hash> rtl=<hash> -->`;
     tests/test_validate.py fails when a configuration changed since (rerun the doc's command)."""
-    parts = [f"{c.name}={config_hash(c)}" for c in configs]
+    cfgs = []
+    for c in configs:  # Configs, or names (a name that is no configuration file, e.g. "compact-fpga", is skipped)
+        if isinstance(c, Config):
+            cfgs.append(c)
+        elif is_config_file(str(c)) and all(x.name != c for x in cfgs):
+            cfgs.append(load_config(str(c)))
+    parts = [f"{c.name}={config_hash(c)}" for c in cfgs]
     return f"{STAMP} {' '.join(parts)}{' rtl=' + rtl_source_hash() if rtl else ''} -->"
 
 
