@@ -36,13 +36,14 @@
 // later. After rst every parameter register is 0 (the tables are not reset). Write the
 // parameters while no pixel is in flight; they are held, unchanged, during a pass.
 //
-// Pipeline: quadric_mac and K noise_term instances in parallel on s, a registered adder tree
-// (sum_tree) of arity 4 for f (TREE_LEVELS = ceil(log4(K+1)) stages), filter_width, then colour_map.
+// Pipeline: quadric_mac and K noise_term instances (noise_leaves, which also makes the adder
+// tree's leaves) in parallel on s, a registered adder tree (sum_tree) of arity 4 for f
+// (TREE_LEVELS = ceil(log4(K+1)) stages), filter_width, then colour_map.
 // With the noise gradient (NOISE_GRADIENT 1: grad f = grad q + sum a_i grad n_i), the
 // tree also sums the gradients and filter_width follows it; the quadric's input waits so that
 // its outputs meet the terms'. Without it (grad f = grad q), filter_width runs on the
 // quadric's gradient in parallel with the noise terms, and q waits for the terms instead.
-// f (in fewer bits, see below) or w waits for the other before colour_map; Jm, je and tlast
+// f (in fewer bits) or w waits for the other before colour_map (cm_align); Jm, je and tlast
 // travel in delay lines (delay_line) beside the data. Every
 // register of the datapath shares one clock enable
 //   ce = rst | !cm_valid | skid_ready
@@ -55,7 +56,7 @@
 //
 // Latency: LATENCY = T_CM + LAT_COLOUR_MAP enabled clocks from s_axis to the colour_map output,
 // T_CM = max(T_F, T_WD) = max(LAT_FRONT + TREE_LEVELS, DLY_J + LAT_FILTER_WIDTH) (below; sat_fc:
-// LAT_FC_SCALE more in the terms and one more after filter_width), plus one clock in the
+// LAT_FC_SCALE more in the terms and LAT_FC_WMAX after filter_width), plus one clock in the
 // skid buffer. Throughput: one pixel per clock while m_axis_tready is held high.
 // Reset: synchronous, active high; clears every valid bit, the output registers, the
 // parameter registers and the staging register (no output is X after reset).
@@ -131,8 +132,6 @@ localparam CUBIC  = BLEND;
 localparam POW2T  = TRANSFORM;
 localparam O_W    = HASH_BITS + P_FRAC;                                        // noise offset word
 localparam QF_W   = tw_qf_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC);           // quadric value
-localparam AN_W   = tw_an_w(A_W, A_FRAC, N_FRAC, F_FRAC);                      // a_i n_i
-localparam AG_W   = tw_ag_w(CUBIC, POW2T, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC); // a_i grad n_i
 localparam F_W    = tw_f_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC, K, A_W, A_FRAC, N_FRAC); // f (exact sum)
 localparam C_W    = tw_c_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, C_FRAC, K, NOISE_GRADIENT, CUBIC, POW2T, T_W,
                            T_FRAC, N_FRAC, A_W, A_FRAC);                       // grad f (exact sum)
@@ -178,7 +177,6 @@ localparam LAT_FCS     = FCL ? `LAT_FC_SCALE : 0;                        // sat_
 localparam LAT_NF      = FPGA_REGS ? `LAT_NOISE_FOLD_FPGA   : `LAT_NOISE_FOLD;
 localparam LAT_NS      = FOLD ? LAT_NT + LAT_NF : LAT_NT + LAT_FCS;      // noise leaves (noise_fold: + LAT_NF)
 localparam LAT_FRONT   = (K > 0 && LAT_NS > LAT_QM) ? LAT_NS : LAT_QM;  // q and the terms meet here
-localparam DLY_N       = LAT_FRONT - LAT_NS;                             // extra stages for an, ag
 localparam TREE_LEVELS = tw_tree_levels(NLEAF + 1, `SUM_TREE_ARITY);     // adder tree (sum_tree) stages
 localparam T_F         = LAT_FRONT + TREE_LEVELS;                        // f (and c) out of the tree
 // With the noise gradient (NG), grad f = grad q + sum a_i grad n_i comes out of the tree with
@@ -190,10 +188,8 @@ localparam DLY_Q       = NG ? LAT_FRONT - LAT_QM : 0;                    // quad
 localparam DLY_QO      = NG ? 0 : LAT_FRONT - LAT_QM;                    // quadric q output delay
 localparam DLY_J       = NG ? T_F : LAT_QM;                              // Jm, je to filter_width
 localparam T_FW        = DLY_J + LAT_FW;                                 // w out of filter_width
-localparam T_WD        = T_FW + (FCL ? 1 : 0);                           // sat_fc: then max(w, wv), a register
+localparam T_WD        = T_FW + (FCL ? `LAT_FC_WMAX : 0);                // sat_fc: then max(w, wv) (cm_align)
 localparam T_CM        = (T_WD > T_F) ? T_WD : T_F;                       // colour_map input
-localparam DLY_F       = T_CM - T_F;                                     // f waits for w
-localparam DLY_W       = T_CM - T_WD;                                    // or w waits for f
 // total latency to the colour_map output (the skid buffer adds one more clock); for readers
 // and waveform viewers only, nothing below needs it
 /* verilator lint_off UNUSEDPARAM */
@@ -248,7 +244,6 @@ tex_regs #(
     .tbl_wr_data(tbl_wr_data_reg)
 );
 
-genvar gi;
 
 // What the blocks read of the parameters: with a diagonal quadric B, C, F are 0 (quantize
 // guarantees it) and quadric_mac does not read them; with pow2 transforms the off-diagonal
@@ -393,140 +388,33 @@ quadric_mac #(
     .cq_out(qm_cq)
 );
 
-// Each term's outputs and the quadric's, sign-extended to the exact-sum widths, are the
-// leaves of the adder trees (sum_tree: f, and with NG the three components of c), leaf 0
-// the quadric and leaf 1 + k noise term k. (Sign extension happens inside processes, not in
-// net concatenations, for event-driven simulation speed.)
-
 // !NG: q (and its valid) wait DLY_QO stages for the terms; its gradient goes to filter_width
 wire [QF_W-1:0] qo_q;
 wire            qo_valid;
 delay_line #(.W(QF_W), .N(DLY_QO))        u_dly_qo (.clk(clk), .rst(rst), .ce(ce), .d_in(qm_q), .d_out(qo_q));
 delay_line #(.W(1), .N(DLY_QO), .CLEAR(1)) u_dly_qov (.clk(clk), .rst(rst), .ce(ce), .d_in(qm_valid),
                                                        .d_out(qo_valid));
-wire sum_in_valid;  // every block of the front agrees on validity (shared in_valid and ce)
-// the leaves of the adder trees: leaf i at [i*F_W +: F_W], [i*3*C_W +: 3*C_W]
+// the leaves of the adder trees (noise_leaves: the K noise terms, faded with sat_fc, or
+// noise_fold's sum, and the quadric's, sign-extended): leaf i at [i*F_W +: F_W], [i*3*C_W +: 3*C_W]
+wire                       sum_in_valid;
 wire [(NLEAF+1)*F_W-1:0]   f_leaves;
 /* verilator lint_off UNUSEDSIGNAL */  // !NG: no gradient tree
 wire [(NLEAF+1)*3*C_W-1:0] c_leaves;
 /* verilator lint_on UNUSEDSIGNAL */
-
-// sign extension to the exact-sum widths (F_W >= QF_W, AN_W; C_W >= AG_W: exact-sum bounds)
-localparam FX_Q = F_W - QF_W;  // sign bits added to q
-localparam LN_W = FOLD ? F_W : AN_W;  // a noise leaf: a_i n_i, or noise_fold's sum
-localparam LG_W = FOLD ? C_W : AG_W;  // its gradient components
-localparam FX_N = F_W - LN_W;         // sign bits added to a noise leaf
-localparam CX_N = C_W - LG_W;         // to each of its gradient components
-
-generate
-    for (gi = 0; gi < NLEAF; gi = gi + 1) begin : g_term
-        wire [LN_W-1:0]   an;
-        wire [3*LG_W-1:0] ag;
-        wire              nt_valid;
-        if (FOLD) begin : g_folded
-            assign an       = fold_f;
-            assign ag       = fold_c;
-            assign nt_valid = fold_valid;
-        end else begin : g_unit
-            // a term past the texture's k_used contributes nothing (a = 0), as noise_fold skips it
-            wire [A_W-1:0] a_k = (gi < k_used_reg) ? a_all_reg[gi*A_W +: A_W] : {A_W{1'b0}};
-            wire [LN_W-1:0]   nt_an;
-            wire [3*LG_W-1:0] nt_ag;
-            wire              nt_out_valid;
-            noise_term #(
-                .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
-                .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
-                .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
-                .FPGA_REGS(FPGA_REGS), .PERM(PERM)
-            ) u_noise_term (
-                .clk(clk), .rst(rst), .ce(ce),
-                .in_valid(px_valid),
-                .s_in(px_s),
-                .a_in(a_k),
-                .t_in(t_use[gi*9*T_W +: 9*T_W]),
-                .o_in(o_all_reg[gi*3*O_W +: 3*O_W]),
-                .out_valid(nt_out_valid),
-                .an_out(nt_an),
-                .ag_out(nt_ag)
-            );
-            if (FCL) begin : g_fc
-                // sat_fc: the term faded by its alpha (fc_weight's, delayed to the term's output)
-                fc_scale #(.AN_W(LN_W), .AG_W(LG_W), .AF(FC_AF), .NOISE_GRADIENT(NOISE_GRADIENT)) u_fc_scale (
-                    .clk(clk), .rst(rst), .ce(ce),
-                    .in_valid(nt_out_valid),
-                    .alpha(fc_alpha_d[gi*(FC_AF+1) +: FC_AF+1]),
-                    .an_in(nt_an), .ag_in(nt_ag),
-                    .out_valid(nt_valid), .an_out(an), .ag_out(ag)
-                );
-            end else begin : g_nofc
-                assign an       = nt_an;
-                assign ag       = nt_ag;
-                assign nt_valid = nt_out_valid;
-            end
-        end
-        // delayed to LAT_FRONT (normally DLY_N = 0)
-        wire [LN_W-1:0]   an_d;
-        wire [3*LG_W-1:0] ag_d;
-        wire              v_d;
-        delay_line #(.W(LN_W), .N(DLY_N))           u_dly_an (.clk(clk), .rst(rst), .ce(ce), .d_in(an), .d_out(an_d));
-        delay_line #(.W(3*LG_W), .N(DLY_N))         u_dly_ag (.clk(clk), .rst(rst), .ce(ce), .d_in(ag), .d_out(ag_d));
-        delay_line #(.W(1), .N(DLY_N), .CLEAR(1))   u_dly_v  (.clk(clk), .rst(rst), .ce(ce), .d_in(nt_valid),
-                                                              .d_out(v_d));
-        wire v_all;  // this term's valid and all before it
-        if (gi == 0) begin : g_v0
-            assign v_all = v_d & qo_valid;
-        end else begin : g_vn
-            assign v_all = v_d & g_term[gi-1].v_all;
-        end
-    end
-
-    if (NLEAF == 0) begin : g_v_q
-        assign sum_in_valid = qo_valid;
-    end else begin : g_v_terms
-        assign sum_in_valid = g_term[NLEAF-1].v_all;
-    end
-
-    // sign extension in processes (a net concatenation would be rebuilt bit by bit)
-    for (gi = 0; gi <= NLEAF; gi = gi + 1) begin : g_leaf
-        wire [F_W-1:0]   f;
-        wire [3*C_W-1:0] c;
-        if (gi == 0) begin : g_q
-            reg [F_W-1:0] f_x;
-            if (FX_Q > 0) begin : g_fx
-                always @* f_x = {{FX_Q{qo_q[QF_W-1]}}, qo_q};
-            end else begin : g_f
-                always @* f_x = qo_q;
-            end
-            assign f = f_x;
-            // !NG: the tree carries no gradient (the quadric's goes to filter_width)
-            assign c = NG ? qm_cq : {3*C_W{1'b0}};
-        end else begin : g_n
-            wire [LN_W-1:0]   an = g_term[gi-1].an_d;
-            /* verilator lint_off UNUSEDSIGNAL */  // !NG: the terms' ag outputs are 0, not summed
-            wire [3*LG_W-1:0] ag = g_term[gi-1].ag_d;
-            /* verilator lint_on UNUSEDSIGNAL */
-            reg [F_W-1:0] f_x;
-            if (FX_N > 0) begin : g_fx
-                always @* f_x = {{FX_N{an[LN_W-1]}}, an};
-            end else begin : g_f
-                always @* f_x = an;
-            end
-            assign f = f_x;
-            if (NG && CX_N > 0) begin : g_cx
-                reg [3*C_W-1:0] c_x;
-                always @* c_x = {{CX_N{ag[3*LG_W-1]}}, ag[2*LG_W +: LG_W], {CX_N{ag[2*LG_W-1]}}, ag[LG_W +: LG_W],
-                                 {CX_N{ag[LG_W-1]}}, ag[0 +: LG_W]};
-                assign c = c_x;
-            end else if (NG) begin : g_c
-                assign c = ag;
-            end else begin : g_c0
-                assign c = {3*C_W{1'b0}};
-            end
-        end
-        assign f_leaves[gi*F_W +: F_W]       = f;
-        assign c_leaves[gi*3*C_W +: 3*C_W]   = c;
-    end
-endgenerate
+noise_leaves #(
+    .QUADRIC(QUADRIC), .NOISE_TERMS(K), .NOISE_UNITS(U), .FC(FCL ? 1 : 0), .FC_LOG_FRAC(FC_LOG_FRAC),
+    .FC_FADE_LOG2(FC_FADE_LOG2), .LATENCY(LAT_FRONT), .S_W(S_W), .S_FRAC(S_FRAC), .Q_W(Q_W), .Q_FRAC(Q_FRAC),
+    .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC), .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS),
+    .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC), .TRANSFORM(TRANSFORM), .BLEND(BLEND),
+    .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT), .FPGA_REGS(FPGA_REGS), .PERM(PERM)
+) u_noise_leaves (
+    .clk(clk), .rst(rst), .ce(ce),
+    .in_valid(px_valid), .s_in(px_s),
+    .k_used(k_used_reg), .a_all(a_all_reg), .t_all(t_use), .o_all(o_all_reg), .alpha(fc_alpha_d),
+    .fold_valid(fold_valid), .fold_f(fold_f), .fold_c(fold_c),
+    .q_valid(qo_valid), .q_in(qo_q), .cq_in(qm_cq),
+    .out_valid(sum_in_valid), .f_leaves(f_leaves), .c_leaves(c_leaves)
+);
 
 // ---------------------------------------------------------------------------
 // Adder trees (sum_tree, TREE_LEVELS register levels): f = q + sum a_i n_i over the leaves,
@@ -593,71 +481,23 @@ filter_width #(
 );
 
 
-// While it waits, f is carried in FC_W <= F_W bits: colour_map reads only f mod 1 in mod mode
-// (the low F_FRAC bits), and in clamp mode compares f with thresholds inside
-// [-2^GUARD, 2^F_FRAC + 2^GUARD], GUARD = W_CAP_LOG2 + F_FRAC - 1, so saturating f to
-// +-2^(GUARD+1) there changes no result. mode_reg is static during a pass.
-localparam GUARD = W_CAP_LOG2 + F_FRAC - 1;
-localparam FC_W  = (DLY_F > 0 && GUARD + 3 < F_W) ? GUARD + 3 : F_W;
-wire [FC_W-1:0] f_carry;
-generate
-    if (FC_W < F_W) begin : g_fsat
-        wire signed [F_W-1:0] f_s   = f_sum;
-        wire signed [F_W-1:0] f_top = {{(F_W-GUARD-2){1'b0}}, 1'b1, {(GUARD+1){1'b0}}};  //  2^(GUARD+1)
-        wire signed [F_W-1:0] f_bot = -f_top;                                              // -2^(GUARD+1)
-        // above FC_W: sign copies of a value that fits FC_W (not read)
-        /* verilator lint_off UNUSEDSIGNAL */
-        wire [F_W-1:0] f_clip = (f_s > f_top) ? f_top : (f_s < f_bot) ? f_bot : f_sum;
-        /* verilator lint_on UNUSEDSIGNAL */
-        assign f_carry = mode_reg ? f_clip[FC_W-1:0] : f_sum[FC_W-1:0];
-    end else begin : g_fwhole
-        assign f_carry = f_sum;
-    end
-endgenerate
-
-// sat_fc: w = max(w, wv), one register (T_WD = T_FW + 1)
-wire [W_W-1:0] wd_w;
-wire           wd_valid;
-generate
-    if (FCL) begin : g_wmax
-        reg [W_W-1:0] w_reg;
-        reg           v_reg;
-        always @(posedge clk) begin
-            if (rst) begin
-                v_reg <= 1'b0;
-            end else if (ce) begin
-                v_reg <= fw_valid;
-                w_reg <= (fc_wv_d > fw_w) ? fc_wv_d : fw_w;
-            end
-        end
-        assign wd_w     = w_reg;
-        assign wd_valid = v_reg;
-    end else begin : g_wdirect
-        assign wd_w     = fw_w;
-        assign wd_valid = fw_valid;
-    end
-endgenerate
-
-// f waits DLY_F stages for w, or w waits DLY_W stages for f (one of them is 0)
-wire [FC_W-1:0] f_dly;
-wire [W_W-1:0]  cm_w;
-delay_line #(.W(FC_W), .N(DLY_F)) u_dly_f (.clk(clk), .rst(rst), .ce(ce), .d_in(f_carry), .d_out(f_dly));
-delay_line #(.W(W_W), .N(DLY_W))  u_dly_w (.clk(clk), .rst(rst), .ce(ce), .d_in(wd_w), .d_out(cm_w));
-// the later of the two paths brings the valid bit (the earlier one is delayed to match it)
-wire cm_in_valid = (DLY_W > 0) ? sum_valid : wd_valid;
+// f and w meet (cm_align: f saturated while it waits, sat_fc's max(w, wv), the delay lines)
+wire [F_W-1:0] f_cm;
+wire [W_W-1:0] cm_w;
+wire           cm_in_valid;
+cm_align #(
+    .F_W(F_W), .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .WV_MAX(FCL ? 1 : 0),
+    .LATENCY_F(T_CM - T_F), .LATENCY_W(T_CM - T_FW)
+) u_cm_align (
+    .clk(clk), .rst(rst), .ce(ce), .mode(mode_reg),
+    .f_valid(sum_valid), .w_valid(fw_valid), .f_in(f_sum), .w_in(fw_w), .wv_in(fc_wv_d),
+    .out_valid(cm_in_valid), .f_out(f_cm), .w_out(cm_w)
+);
 
 // ---------------------------------------------------------------------------
 // colour_map
 
 wire [31:0] cm_rgba;
-wire [F_W-1:0] f_cm;  // f back to F_W bits (sign-extended)
-generate
-    if (FC_W < F_W) begin : g_fext
-        assign f_cm = {{(F_W-FC_W){f_dly[FC_W-1]}}, f_dly};
-    end else begin : g_fnoext
-        assign f_cm = f_dly;
-    end
-endgenerate
 
 colour_map #(
     .F_W(F_W), .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .FILTER(CM_FILTER),

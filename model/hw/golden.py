@@ -595,6 +595,49 @@ def fc_scale(cfg: Config, alpha, an, ag):
     return (an * alpha) >> cfg.fc_af, (ag * alpha[..., None]) >> cfg.fc_af
 
 
+def noise_leaves(cfg: Config, tex, s, q, cq, alpha=None, skip: bool = True):
+    """The leaves of the adder trees (rtl/noise_leaves.v): f leaves [q, a_k n_k, ...] and c
+    leaves [cq, a_k grad n_k, ...] (without the noise gradient every c leaf is 0: the tree
+    carries none), term k of the texture's (k < k_used), faded by alpha[..., k] (sat_fc,
+    fc_scale). A term past k_used or with a = 0 contributes exactly 0: skip leaves it out
+    (texture_stages: the sums are the same), else its leaf is 0 (the RTL's K leaves; folded,
+    noise_fold's one leaf is their sum)."""
+    s = np.asarray(s, dtype=I64)
+    zc = np.zeros(np.shape(cq), dtype=I64)
+    fl, cl = [np.asarray(q, dtype=I64)], [np.asarray(cq, dtype=I64) if cfg.noise_gradient else zc]
+    for i in range(cfg.noise_terms if not skip else min(tex.k_used, len(tex.a), cfg.noise_terms)):
+        if i >= min(tex.k_used, len(tex.a)) or tex.a[i] == 0:
+            if not skip:
+                fl.append(np.zeros(np.shape(q), dtype=I64))
+                cl.append(zc)
+            continue
+        an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s)
+        if alpha is not None:
+            an, ag = fc_scale(cfg, alpha[..., i], an, ag)
+        fl.append(an)
+        cl.append(ag if cfg.noise_gradient else zc)
+    return fl, cl
+
+
+def cm_align(cfg: Config, mode, f, w, wv=None, f_waits: bool = False):
+    """f and w as colour_map receives them (rtl/cm_align.v): with wv (sat_fc) w = max(w, wv);
+    while f waits (f_waits) it is carried in fc_w = guard + 3 bits where that is fewer than
+    f_w (guard = w_cap_log2 + f_frac - 1): clamp mode (mode 1) saturates it to
+    +-2^(guard+1), mod mode wraps it to fc_w bits; colour_map gives the same colour either
+    way (rtl/cm_align.v). Returns (f, w)."""
+    f = np.asarray(f, dtype=I64)
+    w = np.asarray(w, dtype=I64)
+    if wv is not None:
+        w = np.maximum(w, wv)
+    guard = cfg.w_cap_log2 + cfg.f_frac - 1
+    fc_w = guard + 3
+    if f_waits and fc_w < cfg.f_w:
+        top = 1 << (guard + 1)
+        wrap = ((f + (1 << (fc_w - 1))) & ((1 << fc_w) - 1)) - (1 << (fc_w - 1))
+        f = np.where(np.asarray(mode) == MODE_CLAMP, np.clip(f, -top, top), wrap)
+    return f, w
+
+
 def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
     """The whole pixel pipeline with its intermediate signals: f, c, w and rgba.
 
@@ -609,20 +652,14 @@ def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
     if fc:
         alpha, wv = fc_weight(cfg, tex, Jm, je)
     q, cq = quadric_mac(cfg, tex.Q, s)
-    fl, cl = [q], [cq]  # the leaves of the adder trees (sum_tree)
-    for i in range(min(tex.k_used, len(tex.a), cfg.noise_terms)):
-        if tex.a[i] == 0:
-            continue
-        an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s)
-        if fc:
-            an, ag = fc_scale(cfg, alpha[..., i], an, ag)
-        fl.append(an)
-        cl.append(ag)
-    f, c = sum_tree(fl, cfg.f_w), sum_tree(cl, cfg.c_w)
+    fl, cl = noise_leaves(cfg, tex, s, q, cq, alpha if fc else None)
+    # without the noise gradient the tree carries none: grad f = grad q (to filter_width)
+    f, c = sum_tree(fl, cfg.f_w), (sum_tree(cl, cfg.c_w) if cfg.noise_gradient else cq)
     w = filter_width(cfg, c, np.asarray(Jm, dtype=I64), je, tex.n_log2)
-    if fc:  # the faded terms' spread widens the box (texture_pipeline: a register after filter_width)
-        w = np.maximum(w, wv)
-    return {"f": f, "c": c, "w": w, "rgba": colour_map(cfg, tex, f, w)}
+    # the faded terms' spread widens the box (sat_fc); f whole (the RTL may carry it in
+    # fewer bits, the same colour)
+    f_cm, w = cm_align(cfg, tex.mode, f, w, wv if fc else None)
+    return {"f": f, "c": c, "w": w, "rgba": colour_map(cfg, tex, f_cm, w)}
 
 
 def texture_pipeline(cfg: Config, tex: TexInt, s, Jm, je):
