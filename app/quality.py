@@ -86,7 +86,8 @@ def quality(cfg, size: int, scenes=SCENES) -> dict:
     return out
 
 
-def _parse_step(text: str) -> dict:
+def parse_step(text: str) -> dict:
+    """--step KEY=VALUE[,KEY=VALUE]: the keys a step changes (ValueError on a malformed one)."""
     ch = {}
     for item in text.split(","):
         k, sep, v = item.partition("=")
@@ -109,7 +110,7 @@ def main(argv=None) -> int:
         return 2
     try:
         base = load_config(args.config)
-        steps = [(s, _parse_step(s)) for s in args.step]
+        steps = [(s, parse_step(s)) for s in args.step]
         cfgs = [("(as written)", base)] + [(s, variant(base, f"{base.name}-step", **ch)) for s, ch in steps]
     except (ConfigError, ValueError) as e:
         print(f"quality: {e}", file=sys.stderr)

@@ -409,17 +409,6 @@ def corpus_quality(cfg, seed: int = HELDOUT_SEED, n: int = 40, size: int = 32, d
             "db": db, "share_at_db": round(float((v >= db).mean()), 4) if len(v) else None}
 
 
-def _parse_step(text: str) -> dict:
-    ch = {}
-    for item in text.split(","):
-        k, sep, v = item.partition("=")
-        if not sep:
-            raise ValueError(f"--step {text!r}: expected KEY=VALUE[,KEY=VALUE]")
-        v = v.strip()
-        ch[k.strip()] = (v == "true") if v in ("true", "false") else int(v) if v.lstrip("-").isdigit() else v
-    return ch
-
-
 def steps(config: str, step_texts: list[str], seed: int, n: int, size: int, progress: bool = True,
           out_root: Path | None = None) -> list[dict]:
     """The configuration and one-or-more-key steps from it on a corpus (seed; the fit corpus by
@@ -428,16 +417,18 @@ def steps(config: str, step_texts: list[str], seed: int, n: int, size: int, prog
     a configuration's re-derivation: `python -m explore.validate steps --config full --step t_w=17,t_frac=10`."""
     from model import reference
     from model.hw import golden
+    from tqdm import tqdm
+
+    from app.quality import parse_step
     from model.hw.config import variant
     from model.hw.quantize import FormatError
     from model.imageio import compare
     from model.scene.frontend import render_passes
     from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations
     from model.scene.scene import load_scene
-    from tqdm import tqdm
 
     base = load_config(config)
-    cfgs = [("(as written)", base)] + [(t, variant(base, f"{base.name}-step", **_parse_step(t))) for t in step_texts]
+    cfgs = [("(as written)", base)] + [(t, variant(base, f"{base.name}-step", **parse_step(t))) for t in step_texts]
     d = corpus_dir(seed, n, seed == HELDOUT_SEED, (Path(out_root) if out_root else ROOT / "out") / "corpus")
     idx = load_index(d)
     vals = {label: [] for label, _ in cfgs}
