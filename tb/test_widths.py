@@ -23,8 +23,9 @@ import pytest
 import hdlbuild
 from hdlbuild.params import block_params
 
-# Python key -> elaborated name: under the top (texture_unit.u_pipe) or the stand-alone
-# noise_term (nt, which exists for every configuration, also without noise terms)
+# Python key -> elaborated name: under the top (texture_unit.u_pipe), or the stand-alone
+# noise_term (nt) and cmap_sat (cs), which exist for every configuration (also without noise
+# terms, or with another filter family)
 TOP = "u.u_pipe"
 WIDTHS = {
     "v_w": f"{TOP}.u_quadric_mac.V_W", "qv_w": f"{TOP}.u_quadric_mac.QV_W", "qf_w": f"{TOP}.u_quadric_mac.QF_W",
@@ -35,12 +36,13 @@ WIDTHS = {
     "g_w": f"{TOP}.u_filter_width.G_W", "gabs_w": f"{TOP}.u_filter_width.GABS_W",
     "l_w": f"{TOP}.u_filter_width.L_W", "r_w": f"{TOP}.u_filter_width.R_W", "sh_w": f"{TOP}.u_filter_width.SH_W",
     "e_w": f"{TOP}.u_filter_width.E_W", "w_w": f"{TOP}.u_filter_width.W_W",
-    "u_w": f"{TOP}.u_colour_map.U_W", "x_w": f"{TOP}.u_colour_map.X_W", "x_frac": f"{TOP}.u_colour_map.XF",
-    "csat_w": f"{TOP}.u_colour_map.CS_W", "d_w": f"{TOP}.u_colour_map.D_W",
+    "u_w": f"{TOP}.u_colour_map.U_W", "x_w": "cs.X_W", "x_frac": "cs.XF",
+    "csat_w": f"{TOP}.u_colour_map.CS_W", "d_w": "cs.D_W",
     "fc_af": f"{TOP}.FC_AF",
 }
 # the same word derived where it crosses between blocks: the top's copy must agree
-CROSS = {"qf_w": f"{TOP}.QF_W", "an_w": f"{TOP}.AN_W", "ag_w": f"{TOP}.AG_W", "o_w": f"{TOP}.O_W",
+CROSS = {"qf_w": f"{TOP}.QF_W", "an_w": f"{TOP}.u_noise_leaves.AN_W", "ag_w": f"{TOP}.u_noise_leaves.AG_W",
+         "o_w": f"{TOP}.O_W",
          "w_w": f"{TOP}.W_W", "csat_w": f"{TOP}.CSAT_W", "n_log2_w": f"{TOP}.u_filter_width.N_LOG2_W"}
 
 
@@ -60,6 +62,8 @@ def elaborated_widths(config) -> dict:
     names = {**WIDTHS, **{f"{k}@top": v for k, v in CROSS.items()}}
     probe = ["module width_probe;", "texture_unit u ();",
              "noise_term #(" + ", ".join(f".{k}({v})" for k, v in nt.items()) + ") nt ();",
+             f"cmap_sat #(.F_FRAC({cfg.f_frac}), .W_CAP_LOG2({cfg.w_cap_log2}), .N_LOG2_MAX({cfg.n_log2_max}), "
+             f".DIV_BITS({cfg.div_bits}), .FPGA_REGS({int(cfg.fpga_regs)})) cs ();",
              "initial begin"]
     probe += [f'    $display("{k} %0d", {v});' for k, v in names.items()]
     probe += ["end", "endmodule", ""]
