@@ -47,6 +47,7 @@ __all__ = [
     "texture_f",
     "texture_grad_f",
     "filter_width",
+    "trapezoid_lookup",
     "shade",
 ]
 
@@ -171,6 +172,99 @@ def filtered_lookup(clut, f, w, mode: str) -> np.ndarray:
     num = centre * (np.minimum(h, dl) + np.minimum(h, dr))[..., None] + left + right
     den = np.where(inside, 1.0, 2.0 * h)
     return np.where(inside[..., None], centre, num / den[..., None])
+
+
+# ---------------------------------------------------------------------------
+# The trapezoid (filter "sat2", issue 27): exact for f linear across the pixel
+
+TRAP_CAP = 2.0 ** 40  # widths (entries) beyond this are taken at it: a change below 255 N 2^-40
+TRAP_BOX = 1e-7  # min(A, B) below this times max(A, B): the box of width A + B (within 255 * 1e-7 / 2)
+
+
+def _int_tables(clut):
+    """Exact integer tables of a clut: P[k] = sum_{j<k} clut[j] (k = 0..N) and
+    Q2[k] = 2 integral_0^k S = sum_{j<k} (2 P[j] + clut[j]), int64 [N + 1, C]."""
+    t = np.asarray(clut).astype(np.int64)
+    n = t.shape[0]
+    P = np.zeros((n + 1, t.shape[1]), dtype=np.int64)
+    P[1:] = np.cumsum(t, axis=0)
+    Q2 = np.zeros_like(P)
+    Q2[1:] = np.cumsum(2 * P[:-1] + t, axis=0)
+    return t, P, Q2
+
+
+def _s_g2_int(t, P, Q2, k, mode):
+    """S(k) and 2G(k) (S = integral_0^x C, G = integral_0^x S) at integer k (int64 array), as
+    Python integers (object arrays [..., C]): mod, k = mN + r: S = m T + P[r],
+    2G = T N m (m - 1) + m Q2[N] + 2 m T r + Q2[r]; clamp: x clut[0] and x^2 clut[0] below 0,
+    T + (k - N) clut[N-1] and Q2[N] + 2 T (k - N) + (k - N)^2 clut[N-1] above N."""
+    n = t.shape[0]
+    T, G2N = P[n].astype(object), Q2[n].astype(object)
+    if mode == "mod":
+        m, r = np.divmod(k, n)
+        mo, ro = m.astype(object)[..., None], r.astype(object)[..., None]
+        S = mo * T + P[r].astype(object)
+        G2 = T * n * mo * (mo - 1) + mo * G2N + 2 * mo * T * ro + Q2[r].astype(object)
+        return S, G2
+    kc = np.clip(k, 0, n)
+    lo = np.minimum(k, 0).astype(object)[..., None]
+    hi = np.maximum(k - n, 0).astype(object)[..., None]
+    c0, cl = t[0].astype(object), t[n - 1].astype(object)
+    S = P[kc].astype(object) + lo * c0 + hi * cl
+    G2 = Q2[kc].astype(object) + lo * lo * c0 + 2 * hi * T + hi * hi * cl
+    return S, G2
+
+
+def trapezoid_lookup(clut, f, gx, gy, mode: str) -> np.ndarray:
+    """The pixel's average of the colour map when f is linear across it (filter "sat2"):
+    f + gx x + gy y with x, y uniform in [-1/2, 1/2], i.e. C convolved with two boxes of widths
+    A = |gx| N and B = |gy| N entries (a trapezoid):
+
+        (1 / AB) [G(u + A/2 + B/2) - G(u + A/2 - B/2) - G(u - A/2 + B/2) + G(u - A/2 - B/2)],
+
+    u = f N, G(x) = integral_0^x S, S(x) = integral_0^x C (C as in `unfiltered_lookup`, extended
+    by mod or clamp). Evaluated without cancellation: G is taken relative to the entry boundary
+    z nearest u, G_z(x) = G(x) - G(z) - S(z) (x - z) (the four-point difference is the same),
+    its whole-entry part from exact integer tables (Python integers) and only the fraction in
+    float64. Degenerate cases as limits: a window inside one entry (also A = B = 0) is that
+    entry's colour; min(A, B) < TRAP_BOX max(A, B) the box of width A + B (filtered_lookup);
+    A, B above TRAP_CAP entries are taken at it. Returns float64 [..., C]."""
+    _check_mode(mode)
+    t, P, Q2 = _int_tables(clut)
+    n = t.shape[0]
+    f, gx, gy = np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in (f, gx, gy)))
+    A = np.minimum(np.abs(gx) * n, TRAP_CAP)
+    B = np.minimum(np.abs(gy) * n, TRAP_CAP)
+    u = f * n
+    if mode == "mod":
+        u = np.mod(u, n)
+    else:
+        u = np.clip(u, -(A + B) - 1, n + (A + B) + 1)
+    h = (A + B) / 2
+    inside = np.floor(u - h) == np.floor(u + h)
+    inside &= (u + h) < np.floor(u - h) + 1
+    box = ~inside & (np.minimum(A, B) < TRAP_BOX * np.maximum(A, B))
+    trap = ~inside & ~box
+    out = np.asarray(unfiltered_lookup(clut, u / n, mode), dtype=np.float64)
+    if box.any():
+        out[box] = filtered_lookup(clut, u[box] / n, (A + B)[box] / n, mode)
+    if trap.any():
+        ut, At, Bt = u[trap], A[trap], B[trap]
+        z = np.rint(ut)
+        zi = z.astype(np.int64)
+        Sz, G2z = _s_g2_int(t, P, Q2, zi, mode)
+        acc = np.zeros(ut.shape + (t.shape[1],), dtype=np.float64)
+        for sa, sb, sign in ((1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)):
+            d = (ut - z) + sa * At / 2 + sb * Bt / 2
+            fl = np.floor(d)
+            fr = (d - fl)[..., None]
+            k = zi + fl.astype(np.int64)
+            Sk, G2k = _s_g2_int(t, P, Q2, k, mode)
+            whole = (G2k - G2z - 2 * Sz * (k - zi).astype(object)[..., None]).astype(np.float64)
+            part = 2.0 * (Sk - Sz).astype(np.float64) * fr + t[_entry(k.astype(np.float64), n, mode)] * fr * fr
+            acc += sign * (whole + part)
+        out[trap] = acc / (2.0 * At * Bt)[..., None]
+    return out
 
 
 # ---------------------------------------------------------------------------
@@ -401,11 +495,15 @@ def shade(tex, s, J, perm, hash_bits=None) -> np.ndarray:
     """Texture colour, float64 RGBA [..., 4] in clut units (0..255).
 
     filtered_lookup(clut, f, w, mode) if tex.filter, else unfiltered_lookup(clut, f, mode);
-    with frequency clamping (tex.fc, filter "sat_fc") shade_fc.
+    with frequency clamping (tex.fc, filter "sat_fc") shade_fc; with the trapezoid
+    (tex.trapezoid, filter "sat2") trapezoid_lookup on the two screen components of grad f.
     """
     if tex.filter and getattr(tex, "fc", None) is not None:
         return shade_fc(tex, s, J, perm, hash_bits)
     f = texture_f(tex, s, perm, hash_bits)
     if not tex.filter:
         return unfiltered_lookup(tex.clut, f, tex.mode)
+    if getattr(tex, "trapezoid", False):
+        g = texture_grad_f(tex, s, J, perm, hash_bits)
+        return trapezoid_lookup(tex.clut, f, g[..., 0], g[..., 1], tex.mode)
     return filtered_lookup(tex.clut, f, filter_width(tex, s, J, perm, hash_bits), tex.mode)

@@ -43,6 +43,9 @@ class TextureParams:
     # frequency clamping (filter "sat_fc", docs/filters.md): (knee, fade) in octaves of the
     # footprint, each term faded to its mean over [knee - fade, knee]; None: the box filter alone
     fc: tuple = None
+    # the trapezoid (filter "sat2", docs/filters.md): the colour map averaged over the pixel for
+    # f linear across it (two boxes of the screen components of grad f) instead of one box
+    trapezoid: bool = False
 
     def __post_init__(self):
         self.Q = np.asarray(self.Q, dtype=np.float64).reshape(10)

@@ -26,7 +26,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]  # the repository (model/hw/config.py)
 CONFIG_DIR = ROOT / "config"
 CONFIG_NAMES = ("full", "reduced", "compact")
-SAT_FILTERS = ("sat", "sat_fc")  # the filters that read the summed-area table
+SAT_FILTERS = ("sat", "sat_fc")  # the filters that read the summed-area table (the box)
+TABLE_FILTERS = SAT_FILTERS + ("sat2",)  # the filters whose tables include csat (sat2: and its running sum)
 
 
 class ConfigError(ValueError):
@@ -40,7 +41,7 @@ SCHEMA = {
     "blend": ("features", str, ("cubic", "linear")),
     "transform": ("features", str, ("affine", "pow2")),
     "amplitude": ("features", str, ("any", "pow2")),
-    "filter": ("features", str, ("sat", "sat_fc", "mip", "none")),
+    "filter": ("features", str, ("sat", "sat_fc", "sat2", "mip", "none")),
     "noise_gradient": ("features", bool, (False, True)),
     "noise_units": ("features", int, (1, 8)),
     "quadric_clocks": ("features", int, (1, 2)),
@@ -263,9 +264,11 @@ def _derive(c: Config) -> dict:
     # filter width w in units of 2^-f_frac colour-table entries, saturating at 2^w_cap_log2 entries
     d["w_w"] = c.w_cap_log2 + c.f_frac + 1
     d["w_cap"] = 1 << (c.w_cap_log2 + c.f_frac)
-    # colour index u = f * N in units of 2^-f_frac entries (clamp mode: guarded by w_cap/2)
+    # colour index u = f * N in units of 2^-f_frac entries (clamp mode: guarded by w_cap/2,
+    # sat2 by w_cap: its window reaches (a + b) / 2 <= w_cap from u)
     nmax_entries = 1 << c.n_log2_max
-    umax = max(nmax_entries << c.f_frac, 0) + (d["w_cap"] >> 1)
+    d["u_guard"] = d["w_cap"] if c.filter == "sat2" else d["w_cap"] >> 1
+    umax = max(nmax_entries << c.f_frac, 0) + d["u_guard"]
     d["u_w"] = bits_signed(umax)
     # window ends x = 2u -+ w in units of 2^-(f_frac+1) entries
     xmax = 2 * umax + d["w_cap"]
@@ -276,6 +279,14 @@ def _derive(c: Config) -> dict:
     d["i_w"] = bits_signed(255 * (xmax + (nmax_entries << d["x_frac"])))
     d["d_w"] = bits_unsigned(255 * 2 * d["w_cap"])
     d["n_log2_w"] = bits_unsigned(c.n_log2_max)
+    # filter "sat2" (the trapezoid, docs/numerics.md "The trapezoid"): window ends
+    # e = 2u -+ a -+ b (units 2^-x_frac), the running sum of csat H[k] = sum_{j<=k} csat[j]
+    # (<= 255 N (N + 1) / 2), the trapezoid's second difference of 2G, Gamma = 8 avg a b
+    # <= 2040 a b (units 2^-2 x_frac), and its divisor 4ab (cmap_divide's w)
+    d["x2_w"] = bits_signed(2 * umax + 2 * d["w_cap"])
+    d["csat2_w"] = bits_unsigned(255 * nmax_entries * (nmax_entries + 1) // 2)
+    d["d2_w"] = bits_unsigned(2040 * d["w_cap"] ** 2)
+    d["w2_w"] = bits_unsigned(4 * d["w_cap"] ** 2)
     # widest intermediate must stay inside int64 (numpy) with margin
     widest = max(
         c.q_w + c.s_w + 2,
@@ -469,6 +480,11 @@ def _check_rtl(c: Config, p: Path) -> None:
         nq_w = c.div_bits + 8 + (1 if c.div_bits <= 9 else 0)
         need(nq_w <= c.d_w - 1, f"formats.div_bits = {c.div_bits}: the normalised quotient needs {nq_w} bits, "
                                 f"the box-filter integral has {c.d_w - 1}")
+    if c.filter == "sat2":
+        # Gamma + 4ab + 2h(sh) < 2^(d2_w + 1) must fit the golden model's int64 (numpy) words
+        need(c.d2_w <= 61, f"features.filter = \"sat2\": 2 (w_cap_log2 + f_frac) = "
+                           f"{2 * (c.w_cap_log2 + c.f_frac)} must be <= 50 (the trapezoid's second difference "
+                           f"has {c.d2_w} bits; at most 61)")
 
 
 def rel_path(path) -> str:

@@ -224,7 +224,7 @@ def noise_term(cfg: Config, a: int, T, o, s):
     return an, noise_grad(cfg, a, T, v, e, fz, sy, sz, ds)
 
 
-def filter_width(cfg: Config, c, Jm, je, n_log2: int):
+def filter_width(cfg: Config, c, Jm, je, n_log2: int, components: bool = False):
     """Filter width w = |c^T J| N in units of 2^-f_frac colour-table entries.
 
     c [..., 3]: texture-space gradient of f (c_frac bits); Jm [..., 3, 2] Jacobian
@@ -232,6 +232,9 @@ def filter_width(cfg: Config, c, Jm, je, n_log2: int):
     mantissa g = c^T Jm is normalised to norm_bits bits (floor), its Euclidean norm
     taken by an exact integer square root (floor), and the result scaled by
     2^(sh + je - c_frac + n_log2 + f_frac), floor, saturating at 2^w_cap_log2 entries.
+    components (filter "sat2", the trapezoid): the two screen components instead,
+    a = |g_x| and b = |g_y| normalised and scaled the same way, each saturating at
+    2^w_cap_log2 entries: [..., 2] (a, b).
     """
     gx = c[..., 0] * Jm[..., 0, 0] + c[..., 1] * Jm[..., 1, 0] + c[..., 2] * Jm[..., 2, 0]
     gy = c[..., 0] * Jm[..., 0, 1] + c[..., 1] * Jm[..., 1, 1] + c[..., 2] * Jm[..., 2, 1]
@@ -241,9 +244,15 @@ def filter_width(cfg: Config, c, Jm, je, n_log2: int):
     r = isqrt(ax * ax + ay * ay)
     e = sh + np.asarray(je, dtype=I64) - cfg.c_frac + n_log2 + cfg.f_frac
     cap_bits = cfg.w_cap_log2 + cfg.f_frac
-    over = (r > 0) & (bitlen(r) + e > cap_bits)
-    w = np.where(e >= 0, r << np.clip(e, 0, 62), r >> np.clip(-e, 0, 63))
-    return np.where(over, I64(1) << cap_bits, w)
+
+    def scaled(r):
+        over = (r > 0) & (bitlen(r) + e > cap_bits)
+        w = np.where(e >= 0, r << np.clip(e, 0, 62), r >> np.clip(-e, 0, 63))
+        return np.where(over, I64(1) << cap_bits, w)
+
+    if components:
+        return np.stack([scaled(ax), scaled(ay)], axis=-1)
+    return scaled(r)
 
 
 def sat_index(x, xf: int, mode, n_log2, nmax: int):
@@ -328,8 +337,51 @@ def colour_table_write(tables: dict, filter_: int, nmax: int, cs_w: int, wr_tabl
 
 def host_tables(tex: TexInt) -> dict:
     """colour_table's contents after the host has loaded tex's tables (csat in ascending
-    order, so total = csat[N - 1])."""
-    return {"clut": tex.clut, "csat": tex.csat, "mip": tex.mip, "total": tex.csat[(1 << tex.n_log2) - 1]}
+    order, so total = csat[N - 1]); with sat2_table's csat2 = H, the running sum of csat
+    (sat2_table_write), and total2 = H[N - 1]."""
+    n = 1 << tex.n_log2
+    csat2 = np.cumsum(np.asarray(tex.csat, dtype=I64)[:n], axis=0)
+    return {"clut": tex.clut, "csat": tex.csat, "mip": tex.mip, "total": tex.csat[n - 1],
+            "csat2": csat2, "total2": csat2[n - 1]}
+
+
+def sat2_tables(nmax: int, fill: int = -1) -> dict:
+    """The storage of rtl/sat2_table.v with every entry `fill` (not reset): clut, csat, csat2
+    [2^nmax, 4], total, total2 [4] and the running-sum register acc [4]."""
+    n = 1 << nmax
+    return {"clut": np.full((n, 4), fill, dtype=I64), "csat": np.full((n, 4), fill, dtype=I64),
+            "csat2": np.full((n, 4), fill, dtype=I64), "total": np.full(4, fill, dtype=I64),
+            "total2": np.full(4, fill, dtype=I64), "acc": np.full(4, fill, dtype=I64)}
+
+
+def sat2_table_write(tables: dict, nmax: int, cs_w: int, cs2_w: int, wr_table: int, wr_addr: int, wr_data):
+    """One write of sat2_table's write port into `tables` (sat2_tables): wr_table 0 clut (the
+    low 8 bits of each lane), 1 csat (u{cs_w} lanes), which also derives csat2, the running sum
+    H[j] = (j == 0 ? 0 : acc) + csat[j] mod 2^cs2_w, acc = H[j], total = csat[j], total2 = H[j]
+    (contract: a table load writes csat[0..N-1] in ascending order, so H[j] = sum_{i<=j} csat[i],
+    total = csat[N - 1], total2 = H[N - 1]); addresses past 2^nmax, wr_table 2 and 3 ignored."""
+    addr = int(wr_addr) & ((2 << nmax) - 1)
+    lanes = np.asarray(wr_data, dtype=I64) & ((1 << cs_w) - 1)
+    if addr >= (1 << nmax):
+        return
+    if wr_table == TABLE_CLUT:
+        tables["clut"][addr] = lanes & 255
+    elif wr_table == TABLE_CSAT:
+        h = ((0 if addr == 0 else tables["acc"]) + lanes) & ((1 << cs2_w) - 1)
+        tables["csat"][addr] = lanes
+        tables["csat2"][addr] = h
+        tables["total"] = lanes.copy()
+        tables["total2"] = h.copy()
+        tables["acc"] = h.copy()
+
+
+def sat2_table(tables: dict, clut_addr, csat_addr) -> dict:
+    """The read ports of rtl/sat2_table.v on `tables` (sat2_tables / host_tables), one set per
+    window end: clut[clut_addr], csat[csat_addr], csat2[csat_addr] [..., 4] and total, total2."""
+    z = np.zeros(np.shape(clut_addr) + (4,), dtype=I64)
+    return {"clut": _read(tables["clut"], clut_addr), "csat": _read(tables["csat"], csat_addr),
+            "csat2": _read(tables["csat2"], csat_addr), "total": z + tables["total"],
+            "total2": z + tables["total2"]}
 
 
 def _read(table, addr):
@@ -435,10 +487,11 @@ def colour_divide(cfg: Config, D, w):
 def cmap_u(cfg: Config, f, mode, n_log2):
     """colour_map's stage 1: the colour index u = f N (units 2^-f_frac entries), mod: u taken
     mod N; clamp: u saturated to [-W/2, N + W/2], W = 2^w_cap_log2 (exact: any window beyond it
-    sees only an edge entry). f, mode [...] (n_log2 a scalar)."""
+    sees only an edge entry; sat2: [-W, N + W], its window reaches W). f, mode [...] (n_log2 a
+    scalar)."""
     ff = cfg.f_frac
     f = np.asarray(f, dtype=I64)
-    guard = 1 << (cfg.w_cap_log2 + ff - 1)
+    guard = cfg.u_guard
     u_mod = (f & ((1 << ff) - 1)) << n_log2
     u_clamp = np.clip(f << n_log2, -guard, ((1 << n_log2) << ff) + guard)
     return np.where(np.asarray(mode) == MODE_MOD, u_mod, u_clamp)
@@ -503,12 +556,87 @@ def cmap_point(cfg: Config, tables: dict, u, mode, n_log2):
     return colour_table(tables, 0, clut_addr_a=k)["clut_a"]
 
 
+def _u64(x):
+    """int64 values as uint64 words (two's complement): + - * wrap mod 2^64, silently."""
+    return np.asarray(x, dtype=I64).astype(np.uint64)
+
+
+def sat2_integral(xf: int, d_w: int, rd: dict, first, fr, kx, kk, mode, n_log2):
+    """One window end's integrals for the trapezoid (rtl/sat2_integral.v), per channel, from
+    sat_index's (kk, first, fr, kx) of an end x (units 2^-xf entries) and the table reads rd
+    (sat2_table: clut[kk], csat[kk-1], csat2[kk-1], read as 0 when first; total, total2),
+    N = 2^n_log2 (docs/numerics.md "The trapezoid"):
+      t  = kx 2^xf + fr (clamp: the last or first entry extended over the kx entries past
+           it) or fr (mod, with m = kx whole tables before x)
+      v1 = S(x) 2^xf  = (csat << xf) + t clut [+ (m T) << xf]
+      v2 = 2G(x) 2^2xf = (H << (2xf + 1)) + ((2t - 2^xf) csat << xf) + t^2 clut
+           [+ (m (T (N (m - 1) - 1 + 2 kk) + 2 HT)) << 2xf + (m T fr) << (xf + 1)]
+    (S = integral of C, G = integral of S; T = total, HT = total2), both mod 2^d_w.
+    Returns (v1, v2) [..., 4]."""
+    clamp = (np.asarray(mode) == MODE_CLAMP)[..., None]
+    first = (np.asarray(first) != 0)[..., None]
+    fr = np.asarray(fr, dtype=I64)[..., None]
+    kx = np.asarray(kx, dtype=I64)[..., None]
+    kk = np.asarray(kk, dtype=I64)[..., None]
+    c = _u64(rd["clut"])
+    cs = _u64(np.where(first, 0, rd["csat"]))
+    h = _u64(np.where(first, 0, rd["csat2"]))
+    tt, ht = _u64(rd["total"]), _u64(rd["total2"])
+    t = _u64(np.where(clamp, (kx << xf) + fr, fr))
+    m = _u64(np.where(clamp, 0, kx))
+    one = np.uint64(1)
+    X, X2 = np.uint64(xf), np.uint64(2 * xf)
+    v1 = (cs << X) + t * c + ((m * tt) << X)
+    nn = _u64(I64(1) << np.asarray(n_log2, dtype=I64))
+    q = m * (tt * (nn * (m - one) - one + (_u64(kk) << one)) + (ht << one))
+    v2 = ((h << (X2 + one)) + (((t << one) - (one << X)) * cs << X) + t * t * c
+          + (q << X2) + ((m * tt * _u64(fr)) << (X + one)))
+    mask = np.uint64((1 << d_w) - 1)
+    return (v1 & mask).astype(I64), (v2 & mask).astype(I64)
+
+
+def cmap_sat2(cfg: Config, tables: dict, u, a, b, mode, n_log2):
+    """rtl/cmap_sat2.v, the trapezoid (filter "sat2"): RGBA8 [..., 4] of the colour index u
+    (s.f_frac entries, colour_map's stage 1) averaged over the pixel when f is linear across
+    it: the colour map convolved with two boxes of widths a and b (u.f_frac entries, the screen
+    components of grad f N), from the tables held (sat2_tables / host_tables). The window ends
+    e1..e4 = 2u + a + b, 2u + a - b, 2u - a + b, 2u - a - b (units 2^-x_frac entries) and
+      a, b > 0: D = 2G(e1) - 2G(e2) - 2G(e3) + 2G(e4) (units 2^-2x_frac), divisor 4ab
+      a or b = 0 (the box of width a + b): D = S(e1) - S(e4) (units 2^-x_frac), divisor a + b
+      a = b = 0: the point lookup clut at e1 = 2u
+    then cmap_divide: floor((D + w) / 2w) exact or normalised (D / 2w = the average)."""
+    xf, nmax, dw = cfg.x_frac, cfg.n_log2_max, cfg.d2_w
+    u = np.asarray(u, dtype=I64)
+    a = np.asarray(a, dtype=I64)
+    b = np.asarray(b, dtype=I64)
+    ends = (2 * u + a + b, 2 * u + a - b, 2 * u - a + b, 2 * u - a - b)
+    v1s, v2s, point = [], [], None
+    for e in ends:
+        ix = sat_index(e, xf, mode, n_log2, nmax)
+        rd = sat2_table(tables, ix["kk"], ix["km1"])
+        v1, v2 = sat2_integral(xf, dw, rd, ix["first"], ix["fr"], ix["kx"], ix["kk"], mode, n_log2)
+        v1s.append(v1)
+        v2s.append(v2)
+        if point is None:
+            point = rd["clut"]
+    box = ((a == 0) | (b == 0))[..., None]
+    M = (I64(1) << dw) - 1
+    D = np.where(box, v1s[0] - v1s[3], v2s[0] - v2s[1] - v2s[2] + v2s[3]) & M
+    w = np.where(box[..., 0], a + b, 4 * a * b)
+    # 0 <= D <= 255 * 2w for consistent tables (the average is in 0..255): never wrap silently
+    if D.size and (D > 510 * w[..., None]).any():
+        raise ValueError("cmap_sat2: average outside 0..255 (inconsistent csat/clut tables?)")
+    return cmap_divide(cfg, D, w, point)
+
+
 def colour_map(cfg: Config, tex: TexInt, f, w):
     """RGBA8 of f (f_frac bits, 1.0 = whole table) box-filtered over width w.
 
     u = f N (units 2^-f_frac entries); mod: u taken mod N; clamp: u saturated to
     [-W/2, N + W/2] with W = 2^w_cap_log2 (exact: any window beyond it sees only an
-    edge entry). Filter "sat": D = I(u + w/2) - I(u - w/2) (eq. 15 and every edge
+    edge entry; sat2: [-W, N + W]).
+    Filter "sat2": w [..., 2] holds the screen components (a, b) and cmap_sat2 averages
+    the colour map over the trapezoid they span. Filter "sat": D = I(u + w/2) - I(u - w/2) (eq. 15 and every edge
     case of 3.3.2 as one integral), out = floor(D / w + 1/2) (div_bits = 0) or the
     normalised division of colour_divide (cmap_sat, cmap_divide); w = 0 or filter off: the
     point lookup C(u).
@@ -523,9 +651,12 @@ def colour_map(cfg: Config, tex: TexInt, f, w):
     f = np.asarray(f, dtype=I64)
     w = np.asarray(w, dtype=I64)
     u = cmap_u(cfg, f, tex.mode, n_log2)
-    filt = {"none": 0, "sat": 1, "sat_fc": 1, "mip": 2}[cfg.filter]
+    filt = {"none": 0, "sat": 1, "sat_fc": 1, "mip": 2, "sat2": 3}[cfg.filter]
     tables = host_tables(tex)
-    if filt == 1:  # the box filter; filter off: w = 0, its point lookup
+    if filt == 3:  # the trapezoid: w [..., 2] = (a, b); filter off: both 0, the point lookup
+        ab = w if tex.filter else np.zeros_like(w)
+        out = cmap_sat2(cfg, tables, u, ab[..., 0], ab[..., 1], tex.mode, n_log2)
+    elif filt == 1:  # the box filter; filter off: w = 0, its point lookup
         out = cmap_sat(cfg, tables, u, w if tex.filter else np.zeros_like(w), tex.mode, n_log2)
     elif filt == 2:
         out = cmap_mip(cfg, tables, u, w if tex.filter else np.zeros_like(w), tex.mode, n_log2, int(tex.filter))
@@ -622,14 +753,14 @@ def noise_leaves(cfg: Config, tex, s, q, cq, alpha=None, skip: bool = True):
 def cm_align(cfg: Config, mode, f, w, wv=None, f_waits: bool = False):
     """f and w as colour_map receives them (rtl/cm_align.v): with wv (sat_fc) w = max(w, wv);
     while f waits (f_waits) it is carried in fc_w = guard + 3 bits where that is fewer than
-    f_w (guard = w_cap_log2 + f_frac - 1): clamp mode (mode 1) saturates it to
+    f_w (guard = w_cap_log2 + f_frac - 1, sat2: w_cap_log2 + f_frac): clamp mode (mode 1) saturates it to
     +-2^(guard+1), mod mode wraps it to fc_w bits; colour_map gives the same colour either
     way (rtl/cm_align.v). Returns (f, w)."""
     f = np.asarray(f, dtype=I64)
     w = np.asarray(w, dtype=I64)
     if wv is not None:
         w = np.maximum(w, wv)
-    guard = cfg.w_cap_log2 + cfg.f_frac - 1
+    guard = cfg.w_cap_log2 + cfg.f_frac - 1 + (cfg.filter == "sat2")  # sat2: colour_map's guard W
     fc_w = guard + 3
     if f_waits and fc_w < cfg.f_w:
         top = 1 << (guard + 1)
@@ -655,11 +786,15 @@ def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
     fl, cl = noise_leaves(cfg, tex, s, q, cq, alpha if fc else None)
     # without the noise gradient the tree carries none: grad f = grad q (to filter_width)
     f, c = sum_tree(fl, cfg.f_w), (sum_tree(cl, cfg.c_w) if cfg.noise_gradient else cq)
-    w = filter_width(cfg, c, np.asarray(Jm, dtype=I64), je, tex.n_log2)
+    sat2 = cfg.filter == "sat2"  # the two screen components (a, b) instead of |grad f|
+    w = filter_width(cfg, c, np.asarray(Jm, dtype=I64), je, tex.n_log2, components=sat2)
     # the faded terms' spread widens the box (sat_fc); f whole (the RTL may carry it in
     # fewer bits, the same colour)
     f_cm, w = cm_align(cfg, tex.mode, f, w, wv if fc else None)
-    return {"f": f, "c": c, "w": w, "rgba": colour_map(cfg, tex, f_cm, w)}
+    out = {"f": f, "c": c, "w": w.max(axis=-1) if sat2 else w, "rgba": colour_map(cfg, tex, f_cm, w)}
+    if sat2:
+        out["ab"] = w
+    return out
 
 
 def texture_pipeline(cfg: Config, tex: TexInt, s, Jm, je):

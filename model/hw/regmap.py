@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from model.hw.config import SAT_FILTERS, Config
+from model.hw.config import TABLE_FILTERS, Config
 from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt
 
 # ---------------------------------------------------------------------------
@@ -183,7 +183,8 @@ def write_sequence(cfg: Config, tex: TexInt) -> list[tuple[int, int]]:
 
     Every parameter register is written (noise terms beyond len(tex.a) get zeros),
     so a pass never depends on the previous one. The colour tables written are the
-    ones the configuration's filter reads: clut always, csat for "sat" and "sat_fc", mip for "mip".
+    ones the configuration's filter reads: clut always, csat for "sat", "sat_fc" and "sat2" (sat2's
+    running sum of csat is derived by the unit from the csat writes, in ascending order), mip for "mip".
     """
     if cfg.d["o_w"] > 32 or cfg.q_w > 32 or cfg.a_w > 32 or cfg.t_w > 32 or cfg.csat_w > 32:
         raise RegmapError(f"{cfg.name}: a parameter wider than 32 bits does not fit one register word")
@@ -223,7 +224,7 @@ def write_sequence(cfg: Config, tex: TexInt) -> list[tuple[int, int]]:
         raise RegmapError("clut entries must be 0..255")
     for i in range(n):
         w.append((ADDR_CLUT + i, _rgba_word(clut[i])))
-    if cfg.filter in SAT_FILTERS:
+    if cfg.filter in TABLE_FILTERS:
         csat = np.asarray(tex.csat, dtype=np.int64)
         for i in range(n):
             for c in range(4):

@@ -59,7 +59,8 @@ def configured_texture(cfg, tex):
     if cfg.filter == "sat_fc":  # the fade in octaves of the footprint (model/hw/golden.py fc_weight)
         fc = (cfg.fc_knee / (1 << cfg.fc_log_frac), float(1 << cfg.fc_fade_log2))
     return replace(tex, terms=list(tex.terms[:cfg.noise_terms]), blend=cfg.blend,
-                   noise_gradient=bool(cfg.noise_gradient), filter=bool(tex.filter and cfg.filter != "none"), fc=fc)
+                   noise_gradient=bool(cfg.noise_gradient), filter=bool(tex.filter and cfg.filter != "none"), fc=fc,
+                   trapezoid=cfg.filter == "sat2")
 
 
 def approximations(cfg, tex, name: str) -> list[str]:
@@ -76,7 +77,8 @@ def approximations(cfg, tex, name: str) -> list[str]:
         out.append(f"texture {name}: noise gradient {'omitted from' if tex.noise_gradient else 'added to'} "
                    f"the filter width (configuration {cfg.name}: noise_gradient = {str(cfg.noise_gradient).lower()})")
     if tex.filter and cfg.filter != "sat":
-        kind = {"mip": "a MIP map", "none": "point lookup", "sat_fc": "the box with frequency clamping"}[cfg.filter]
+        kind = {"mip": "a MIP map", "none": "point lookup", "sat_fc": "the box with frequency clamping",
+                "sat2": "the trapezoid (exact for f linear across the pixel)"}[cfg.filter]
         out.append(f"texture {name}: box filter replaced by {kind} (configuration {cfg.name}: filter = {cfg.filter})")
     return out
 
