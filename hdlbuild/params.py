@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, folded, rel_path
+from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, ConfigError, folded, rel_path
 from model.hw.config import latency as config_latency
 from model.hw.regmap import REGMAP, pix_width
 
@@ -58,8 +58,18 @@ def perm_literal(cfg: Config) -> str:
     return f"{bits}'h{word:0{(bits + 3) // 4}x}"
 
 
+def rtl_supported(cfg: Config) -> None:
+    """ConfigError when cfg uses what the golden model has and the RTL has not: per-term
+    exponents of T_i and a_i (formats.t_exp_w, a_exp_w > 0; issue 26, docs/numerics.md)."""
+    if cfg.t_exp_w or cfg.a_exp_w:
+        raise ConfigError(f"{rel_path(cfg.path) if cfg.path else cfg.name}: formats.t_exp_w = {cfg.t_exp_w}, "
+                          f"a_exp_w = {cfg.a_exp_w}: per-term exponents are in the golden model only, "
+                          "not in the RTL yet (issue 26)")
+
+
 def top_params(cfg: Config) -> dict:
     """texture_pipeline's parameters for `cfg` (name -> integer, PERM a Verilog literal)."""
+    rtl_supported(cfg)
     out = {k.upper(): value(cfg, k) for k in TOP_KEYS}
     # derived from the blend (model/hw/config.py fc_sigma12): sigma sqrt(12) in u.FC_KSF
     out["FC_KS"], out["FC_KSF"] = cfg.fc_ks, FC_KSF
@@ -74,6 +84,7 @@ def _pick(cfg: Config, *keys) -> dict:
 def block_params(cfg: Config, module: str) -> dict:
     """The parameters texture_pipeline gives `module` under `cfg` (its own testbench and gate
     count use the same)."""
+    rtl_supported(cfg)
     if module == "texture_pipeline":
         return top_params(cfg)
     if module == "quadric_mac":

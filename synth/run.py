@@ -129,9 +129,11 @@ def synth_config(config: str, jobs: int = 2, reports: Path | None = None) -> dic
     t0 = time.perf_counter()
     cfg = load_config(config)
     reports = reports or REPORTS
+    # a file's path: its blocks take the loaded configuration (a file outside config/ has no name to load by)
+    src = cfg if Path(config).suffix == ".toml" else config
     config = cfg.name if Path(config).suffix == ".toml" else config
     with ThreadPoolExecutor(max_workers=jobs) as ex:
-        futs = {label: ex.submit(synth_one, config, mod, lib) for label, (mod, lib) in block_jobs(cfg).items()}
+        futs = {label: ex.submit(synth_one, src, mod, lib) for label, (mod, lib) in block_jobs(cfg).items()}
         res = {k: f.result() for k, f in futs.items()}
     rep = combine(cfg.name, cfg, res)
     budget = BUDGET.get(config) or BUDGET.get(base_of(config))  # a variant file: its base's budget

@@ -105,6 +105,8 @@ MODEL_ONLY = {
     "je_min": "the range of je (the RTL's je is a JE_W-bit word)",
     "je_max": "the range of je",
     "i_w": "the integral I(x) is never formed whole: colour_map forms D = I(b) - I(a) mod 2^D_W",
+    "te_max": "the largest per-term T exponent (formats.t_exp_w): golden model only, hdlbuild refuses t_exp_w > 0",
+    "ae_max": "the largest per-term a exponent (formats.a_exp_w): golden model only, hdlbuild refuses a_exp_w > 0",
 }
 
 

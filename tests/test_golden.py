@@ -674,3 +674,76 @@ def test_hypothesis_examples_follow_seed(tmp_path):
         runs.append(out.read_text())
     assert runs[0] == runs[1], "the same SEED drew different examples"
     assert runs[0] != runs[2], "another SEED drew the same examples"
+
+
+# ---------------------------------------------------------------- block floating point T_i, a_i
+
+
+def _bfp_config():
+    """full with T_i s10 x 2^(te - 8), te in 0..3 (|T| < 16), and a_i s8 x 2^(ae - 8), ae in 0..3 (|a| < 4)."""
+    from model.hw.config import variant
+
+    return variant(load_config("full"), "full_bfp_test", t_w=10, t_frac=8, t_exp_w=2, a_w=8, a_frac=8, a_exp_w=2)
+
+
+def _bfp_texture(rng, k=4):
+    terms = []
+    for i in range(k):
+        scale = [0.02, 2.5, 5.0, 9.0][i % 4]  # each term's T at another exponent
+        terms.append(NoiseTerm(a=float(rng.uniform(-1, 1) * [0.03, 0.4, 1.1, 1.9][i % 4]),
+                               T=rng.uniform(-scale, scale, size=(3, 3)), o=rng.uniform(-50, 50, size=3)))
+    return TextureParams(Q=np.array([0.5, 0, 0, 0, 0.3, 0, 0, 0.2, 0, 0.1]), clut=rand_clut(rng, 64),
+                         mode="mod", filter=True, terms=terms)
+
+
+def test_block_exponent_is_the_least_that_fits():
+    """quantize_texture picks per term the least exponent whose mantissas fit (docs/numerics.md,
+    block floating point): the largest entry keeps t_w - 1 magnitude bits, and one exponent less
+    would not fit; T and a as the hardware holds them are M 2^(e - frac)."""
+    cfg = _bfp_config()
+    rng = np.random.default_rng(26)
+    for _ in range(20):
+        tex = _bfp_texture(rng)
+        ti, _ = quantize_texture(cfg, tex)
+        for i, term in enumerate(tex.terms):
+            for m, e, w, frac, v in ((ti.T[i], ti.te[i], cfg.t_w, cfg.t_frac, term.T),
+                                     (ti.a[i], ti.ae[i], cfg.a_w, cfg.a_frac, term.a)):
+                lim = (1 << (w - 1)) - 1
+                assert np.max(np.abs(m)) <= lim
+                assert np.array_equal(m, np.rint(np.asarray(v) * 2.0 ** (frac - e)))
+                if e > 0:
+                    assert np.max(np.abs(np.rint(np.asarray(v) * 2.0 ** (frac - e + 1)))) > lim
+
+
+def test_block_exponent_out_of_range_is_rejected():
+    cfg = _bfp_config()  # |T| <= 511 2^(3 - 8) = 15.97
+    tex = TextureParams(Q=np.zeros(10), clut=rand_clut(np.random.default_rng(0), 4), mode="mod", filter=True,
+                        terms=[NoiseTerm(a=0.5, T=np.eye(3) * 16, o=np.zeros(3))])
+    with pytest.raises(FormatError, match=r"noise\[0\]\.T\[0, 0\] = 16 does not fit s10\.8 x 2\^\[0\.\.3\]"):
+        quantize_texture(cfg, tex)
+
+
+def test_block_float_equals_fixed_point_of_the_shifted_mantissas():
+    """T s >> (ts_shift - te) is (T 2^te) s >> ts_shift exactly, and likewise the gradient's g T and
+    a n, a h: a texture on the exponent configuration renders bit for bit as on the fixed-point
+    configuration t_w + te_max, a_w + ae_max with the mantissas shifted by their exponents."""
+    from model.hw.config import variant
+
+    cfg = _bfp_config()
+    fixed = variant(cfg, "full_bfp_fixed", t_w=cfg.t_w + cfg.d["te_max"], t_exp_w=0,
+                    a_w=cfg.a_w + cfg.d["ae_max"], a_exp_w=0)
+    rng = np.random.default_rng(260)
+    s = np.stack([rng.uniform(-100, 100, 4000), rng.uniform(-20, 20, 4000), rng.uniform(-3, 3, 4000)], axis=-1)
+    J = rng.normal(scale=0.05, size=(4000, 3, 2))
+    seen = set()
+    for _ in range(4):
+        ti, _ = quantize_texture(cfg, _bfp_texture(rng))
+        seen |= set(ti.te.tolist()) | set(ti.ae.tolist())
+        tf = dataclasses.replace(ti, T=ti.T << ti.te[:, None, None], a=ti.a << ti.ae,
+                                 te=np.zeros_like(ti.te), ae=np.zeros_like(ti.ae))
+        si, Jm, je = quantize_pixels(cfg, s, J)
+        a = G.texture_stages(cfg, ti, si, Jm, je)
+        b = G.texture_stages(fixed, tf, si, Jm, je)
+        for key in ("f", "c", "w", "rgba"):
+            assert np.array_equal(a[key], b[key]), key
+    assert seen >= {0, 1, 2, 3}  # every exponent taken

@@ -53,9 +53,15 @@ SCHEMA = {
     "j_w": ("formats", int, (4, 24)),
     "je_w": ("formats", int, (3, 8)),
     "t_w": ("formats", int, (4, 24)),
-    "t_frac": ("formats", int, (0, 20)),
+    "t_frac": ("formats", int, (0, 28)),
     "a_w": ("formats", int, (4, 24)),
-    "a_frac": ("formats", int, (0, 20)),
+    "a_frac": ("formats", int, (0, 28)),
+    # block floating point (issue 26): T_i = M_i 2^(te_i - t_frac), M_i s{t_w}.0 entries and one
+    # exponent te_i in [0, 2^t_exp_w - 1] per term; a_i = A_i 2^(ae_i - a_frac) likewise;
+    # 0 = fixed point (te_i = ae_i = 0: T_i s{t_w}.{t_frac}, a_i s{a_w}.{a_frac}). Optional
+    # (OPTIONAL_KEYS): a file without them is fixed point, and its hash is what it was.
+    "t_exp_w": ("formats", int, (0, 4)),
+    "a_exp_w": ("formats", int, (0, 4)),
     "p_frac": ("formats", int, (2, 16)),
     "hash_bits": ("formats", int, (2, 10)),
     "n_frac": ("formats", int, (2, 16)),
@@ -73,6 +79,11 @@ SCHEMA = {
     "fc_fade_log2": ("formats", int, (0, 4)),
     "seed": ("hash", int, (0, 2**31 - 1)),
 }
+
+
+# keys a file may leave out, with the value it then has; config_values leaves them out at that value
+# (so the hash of a configuration that does not use them is unchanged)
+OPTIONAL_KEYS = {"t_exp_w": 0, "a_exp_w": 0}
 
 
 def bits_signed(maxabs: int) -> int:
@@ -134,6 +145,8 @@ class Config:
     fc_knee: int
     fc_fade_log2: int
     seed: int
+    t_exp_w: int = 0
+    a_exp_w: int = 0
     path: str = ""
     # the file's [promise] (PROMISE_KEYS; None for a configuration that states none): what the
     # configuration keeps on the held-out corpus (explore.validate); not a parameter of the RTL
@@ -219,6 +232,9 @@ def _derive(c: Config) -> dict:
     d["p_w"] = c.hash_bits + c.p_frac
     d["o_w"] = d["p_w"]
     d["ts_shift"] = c.s_frac + c.t_frac - c.p_frac
+    # per-term exponents (t_exp_w, a_exp_w; 0: none): T s >> (ts_shift - te), a n >> (an_shift - ae)
+    d["te_max"] = (1 << c.t_exp_w) - 1
+    d["ae_max"] = (1 << c.a_exp_w) - 1
     # noise value n in [-1, 1) with n_frac fraction bits; gradient |dn/dp| <= 2 * 1.5
     nmax = 1 << c.n_frac
     d["n_w"] = bits_signed(nmax)
@@ -227,7 +243,7 @@ def _derive(c: Config) -> dict:
     amax = 1 << (c.a_w - 1)
     tmax = 1 << (c.t_w - 1)
     d["an_shift"] = c.a_frac + c.n_frac - c.f_frac
-    an_max = _shift_bound(amax * nmax, -d["an_shift"])
+    an_max = _shift_bound(amax * nmax, d["ae_max"] - d["an_shift"])
     d["an_w"] = bits_signed(an_max)
     # h_k = sum_j gn_j T_jk >> (n_frac + t_frac - c_frac); ag_k = a h_k >> a_frac
     d["h_shift"] = c.n_frac + c.t_frac - c.c_frac
@@ -235,9 +251,9 @@ def _derive(c: Config) -> dict:
     # pow2: T diagonal with 0 <= T_kk <= 2^(t_w - 2), one product per h_k
     gmax = 3 * nmax if c.blend == "cubic" else 2 * nmax
     hsum = gmax << (c.t_w - 2) if c.transform == "pow2" else 3 * gmax * tmax
-    h_max = _shift_bound(hsum, -d["h_shift"])
+    h_max = _shift_bound(hsum, d["te_max"] - d["h_shift"])
     d["h_w"] = bits_signed(h_max)
-    ag_max = _shift_bound(amax * h_max, -c.a_frac)
+    ag_max = _shift_bound(amax * h_max, d["ae_max"] - c.a_frac)
     d["ag_w"] = bits_signed(ag_max)
     # sums over the quadric and the K noise terms
     k = c.noise_terms
@@ -392,6 +408,9 @@ def _from_raw(raw: dict, p: Path) -> Config:
             if key not in SCHEMA or SCHEMA[key][0] != sec:
                 raise ConfigError(f"{p}: unknown key '{sec}.{key}'")
     for key, (sec, typ, rng) in SCHEMA.items():
+        if key not in raw.get(sec, {}) and key in OPTIONAL_KEYS:
+            vals[key] = OPTIONAL_KEYS[key]
+            continue
         if key not in raw.get(sec, {}):
             raise ConfigError(f"{p}: missing key '{sec}.{key}'")
         v = raw[sec][key]
@@ -452,9 +471,17 @@ def _check(c: Config, p: Path) -> None:
 
     need(c.s_frac < c.s_w, "formats.s_frac must be < s_w")
     need(c.q_frac < c.q_w, "formats.q_frac must be < q_w")
-    need(c.t_frac < c.t_w, "formats.t_frac must be < t_w")
-    need(c.a_frac < c.a_w, "formats.a_frac must be < a_w")
+    need(c.t_frac < c.t_w or c.t_exp_w > 0, "formats.t_frac must be < t_w (without an exponent, t_exp_w = 0)")
+    need(c.a_frac < c.a_w or c.a_exp_w > 0, "formats.a_frac must be < a_w (without an exponent, a_exp_w = 0)")
     need(c.s_frac + c.t_frac >= c.p_frac, "formats.p_frac must be <= s_frac + t_frac")
+    te_max, ae_max = (1 << c.t_exp_w) - 1, (1 << c.a_exp_w) - 1
+    need(c.t_exp_w == 0 or c.transform == "affine", "formats.t_exp_w > 0 needs transform = \"affine\"")
+    need(c.a_exp_w == 0 or c.amplitude == "any", "formats.a_exp_w > 0 needs amplitude = \"any\"")
+    need(c.s_frac + c.t_frac - c.p_frac >= te_max, "formats: s_frac + t_frac - p_frac must be >= 2^t_exp_w - 1 "
+                                                   "(T s is shifted right by it less the exponent)")
+    need(c.n_frac + c.t_frac - c.c_frac >= te_max, "formats: n_frac + t_frac - c_frac must be >= 2^t_exp_w - 1")
+    need(c.a_frac + c.n_frac - c.f_frac >= ae_max, "formats: a_frac + n_frac - f_frac must be >= 2^a_exp_w - 1")
+    need(c.a_frac >= ae_max, "formats: a_frac must be >= 2^a_exp_w - 1")
     need(c.n_frac >= c.hash_bits - 1, "formats.n_frac must be >= hash_bits - 1 (lattice values are exact)")
     need(c.w_cap_log2 >= c.n_log2_max, "formats.w_cap_log2 must be >= n_log2_max (w must reach N)")
     need(c.noise_units <= max(c.noise_terms, 1), f"features.noise_units = {c.noise_units} must be <= noise_terms "
@@ -499,8 +526,10 @@ def rel_path(path) -> str:
 
 
 def config_values(cfg: Config) -> dict:
-    """{key: value} of every configuration key of cfg (the schema's keys)."""
-    return {key: getattr(cfg, key) for key in SCHEMA}
+    """{key: value} of every configuration key of cfg (the schema's keys; an OPTIONAL_KEYS key
+    only where it differs from its default)."""
+    return {key: getattr(cfg, key) for key in SCHEMA
+            if key not in OPTIONAL_KEYS or getattr(cfg, key) != OPTIONAL_KEYS[key]}
 
 
 def config_hash(cfg: Config) -> str:
@@ -571,7 +600,8 @@ def variant(base: Config, name: str | None = None, **changes) -> Config:
     vals.update(changes)
     raw = {"name": name or base.name}
     for key, (sec, _t, _r) in SCHEMA.items():
-        raw.setdefault(sec, {})[key] = vals[key]
+        if key in vals:
+            raw.setdefault(sec, {})[key] = vals[key]
     return _from_raw(raw, Path(f"<{raw['name']}>"))
 
 
@@ -639,7 +669,19 @@ def random_config(seed: int, name: str | None = None, tries: int = 1000) -> Conf
 def fixed_range(w: int, frac: int, signed: bool = True) -> tuple[float, float]:
     """The closed range of values a format sN.F / uN.F holds."""
     lo, hi = (-(1 << (w - 1)), (1 << (w - 1)) - 1) if signed else (0, (1 << w) - 1)
-    return lo / (1 << frac), hi / (1 << frac)
+    return lo / 2.0 ** frac, hi / 2.0 ** frac
+
+
+def t_format(cfg: Config) -> str:
+    """T_i's format: s{t_w}.{t_frac}, or with exponents s{t_w}.{t_frac} x 2^[0..te_max]."""
+    f = f"s{cfg.t_w}.{cfg.t_frac}"
+    return f + (f" x 2^[0..{cfg.d['te_max']}]" if cfg.t_exp_w else "")
+
+
+def a_format(cfg: Config) -> str:
+    """a_i's format: s{a_w}.{a_frac}, or with exponents s{a_w}.{a_frac} x 2^[0..ae_max]."""
+    f = f"s{cfg.a_w}.{cfg.a_frac}"
+    return f + (f" x 2^[0..{cfg.d['ae_max']}]" if cfg.a_exp_w else "")
 
 
 def input_limits(cfg: Config) -> dict:
@@ -648,8 +690,8 @@ def input_limits(cfg: Config) -> dict:
     return {
         "s": (*fixed_range(cfg.s_w, cfg.s_frac), f"s{cfg.s_w}.{cfg.s_frac}"),
         "quadric": (*fixed_range(cfg.q_w, cfg.q_frac), f"s{cfg.q_w}.{cfg.q_frac}"),
-        "T": (*fixed_range(cfg.t_w, cfg.t_frac), f"s{cfg.t_w}.{cfg.t_frac}"),
-        "a": (*fixed_range(cfg.a_w, cfg.a_frac), f"s{cfg.a_w}.{cfg.a_frac}"),
+        "T": (*fixed_range(cfg.t_w, cfg.t_frac - cfg.d["te_max"]), t_format(cfg)),
+        "a": (*fixed_range(cfg.a_w, cfg.a_frac - cfg.d["ae_max"]), a_format(cfg)),
         "noise_terms": cfg.noise_terms,
         "clut_max": 1 << cfg.n_log2_max,
         "quadric_mode": cfg.quadric, "transform": cfg.transform, "amplitude": cfg.amplitude,

@@ -54,8 +54,8 @@ class TexInt:
     """A texture's parameters as the hardware holds them (see model/hw/quantize.py)."""
 
     Q: np.ndarray  # int64 [10]: A..J, s{q_w}.{q_frac}
-    a: np.ndarray  # int64 [K]: amplitudes, s{a_w}.{a_frac}
-    T: np.ndarray  # int64 [K, 3, 3]: T_i, s{t_w}.{t_frac}
+    a: np.ndarray  # int64 [K]: amplitude mantissas, s{a_w}.{a_frac} (a_i = a[i] 2^(ae[i] - a_frac))
+    T: np.ndarray  # int64 [K, 3, 3]: T_i mantissas, s{t_w}.{t_frac} (T_i = T[i] 2^(te[i] - t_frac))
     o: np.ndarray  # int64 [K, 3]: offsets, u{p_w}.{p_frac} (mod 2^hash_bits lattice units)
     mode: int  # MODE_MOD or MODE_CLAMP
     n_log2: int  # N = 2^n_log2 colour-table entries
@@ -66,10 +66,17 @@ class TexInt:
     # terms the texture uses: 0..k_used-1 (the CTRL register's term count; default all);
     # the hardware skips the others whatever their a, and so does texture_stages
     k_used: int = None
+    # per-term exponents (formats.t_exp_w, a_exp_w; all 0 in a fixed-point configuration)
+    te: np.ndarray = field(default=None)  # int64 [K]: u{t_exp_w}
+    ae: np.ndarray = field(default=None)  # int64 [K]: u{a_exp_w}
 
     def __post_init__(self):
         if self.k_used is None:
             self.k_used = len(self.a)
+        if self.te is None:
+            self.te = np.zeros(len(self.a), dtype=I64)
+        if self.ae is None:
+            self.ae = np.zeros(len(self.a), dtype=I64)
         if self.csat is None or self.mip is None:
             self.csat, self.mip = build_tables(self.clut)
 
@@ -159,19 +166,22 @@ def lerp(pf, a, b, t):
     return a + (((b - a) * t) >> pf)
 
 
-def noise_xform(cfg: Config, t_row, o_j, s):
-    """One axis of a term's transform (rtl/noise_xform.v): p_j = ((sum_k T_jk s_k) >> ts_shift)
-    + o_j mod 2^p_w, u{p_w}.{p_frac} (the lattice cell p_j >> p_frac, the fraction below).
-    s: int64 [..., 3]; t_row: row j of T (3 entries s{t_w}.{t_frac}); o_j u{p_w}.{p_frac}."""
+def noise_xform(cfg: Config, t_row, o_j, s, te: int = 0):
+    """One axis of a term's transform (rtl/noise_xform.v): p_j = ((sum_k T_jk s_k) >> (ts_shift
+    - te)) + o_j mod 2^p_w, u{p_w}.{p_frac} (the lattice cell p_j >> p_frac, the fraction below).
+    s: int64 [..., 3]; t_row: row j of T's mantissas (3 entries s{t_w}.{t_frac}); te the term's
+    exponent (0 without t_exp_w); o_j u{p_w}.{p_frac}."""
     d = cfg.d
     acc = int(t_row[0]) * s[..., 0] + int(t_row[1]) * s[..., 1] + int(t_row[2]) * s[..., 2]
-    return ((acc >> d["ts_shift"]) + int(o_j)) & ((1 << d["p_w"]) - 1)
+    return ((acc >> (d["ts_shift"] - int(te))) + int(o_j)) & ((1 << d["p_w"]) - 1)
 
 
-def noise_grad(cfg: Config, a: int, T, v, e, fz, wy, wz, dw):
+def noise_grad(cfg: Config, a: int, T, v, e, fz, wy, wz, dw, te: int = 0, ae: int = 0):
     """A term's texture-space gradient a (dn/dp) T (rtl/noise_grad.v) from its value path's
     corner values v[i][j][k], x lerps e[j][k], y lerps fz[k] (s.{n_frac}), the weights wy, wz
-    and the slopes dw[j] (u.{p_frac}). Returns ag [..., 3] (c_frac bits)."""
+    and the slopes dw[j] (u.{p_frac}); T and a are mantissas with exponents te, ae:
+    h_k = (sum_j g_j T_jk) >> (h_shift - te), ag_k = (a h_k) >> (a_frac - ae).
+    Returns ag [..., 3] (c_frac bits)."""
     d, pf = cfg.d, cfg.p_frac
     dx = [[v[1][j][k] - v[0][j][k] for k in range(2)] for j in range(2)]
     gx = (lerp(pf, lerp(pf, dx[0][0], dx[1][0], wy), lerp(pf, dx[0][1], dx[1][1], wy), wz) * dw[0]) >> pf
@@ -179,15 +189,16 @@ def noise_grad(cfg: Config, a: int, T, v, e, fz, wy, wz, dw):
     gz = ((fz[1] - fz[0]) * dw[2]) >> pf
     ag = []
     for k in range(3):
-        h = shift(gx * T[0, k] + gy * T[1, k] + gz * T[2, k], -d["h_shift"])
-        ag.append((int(a) * h) >> cfg.a_frac)
+        h = shift(gx * T[0, k] + gy * T[1, k] + gz * T[2, k], int(te) - d["h_shift"])
+        ag.append((int(a) * h) >> (cfg.a_frac - int(ae)))
     return np.stack(ag, axis=-1)
 
 
-def noise_term(cfg: Config, a: int, T, o, s):
+def noise_term(cfg: Config, a: int, T, o, s, te: int = 0, ae: int = 0):
     """One term: a n(T s + o) and its texture-space gradient a (dn/dp) T.
 
-    s: int64 [..., 3]; a: s{a_w}.{a_frac}; T [3, 3] s{t_w}.{t_frac}; o [3] u{p_w}.{p_frac}.
+    s: int64 [..., 3]; a: s{a_w}.{a_frac}; T [3, 3] s{t_w}.{t_frac}; o [3] u{p_w}.{p_frac};
+    te, ae: the term's exponents (T 2^te, a 2^ae; 0 in a fixed-point configuration).
     Returns an [...] (f_frac bits) and ag [..., 3] (c_frac bits). The transform is
     noise_xform (once per axis), the gradient noise_grad, as in the RTL.
     """
@@ -198,7 +209,7 @@ def noise_term(cfg: Config, a: int, T, o, s):
     mask_h = (1 << cfg.hash_bits) - 1
     ip, sw, ds = [], [], []
     for j in range(3):
-        p = noise_xform(cfg, T[j], o[j], s)
+        p = noise_xform(cfg, T[j], o[j], s, te)
         ip.append(p >> pf)
         w_, dw_ = noise_blend(cfg, p & ((1 << pf) - 1))
         sw.append(w_)
@@ -218,10 +229,10 @@ def noise_term(cfg: Config, a: int, T, o, s):
     e = [[lerp(pf, v[0][j][k], v[1][j][k], sx) for k in range(2)] for j in range(2)]
     fz = [lerp(pf, e[0][k], e[1][k], sy) for k in range(2)]
     n = lerp(pf, fz[0], fz[1], sz)
-    an = shift(int(a) * n, -d["an_shift"])
+    an = shift(int(a) * n, int(ae) - d["an_shift"])
     if not cfg.noise_gradient:
         return an, np.zeros(n.shape + (3,), dtype=I64)
-    return an, noise_grad(cfg, a, T, v, e, fz, sy, sz, ds)
+    return an, noise_grad(cfg, a, T, v, e, fz, sy, sz, ds, te, ae)
 
 
 def filter_width(cfg: Config, c, Jm, je, n_log2: int, components: bool = False):
@@ -684,14 +695,14 @@ def fc_weight(cfg: Config, tex: TexInt, Jm, je):
     The footprint of a pixel in term i's noise cells is taken axis by axis: s_k moves by up to
     m_k = max_c |J_kc| a pixel (J = Jm 2^je, row k), and term i's lattice by up to
     t_ik = max_j |T_i,jk| cells per unit of s_k (column k of T_i), so
-      L_i = max_k (fc_log2(m_k) + je 2^lf + fc_log2(t_ik) - t_frac 2^lf)   (2^-lf octaves, lf = fc_log_frac)
+      L_i = max_k (fc_log2(m_k) + je 2^lf + fc_log2(t_ik) - (t_frac - te_i) 2^lf)   (2^-lf octaves, lf = fc_log_frac)
     over the axes with m_k > 0 and t_ik > 0 (log2 of the largest entry of |T_i| |J|, within a
     factor 3 of |T_i J|'s), and
       alpha_i = clip(fc_knee - L_i, 0, 2^fc_af)       (1 = the term as it is, 0 = its mean, 0)
     (so the fade spans 2^fc_fade_log2 octaves below phi = 2^(fc_knee 2^-lf)); alpha_i = 1 when
     no axis qualifies (J or T_i zero), a_i = 0, the term is past k_used or the texture is
     unfiltered. A faded term's spread stands in for it in the filter width: sd_i = (2^fc_af -
-    alpha_i) |a_i| (u.{fc_af + a_frac}), and
+    alpha_i) |a_i| 2^ae_i (u.{fc_af + a_frac}), and
       wv = min(shift((max_i sd_i) fc_ks 2^n_log2, f_frac - fc_af - a_frac - FC_KSF), 2^(w_cap_log2 + f_frac))
     with fc_ks = sigma sqrt(12) of the lattice noise (config.fc_sigma12). Returns (alpha [..., K], wv [...])."""
     lf, af = cfg.fc_log_frac, cfg.fc_af
@@ -708,12 +719,12 @@ def fc_weight(cfg: Config, tex: TexInt, Jm, je):
         if not tex.filter or a == 0:
             continue
         tk = np.max(np.abs(np.asarray(tex.T[i], dtype=I64)), axis=0)  # [3]: per column k of T_i
-        lt = np.where(tk > 0, fc_log2(np.maximum(tk, 1), lf) - (cfg.t_frac << lf), neg)
+        lt = np.where(tk > 0, fc_log2(np.maximum(tk, 1), lf) - ((cfg.t_frac - int(tex.te[i])) << lf), neg)
         ok = (m > 0) & (tk > 0)
         L = np.max(np.where(ok, lm + lt, neg), axis=-1)
         al = np.where(ok.any(axis=-1), np.clip(cfg.fc_knee - L, 0, one), one)
         alpha[..., i] = al
-        sd = np.maximum(sd, (one - al) * abs(a))
+        sd = np.maximum(sd, ((one - al) * abs(a)) << int(tex.ae[i]))
     cap = I64(1) << (cfg.w_cap_log2 + cfg.f_frac)
     wv = shift((sd * cfg.fc_ks) << tex.n_log2, cfg.f_frac - af - cfg.a_frac - FC_KSF)
     return alpha, np.minimum(wv, cap)
@@ -742,7 +753,7 @@ def noise_leaves(cfg: Config, tex, s, q, cq, alpha=None, skip: bool = True):
                 fl.append(np.zeros(np.shape(q), dtype=I64))
                 cl.append(zc)
             continue
-        an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s)
+        an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s, int(tex.te[i]), int(tex.ae[i]))
         if alpha is not None:
             an, ag = fc_scale(cfg, alpha[..., i], an, ag)
         fl.append(an)

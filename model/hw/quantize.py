@@ -29,7 +29,7 @@ def to_fixed(name: str, value, w: int, frac: int, signed: bool = True):
     v = np.asarray(value, dtype=np.float64)
     if not np.all(np.isfinite(v)):
         raise FormatError(f"{name}: non-finite value")
-    x = np.rint(v * (1 << frac))
+    x = np.rint(v * 2.0 ** frac)
     lo, hi = (-(1 << (w - 1)), (1 << (w - 1)) - 1) if signed else (0, (1 << w) - 1)
     bad = (x < lo) | (x > hi)
     if np.any(bad):
@@ -37,9 +37,30 @@ def to_fixed(name: str, value, w: int, frac: int, signed: bool = True):
         where = f"[{', '.join(str(int(i)) for i in idx)}]" if idx else ""
         raise FormatError(
             f"{name}{where} = {float(v[idx]):.6g} does not fit {fmt_name(w, frac, signed)} "
-            f"(range [{lo / (1 << frac):.10g}, {hi / (1 << frac):.10g}])"
+            f"(range [{lo / 2.0 ** frac:.10g}, {hi / 2.0 ** frac:.10g}])"
         )
     return x.astype(np.int64)
+
+
+def block_exponent(name: str, value, w: int, frac: int, exp_w: int) -> int:
+    """The exponent e in [0, 2^exp_w - 1] of a block-floating-point value (formats.t_exp_w,
+    a_exp_w): the least e with every |round(value 2^(frac - e))| <= 2^(w-1) - 1, so the largest
+    entry keeps the most bits (0 when exp_w = 0, or all of value fits at e = 0). FormatError
+    when no exponent fits."""
+    v = np.abs(np.asarray(value, dtype=np.float64))
+    if not np.all(np.isfinite(v)):
+        raise FormatError(f"{name}: non-finite value")
+    lim = (1 << (w - 1)) - 1
+    emax = (1 << exp_w) - 1
+    for e in range(emax + 1):
+        if np.max(np.rint(v * 2.0 ** (frac - e)), initial=0.0) <= lim:
+            return e
+    if exp_w == 0:
+        return 0  # fixed point: to_fixed names the value that does not fit
+    k = np.unravel_index(np.argmax(v), v.shape) if v.ndim else ()
+    where = f"[{', '.join(str(int(i)) for i in k)}]" if k else ""
+    raise FormatError(f"{name}{where} = {float(np.asarray(value, dtype=np.float64)[k]):.6g} does not fit "
+                      f"{fmt_name(w, frac)} x 2^[0..{emax}] (|value| <= {lim * 2.0 ** (emax - frac):.10g})")
 
 
 def quantize_texture(cfg: Config, tex: TextureParams) -> tuple[TexInt, dict]:
@@ -67,8 +88,11 @@ def quantize_texture(cfg: Config, tex: TextureParams) -> tuple[TexInt, dict]:
     T = np.zeros((K, 3, 3), dtype=np.int64)
     o = np.zeros((K, 3), dtype=np.int64)
     period = float(1 << cfg.hash_bits)
+    te = np.zeros(K, dtype=np.int64)
+    ae = np.zeros(K, dtype=np.int64)
     for i, term in enumerate(used):
-        a[i] = to_fixed(f"noise[{i}].a", term.a, cfg.a_w, cfg.a_frac)
+        ae[i] = block_exponent(f"noise[{i}].a", term.a, cfg.a_w, cfg.a_frac, cfg.a_exp_w)
+        a[i] = to_fixed(f"noise[{i}].a", term.a, cfg.a_w, cfg.a_frac - int(ae[i]))
         if cfg.amplitude == "pow2":
             ia = abs(int(a[i]))
             if ia & (ia - 1) or ia / (1 << cfg.a_frac) != abs(term.a):
@@ -76,7 +100,8 @@ def quantize_texture(cfg: Config, tex: TextureParams) -> tuple[TexInt, dict]:
                     f"noise[{i}].a = {term.a:.6g}: configuration {cfg.name} (amplitude pow2) "
                     f"needs 0 or +-2^k in {fmt_name(cfg.a_w, cfg.a_frac)}"
                 )
-        T[i] = to_fixed(f"noise[{i}].T", term.T, cfg.t_w, cfg.t_frac)
+        te[i] = block_exponent(f"noise[{i}].T", term.T, cfg.t_w, cfg.t_frac, cfg.t_exp_w)
+        T[i] = to_fixed(f"noise[{i}].T", term.T, cfg.t_w, cfg.t_frac - int(te[i]))
         if cfg.transform == "pow2":
             _check_pow2(cfg, i, term.T, T[i])
         # the lattice is periodic with period 2^hash_bits: the offset is a phase, taken mod the period
@@ -92,6 +117,8 @@ def quantize_texture(cfg: Config, tex: TextureParams) -> tuple[TexInt, dict]:
         filter=bool(tex.filter),
         clut=np.asarray(tex.clut, dtype=np.int64),
         k_used=len(used),
+        te=te,
+        ae=ae,
     )
     return tint, {"terms_used": len(used), "dropped_terms": max(0, len(tex.terms) - K)}
 
@@ -104,7 +131,7 @@ def parameter_changes(cfg: Config, tex: TextureParams, ti: TexInt) -> list[dict]
 
     def add(name, v, q, w, frac, signed=True):
         v = np.asarray(v, dtype=np.float64)
-        q = np.asarray(q, dtype=np.float64) / (1 << frac)
+        q = np.asarray(q, dtype=np.float64) / 2.0 ** frac
         d = np.abs(q - v)
         if np.any(d > 0):
             k = np.unravel_index(np.argmax(d), d.shape) if d.ndim else ()
@@ -114,8 +141,8 @@ def parameter_changes(cfg: Config, tex: TextureParams, ti: TexInt) -> list[dict]
     add("quadric", tex.Q, ti.Q, cfg.q_w, cfg.q_frac)
     period = float(1 << cfg.hash_bits)
     for i, term in enumerate(tex.terms[:ti.k_used]):
-        add(f"noise[{i}].a", term.a, ti.a[i], cfg.a_w, cfg.a_frac)
-        add(f"noise[{i}].T", term.T, ti.T[i], cfg.t_w, cfg.t_frac)
+        add(f"noise[{i}].a", term.a, ti.a[i], cfg.a_w, cfg.a_frac - int(ti.ae[i]))
+        add(f"noise[{i}].T", term.T, ti.T[i], cfg.t_w, cfg.t_frac - int(ti.te[i]))
         add(f"noise[{i}].o", np.mod(term.o, period), ti.o[i], cfg.d["o_w"], cfg.p_frac, signed=False)
     return out
 
@@ -127,7 +154,8 @@ def quantized_texture(cfg: Config, tex: TextureParams, ti: TexInt) -> TexturePar
 
     from model.texture import NoiseTerm
 
-    terms = [NoiseTerm(a=float(ti.a[i]) / (1 << cfg.a_frac), T=ti.T[i] / float(1 << cfg.t_frac),
+    terms = [NoiseTerm(a=float(ti.a[i]) * 2.0 ** (int(ti.ae[i]) - cfg.a_frac),
+                       T=ti.T[i] * 2.0 ** (int(ti.te[i]) - cfg.t_frac),
                        o=ti.o[i] / float(1 << cfg.p_frac)) for i in range(ti.k_used)]
     return replace(tex, Q=ti.Q / float(1 << cfg.q_frac), terms=terms)
 
