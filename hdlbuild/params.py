@@ -23,7 +23,7 @@ ENUMS = {
     "blend": {"linear": 0, "cubic": 1},
     "transform": {"affine": 0, "pow2": 1},
     "amplitude": {"any": 0, "pow2": 1},
-    "filter": {"none": 0, "sat": 1, "mip": 2, "sat_fc": 3},
+    "filter": {"none": 0, "sat": 1, "mip": 2, "sat_fc": 3, "sat2": 4},
 }
 # configuration keys that are parameters of texture_pipeline (all of them but hash.seed, which
 # reaches it as the permutation PERM)
@@ -100,10 +100,11 @@ def block_params(cfg: Config, module: str) -> dict:
         return {"H": cfg.hash_bits, "N_FRAC": cfg.n_frac, "N_W": cfg.n_w, "PERM": perm_literal(cfg)}
     if module == "filter_width":
         return {"C_W": cfg.c_w, **_pick(cfg, "c_frac", "j_w", "je_w", "norm_bits", "f_frac", "w_cap_log2",
-                                        "n_log2_max", "fpga_regs")}
+                                        "n_log2_max", "fpga_regs"),
+                **({"COMPONENTS": 1} if cfg.filter == "sat2" else {})}  # sat2: the two screen components
     if module == "colour_map":  # sat_fc: the box filter (the fade is before it)
         return {"F_W": cfg.f_w, **_pick(cfg, "f_frac", "w_cap_log2", "n_log2_max", "div_bits", "fpga_regs"),
-                "FILTER": 1 if cfg.filter in SAT_FILTERS else value(cfg, "filter")}
+                "FILTER": 1 if cfg.filter in SAT_FILTERS else 3 if cfg.filter == "sat2" else value(cfg, "filter")}
     if module == "fc_weight":
         return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "j_w", "je_w", "t_w", "t_frac", "a_w", "a_frac", "f_frac",
                                                         "w_cap_log2", "n_log2_max", "fc_log_frac", "fc_knee",
@@ -113,6 +114,11 @@ def block_params(cfg: Config, module: str) -> dict:
         return {"AN_W": cfg.an_w, "AG_W": cfg.ag_w, "AF": cfg.fc_af, "NOISE_GRADIENT": value(cfg, "noise_gradient")}
     if module == "box_divide":  # as colour_map divides: exact, or on a div_bits-bit w
         b = cfg.div_bits
+        if cfg.filter == "sat2":  # the trapezoid's divisor 4ab, w2_w bits
+            if 0 < b < cfg.w2_w:
+                sat = 1 if b <= 9 else 0
+                return {"NUM_W": b + 8 + sat, "DEN_W": b, "Q_W": 8, "LANES": 4, "SAT": sat}
+            return {"NUM_W": cfg.d2_w - 1, "DEN_W": cfg.w2_w, "Q_W": 8, "LANES": 4, "SAT": 0}
         if cfg.filter in SAT_FILTERS and 0 < b < cfg.w_w:
             sat = 1 if b <= 9 else 0
             return {"NUM_W": b + 8 + sat, "DEN_W": b, "Q_W": 8, "LANES": 4, "SAT": sat}

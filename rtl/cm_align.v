@@ -6,12 +6,13 @@
 // caller), in one register stage (`LAT_FC_WMAX). While f waits it is carried in FC_W <= F_W
 // bits: colour_map reads only f mod 1 in mod mode (mode 0, the low F_FRAC bits), and in
 // clamp mode (mode 1) compares f with thresholds inside [-2^GUARD, 2^F_FRAC + 2^GUARD],
-// GUARD = W_CAP_LOG2 + F_FRAC - 1, so saturating f to +-2^(GUARD+1) there (and wrapping it
+// GUARD = W_CAP_LOG2 + F_FRAC - 1 (sat2, NW = 2: W_CAP_LOG2 + F_FRAC), so saturating f to +-2^(GUARD+1) there (and wrapping it
 // to FC_W bits in mod mode) changes no colour; f_out is that word sign-extended to F_W.
 // model/hw/golden.py cm_align is the twin.
 //
 // Formats: f_in, f_out s{F_W}.{F_FRAC}; w_in, wv_in, w_out u{W_W}.{F_FRAC}, W_W =
-// W_CAP_LOG2 + F_FRAC + 1; mode static during a pass (it is read as f enters).
+// W_CAP_LOG2 + F_FRAC + 1 (NW = 2, filter sat2: w_in, w_out {b, a}, two such words, carried
+// together; WV_MAX must be 0); mode static during a pass (it is read as f enters).
 // Latency: LATENCY_F register stages from f_in to the outputs, LATENCY_W from w_in (the
 // caller's T_CM - T_F and T_CM - T_FW); LATENCY_W = (WV_MAX ? `LAT_FC_WMAX : 0) + the
 // wait of w, and one of the two waits is 0 (elaboration fails otherwise). out_valid is the
@@ -27,6 +28,7 @@ module cm_align #(
     parameter F_FRAC     = 16,  // f fraction bits (1.0 = the whole table)
     parameter W_CAP_LOG2 = 16,  // w saturates at 2^W_CAP_LOG2 entries
     parameter WV_MAX     = 0,   // 1 (filter sat_fc): w_out = max(w, wv)
+    parameter NW         = 1,   // w words: 1, or 2 (filter sat2: {b, a}; its clamp guard W)
     parameter LATENCY_F  = 0,   // stages from f_in to the outputs (f's wait)
     parameter LATENCY_W  = 0    // stages from w_in to the outputs (the max register and w's wait)
 ) (
@@ -39,25 +41,26 @@ module cm_align #(
     input  wire                              w_valid,
     /* verilator lint_on UNUSEDSIGNAL */
     input  wire [F_W-1:0]                    f_in,
-    input  wire [W_CAP_LOG2+F_FRAC:0]        w_in,
+    input  wire [NW*(W_CAP_LOG2+F_FRAC+1)-1:0] w_in,
     /* verilator lint_off UNUSEDSIGNAL */  // WV_MAX 0: not read
     input  wire [W_CAP_LOG2+F_FRAC:0]        wv_in,
     /* verilator lint_on UNUSEDSIGNAL */
     output wire                              out_valid,
     output wire [F_W-1:0]                    f_out,
-    output wire [W_CAP_LOG2+F_FRAC:0]        w_out
+    output wire [NW*(W_CAP_LOG2+F_FRAC+1)-1:0] w_out
 );
 
 localparam W_W   = W_CAP_LOG2 + F_FRAC + 1;                                 // filter width word
 localparam LAT_M = WV_MAX ? `LAT_FC_WMAX : 0;                               // the max(w, wv) stage
 localparam DLY_F = LATENCY_F;                                               // f's wait
 localparam DLY_W = LATENCY_W - LAT_M;                                       // w's wait
-localparam GUARD = W_CAP_LOG2 + F_FRAC - 1;                                 // clamp-mode guard
+localparam GUARD = W_CAP_LOG2 + F_FRAC - 1 + (NW - 1);                      // clamp-mode guard
 localparam FC_W  = (DLY_F > 0 && GUARD + 3 < F_W) ? GUARD + 3 : F_W;        // f while it waits
 
 // elaboration fails (unknown module) on a latency this block cannot have
 generate
-    if (LAT_M != 1 && WV_MAX != 0 || DLY_F < 0 || DLY_W < 0 || (DLY_F > 0 && DLY_W > 0)) begin : g_bad_latency
+    if (LAT_M != 1 && WV_MAX != 0 || DLY_F < 0 || DLY_W < 0 || (DLY_F > 0 && DLY_W > 0)
+        || (NW != 1 && (NW != 2 || WV_MAX != 0))) begin : g_bad_latency
         cm_align_latency_must_be_one_wait_and_the_max_stage u_error ();
     end
 endgenerate
@@ -83,7 +86,7 @@ generate
 endgenerate
 
 // sat_fc: w = max(w, wv), one register
-wire [W_W-1:0] wd_w;
+wire [NW*W_W-1:0] wd_w;
 wire           wd_valid;
 generate
     if (WV_MAX) begin : g_wmax
@@ -108,7 +111,7 @@ endgenerate
 // f waits DLY_F stages for w, or w waits DLY_W stages for f (one of them is 0)
 wire [FC_W-1:0] f_dly;
 delay_line #(.W(FC_W), .N(DLY_F)) u_dly_f (.clk(clk), .rst(rst), .ce(ce), .d_in(f_carry), .d_out(f_dly));
-delay_line #(.W(W_W), .N(DLY_W))  u_dly_w (.clk(clk), .rst(rst), .ce(ce), .d_in(wd_w), .d_out(w_out));
+delay_line #(.W(NW*W_W), .N(DLY_W))  u_dly_w (.clk(clk), .rst(rst), .ce(ce), .d_in(wd_w), .d_out(w_out));
 // the later of the two paths brings the valid bit (the earlier one is delayed to match it)
 assign out_valid = (DLY_W > 0) ? f_valid : wd_valid;
 

@@ -7,6 +7,10 @@
 //                   B > 0 on w normalised to B bits); w = 0 or filter off: the point lookup
 //   FILTER 2 (mip)  cmap_mip: the colour-table MIP map (mip_index); filter off: clut[k]
 //   FILTER 0 (none) cmap_point: the point lookup clut[k]
+//   FILTER 3 (sat2) cmap_sat2: the trapezoid, the colour map convolved with two boxes of the
+//                   screen components (a, b) of grad f N (w_in = {b, a}), from the SAT and its
+//                   running sum (sat2_table), and cmap_divide; a or b = 0 the box, both the
+//                   point lookup
 // Only the configured family is built. Every family has the same ports (the stage-1
 // registers, the table write port, out_valid, rgba_out; sat omits filter_en, point also w)
 // and its own latency `LAT_CMAP_<FAMILY>, which with stage 1 makes `LAT_COLOUR_MAP (checked
@@ -15,6 +19,7 @@
 // Formats (the parameters; derived widths from rtl/tex_widths.vh):
 //   f_in   s{F_W}.{F_FRAC}   1.0 = the whole colour table
 //   w_in   u{W_W}.{F_FRAC}   colour-table entries; contract: w <= 2^(W_CAP_LOG2 + F_FRAC)
+//                            (FILTER 3: {b, a}, two such words, a at [W_W-1:0])
 //                            (filter_width saturates there; the families' words are sized
 //                            for it)
 //   mode   0 mod (f taken mod 1), 1 clamp; filter_en 0: point lookup
@@ -22,7 +27,8 @@
 //   rgba_out RGBA8, channel c at [8c+7:8c] (R = 0, G = 1, B = 2, A = 3)
 //
 // Stage 1 (docs/numerics.md, "Colour map"):
-//   u = (f mod 1) N (mod) or clip(f N, -W/2, N + W/2), W = 2^W_CAP_LOG2 (clamp)
+//   u = (f mod 1) N (mod) or clip(f N, -W/2, N + W/2), W = 2^W_CAP_LOG2 (clamp; FILTER 3:
+//       clip(f N, -W, N + W), the trapezoid's window reaching (a + b) / 2 <= W from u)
 //       [s{U_W}.{F_FRAC} entries; clamp compares f with the thresholds shifted right
 //        by n_log2, exact because they are multiples of 2^n_log2]
 //   w registered, 0 when the filter is off; mode, n_log2 (and for mip filter_en) registered.
@@ -61,7 +67,7 @@ module colour_map #(
     parameter F_FRAC     = 16,  // [f_frac] fraction bits of f and w
     parameter W_CAP_LOG2 = 16,  // [w_cap_log2] w saturates at 2^W_CAP_LOG2 entries
     parameter N_LOG2_MAX = 8,   // [n_log2_max] log2 of the largest colour table (>= 1)
-    parameter FILTER     = 1,   // [filter] 0 none (point lookup), 1 sat, 2 mip
+    parameter FILTER     = 1,   // [filter] 0 none (point lookup), 1 sat, 2 mip, 3 sat2
     parameter DIV_BITS   = 0,   // [div_bits] box-filter division: 0 exact, B > 0 on B-bit w
     parameter FPGA_REGS  = 0    // [fpga_regs] 1: the five extra register stages above
 ) (clk, rst, ce, in_valid, f_in, w_in, mode, n_log2, filter_en, wr_en, wr_table, wr_addr, wr_data,
@@ -71,7 +77,9 @@ module colour_map #(
 
 localparam FF     = F_FRAC;
 localparam W_W    = W_CAP_LOG2 + F_FRAC + 1;                       // w
-localparam U_W    = tw_u_w(N_LOG2_MAX, F_FRAC, W_CAP_LOG2);        // u = f N (signed)
+localparam NW     = (FILTER == 3) ? 2 : 1;                         // w words: sat2's a and b
+localparam GW     = (FILTER == 3) ? 1 : 0;                         // sat2: the guard W, not W/2
+localparam U_W    = tw_u_w(N_LOG2_MAX, F_FRAC, W_CAP_LOG2 + GW);   // u = f N (signed)
 localparam CS_W   = tw_csat_w(N_LOG2_MAX);                         // summed-area channel
 localparam NMAX   = N_LOG2_MAX;
 localparam NL_W   = tw_bits_unsigned(N_LOG2_MAX);                  // n_log2
@@ -82,7 +90,7 @@ input  wire                 rst;
 input  wire                 ce;
 input  wire                 in_valid;
 input  wire [F_W-1:0]       f_in;       // signed
-input  wire [W_W-1:0]       w_in;
+input  wire [NW*W_W-1:0]    w_in;
 input  wire                 mode;       // 0 mod, 1 clamp
 input  wire [NL_W-1:0]      n_log2;
 input  wire                 filter_en;
@@ -97,11 +105,12 @@ output wire [31:0]          rgba_out;
 localparam LAT    = FPGA_REGS ? `LAT_COLOUR_MAP_FPGA : `LAT_COLOUR_MAP;
 localparam P      = FPGA_REGS ? 1 : 0;  // each optional register stage (delay_line of P stages)
 
-localparam GUARD  = WCAP + FF - 1;      // clamp guard W/2 = 2^GUARD (units 2^-FF entries)
+localparam GUARD  = WCAP + FF - 1 + GW; // clamp guard W/2 (sat2: W) = 2^GUARD (units 2^-FF entries)
 localparam CW     = (F_W > U_W) ? F_W : U_W;  // clamp comparison width
 
 // the filter family's latency (after stage 1)
 localparam LAT_FAM = (FILTER == 1) ? (FPGA_REGS ? `LAT_CMAP_SAT_FPGA : `LAT_CMAP_SAT)
+                   : (FILTER == 3) ? (FPGA_REGS ? `LAT_CMAP_SAT2_FPGA : `LAT_CMAP_SAT2)
                    : (FILTER == 2) ? (FPGA_REGS ? `LAT_CMAP_MIP_FPGA : `LAT_CMAP_MIP)
                    :                 (FPGA_REGS ? `LAT_CMAP_POINT_FPGA : `LAT_CMAP_POINT);
 
@@ -154,7 +163,7 @@ wire [CW-1:0]   f_i, lo_thr_i, hi_thr_i;
 wire [U_W-1:0]  n_u_i, u_sh_i;
 /* verilator lint_on UNUSEDSIGNAL */
 wire [U_W-1:0]  u_mod_i;
-wire [W_W-1:0]  w_i;
+wire [NW*W_W-1:0] w_i;
 wire            mode_i;
 wire [NL_W-1:0] n_log2_i;
 wire            filter_en_i;
@@ -162,7 +171,7 @@ delay_line #(.W(1), .N(P), .CLEAR(1)) u_dly_iv (.clk(clk), .rst(rst), .ce(ce), .
 // (two lines: stage 1b reads only the first, whose words all change together)
 delay_line #(.W(3*CW + 3*U_W), .N(P)) u_dly_1a (.clk(clk), .rst(rst), .ce(ce),
     .d_in({f_c, lo_thr, hi_thr, n_u, u_mod, u_sh}), .d_out({f_i, lo_thr_i, hi_thr_i, n_u_i, u_mod_i, u_sh_i}));
-delay_line #(.W(W_W + 2 + NL_W), .N(P)) u_dly_1i (.clk(clk), .rst(rst), .ce(ce),
+delay_line #(.W(NW*W_W + 2 + NL_W), .N(P)) u_dly_1i (.clk(clk), .rst(rst), .ce(ce),
     .d_in({w_in, mode, filter_en, n_log2}), .d_out({w_i, mode_i, filter_en_i, n_log2_i}));
 
 reg [U_W-1:0] u_clamp;
@@ -193,7 +202,7 @@ endgenerate
 
 reg             s1_valid_reg;
 reg [U_W-1:0]   s1_u_reg;
-reg [W_W-1:0]   s1_w_reg;          // w, 0 when the filter is off
+reg [NW*W_W-1:0] s1_w_reg;         // w (sat2: {b, a}), 0 when the filter is off
 reg             s1_mode_reg;
 reg [NL_W-1:0]  s1_n_log2_reg;
 
@@ -204,7 +213,7 @@ always @(posedge clk) begin
         s1_valid_reg <= in_valid_i;
     if (ce) begin
         s1_u_reg         <= mode_i ? u_clamp : u_mod_i;
-        s1_w_reg         <= filter_en_i ? w_i : {W_W{1'b0}};  // filter off: w = 0
+        s1_w_reg         <= filter_en_i ? w_i : {(NW*W_W){1'b0}};  // filter off: w = 0
         s1_mode_reg      <= mode_i;
         s1_n_log2_reg    <= n_log2_i;
     end
@@ -217,6 +226,17 @@ generate
     if (FILTER == 1) begin : g_sat
         // ---- stages 2..14 (FPGA_REGS: ..19): the box filter and its division
         cmap_sat #(
+            .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .DIV_BITS(DIV_BITS),
+            .FPGA_REGS(FPGA_REGS)
+        ) u_family (
+            .clk(clk), .rst(rst), .ce(ce), .in_valid(s1_valid_reg), .u_in(s1_u_reg), .w_in(s1_w_reg),
+            .mode(s1_mode_reg), .n_log2(s1_n_log2_reg),
+            .wr_en(wr_en), .wr_table(wr_table), .wr_addr(wr_addr), .wr_data(wr_data),
+            .out_valid(out_valid), .rgba_out(rgba_out)
+        );
+    end else if (FILTER == 3) begin : g_sat2
+        // ---- stages 2..14 (FPGA_REGS: ..19): the trapezoid and its division
+        cmap_sat2 #(
             .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .DIV_BITS(DIV_BITS),
             .FPGA_REGS(FPGA_REGS)
         ) u_family (

@@ -12,6 +12,9 @@
  *   e  = sh + je - C_FRAC + n_log2 + F_FRAC                  (signed E_W bits)
  *   w  = e >= 0 ? r << e : r >> -e                           (floor)
  *   w  = 2^CAP_BITS  if r > 0 and bitlen(r) + e > CAP_BITS,  CAP_BITS = W_CAP_LOG2 + F_FRAC
+ *   COMPONENTS = 1 (filter "sat2", the trapezoid): w_out = {b, a}, the two screen components
+ *   a = |gx|, b = |gy| each scaled and saturated as w (ax, ay in place of r; the square root's
+ *   datapath is then unused, its valid chain times the stages)
  *
  * bitlen(max(a, b)) = bitlen(a | b), and max(bitlen(m) - NB, 0) = bitlen(m >> NB),
  * so sh is one leading-one detector on the high bits of |gx| | |gy|. When the
@@ -25,7 +28,8 @@
  *   jm_in  Jm[k][col] at element 2 k + col, each s{J_W}.0 (J = Jm 2^je)
  *   je_in  s{JE_W}.0
  *   n_log2 u{N_LOG2_W}.0, 0..N_LOG2_MAX (N = 2^n_log2 colour-table entries)
- *   w_out  u{W_W}.{F_FRAC} colour-table entries, saturating at 2^W_CAP_LOG2
+ *   w_out  u{W_W}.{F_FRAC} colour-table entries, saturating at 2^W_CAP_LOG2 (COMPONENTS:
+ *          {b, a}, 2 W_W bits, a at [W_W-1:0])
  *
  * Latency `LAT_FILTER_WIDTH register stages; throughput one vector per enabled
  * clock. ce = 0 holds every register. rst (synchronous) clears the valid chain
@@ -62,6 +66,7 @@ module filter_width #(
     parameter F_FRAC     = 16,  // [f_frac] w fraction bits
     parameter W_CAP_LOG2 = 16,  // [w_cap_log2] w saturates at 2^W_CAP_LOG2 entries
     parameter N_LOG2_MAX = 8,   // [n_log2_max] log2 of the largest colour table
+    parameter COMPONENTS = 0,   // [filter] 1 ("sat2"): the two screen components, not |g|
     parameter FPGA_REGS  = 0    // [fpga_regs] 1: stages 1, 3, 4 and the last in two (above)
 ) (clk, rst, ce, in_valid, c_in, jm_in, je_in, n_log2, out_valid, w_out);
 
@@ -75,6 +80,7 @@ localparam R_W      = tw_r_w(NORM_BITS);                             // its squa
 localparam SH_W     = tw_sh_w(GABS_W, NORM_BITS);                    // normalising shift
 localparam E_W      = tw_e_w(SH_W, JE_W, C_FRAC, F_FRAC, N_LOG2_MAX); // scale exponent (signed)
 localparam W_W      = W_CAP_LOG2 + F_FRAC + 1;                       // w (unsigned)
+localparam NLN      = (COMPONENTS != 0) ? 2 : 1;                           // output lanes: w, or a and b
 
 input  wire                clk;
 input  wire                rst;
@@ -85,7 +91,7 @@ input  wire [6*J_W-1:0]    jm_in;
 input  wire [JE_W-1:0]     je_in;
 input  wire [N_LOG2_W-1:0] n_log2;
 output wire                out_valid;
-output wire [W_W-1:0]      w_out;
+output wire [NLN*W_W-1:0]  w_out;
 
 localparam LATENCY  = FPGA_REGS ? `LAT_FILTER_WIDTH_FPGA : `LAT_FILTER_WIDTH;
 localparam P        = FPGA_REGS ? 1 : 0;     // each optional register stage (stages 1a, 3a, 4a, last a)
@@ -130,7 +136,7 @@ reg [NORM_BITS-1:0]   axn_reg, ayn_reg;
 reg [SH_W-1:0]        sh_reg;
 reg [L_W-1:0]         l_reg;
 reg [SQ_LAT*E_W-1:0]  e_dly_reg;  // e_dly_reg[k*E_W +: E_W]: e after k + 1 isqrt stages
-reg [W_W-1:0]         w_reg;
+reg [NLN*W_W-1:0]     w_reg;
 
 // ---------------------------------------------------------------------------
 // stage 1: products; the constant part of the exponent (in the clocked process; FPGA_REGS:
@@ -273,47 +279,82 @@ isqrt #(
 );
 
 // ---------------------------------------------------------------------------
-// stage LATENCY: w = r scaled by 2^e, saturated
+// stage LATENCY: w = r scaled by 2^e, saturated (COMPONENTS: a and b, ax and ay so scaled)
 
-// bitlen(r), r != 0
-wire             r_nz;
-wire [BLR_W-1:0] r_bl;
-bitlen #(.W(R_W), .BW(BLR_W)) u_bitlen_r (.x(r), .bl(r_bl), .nz(r_nz));
+// the lanes scaled: r, or (COMPONENTS) ax and ay delayed beside the square root (from the
+// stage-3 registers: stage 4, 4a, the isqrt's stages)
+wire [NLN*R_W-1:0] lane;
+generate
+    if (COMPONENTS != 0) begin : g_comp
+        wire [2*NORM_BITS-1:0] axy_d;
+        delay_line #(.W(2*NORM_BITS), .N(1 + P + SQ_LAT)) u_dly_axy (.clk(clk), .rst(rst), .ce(ce),
+            .d_in({ayn_reg, axn_reg}), .d_out(axy_d));
+        assign lane = {{(R_W-NORM_BITS){1'b0}}, axy_d[NORM_BITS +: NORM_BITS],
+                       {(R_W-NORM_BITS){1'b0}}, axy_d[0 +: NORM_BITS]};
+        /* verilator lint_off UNUSEDSIGNAL */  // the square root's value (its valid times the stages)
+        wire [R_W-1:0] unused_r = r;
+        /* verilator lint_on UNUSEDSIGNAL */
+    end else begin : g_norm
+        assign lane = r;
+    end
+endgenerate
+
+// bitlen of each lane, lane != 0
+wire [NLN-1:0]       r_nz;
+wire [NLN*BLR_W-1:0] r_bl;
+genvar gl;
+generate
+    for (gl = 0; gl < NLN; gl = gl + 1) begin : g_bl
+        bitlen #(.W(R_W), .BW(BLR_W)) u_bitlen_r (.x(lane[gl*R_W +: R_W]), .bl(r_bl[gl*BLR_W +: BLR_W]),
+                                                  .nz(r_nz[gl]));
+    end
+endgenerate
 
 localparam signed [CMP_W-1:0] CAP_S = CAP_BITS;
 localparam [W_W-1:0]          W_CAP = {1'b1, {CAP_BITS{1'b0}}} ;
 
-reg signed [E_W-1:0]   e;
-reg signed [CMP_W-1:0] top;   // bitlen(r) + e
-/* verilator lint_off UNUSEDSIGNAL */  // FPGA_REGS: compared after a register (g_split)
-reg                    over;  // r > 0 and bitlen(r) + e > CAP_BITS
+reg signed [E_W-1:0]     e;
+/* verilator lint_off UNUSEDSIGNAL */  // FPGA_REGS: compared after a register (g_split); else over
+reg [NLN*CMP_W-1:0]      top;   // bitlen(lane) + e
+reg [NLN-1:0]            over;  // lane > 0 and bitlen(lane) + e > CAP_BITS
 /* verilator lint_on UNUSEDSIGNAL */
-reg [SW-1:0]           r_x;   // r zero-extended to the shifter width
+reg [SW-1:0]             r_x;   // a lane zero-extended to the shifter width
 /* verilator lint_off UNUSEDSIGNAL */
-// when R_W > W_W, the bits of the shifted r above W_W are zero unless over
-reg [SW-1:0]           w_sh;
+// when R_W > W_W, the bits of the shifted lane above W_W are zero unless over
+reg [SW-1:0]             w_sh;
 /* verilator lint_on UNUSEDSIGNAL */
+reg signed [CMP_W-1:0]   top_l;
+reg [NLN*W_W-1:0]        w_all; // the shifted lanes
+integer                  li;
 
 always @* begin
     e     = e_dly_reg[(SQ_LAT-1)*E_W +: E_W];
-    top   = {{(CMP_W-BLR_W){1'b0}}, r_bl} + {{(CMP_W-E_W){e[E_W-1]}}, e};
-    over  = r_nz && (top > CAP_S);
-    r_x   = {SW{1'b0}};
-    r_x[R_W-1:0] = r;
-    // left by e (e >= 0) or right by -e (e < 0; -e in E_W bits: 2^(E_W-1) reads
-    // correctly unsigned)
-    w_sh  = e[E_W-1] ? (r_x >> -e) : (r_x << e[E_W-2:0]);
+    for (li = 0; li < NLN; li = li + 1) begin
+        top_l = {{(CMP_W-BLR_W){1'b0}}, r_bl[li*BLR_W +: BLR_W]} + {{(CMP_W-E_W){e[E_W-1]}}, e};
+        top[li*CMP_W +: CMP_W] = top_l;
+        over[li] = r_nz[li] && (top_l > CAP_S);
+        r_x   = {SW{1'b0}};
+        r_x[R_W-1:0] = lane[li*R_W +: R_W];
+        // left by e (e >= 0) or right by -e (e < 0; -e in E_W bits: 2^(E_W-1) reads
+        // correctly unsigned)
+        w_sh  = e[E_W-1] ? (r_x >> -e) : (r_x << e[E_W-2:0]);
+        w_all[li*W_W +: W_W] = w_sh[W_W-1:0];
+    end
 end
 
-// the output register's inputs: directly, or (FPGA_REGS) with r > 0, bitlen(r) + e and the
-// shifted r registered before the comparison with the cap (the valid beside them, reset)
-wire           fin_valid, fin_over;
-wire [W_W-1:0] fin_w;
+// the output register's inputs: directly, or (FPGA_REGS) with lane > 0, bitlen(lane) + e and
+// the shifted lane registered before the comparison with the cap (the valid beside them, reset)
+wire               fin_valid;
+wire [NLN-1:0]     fin_over;
+wire [NLN*W_W-1:0] fin_w;
 generate
     if (FPGA_REGS) begin : g_split
-        reg                    sqv_r, nz_r;
-        reg signed [CMP_W-1:0] top_r;
-        reg [W_W-1:0]          wsh_r;
+        reg                 sqv_r;
+        reg [NLN-1:0]       nz_r;
+        reg [NLN*CMP_W-1:0] top_r;
+        reg [NLN*W_W-1:0]   wsh_r;
+        reg [NLN-1:0]       ov_c;
+        integer             lj;
         always @(posedge clk) begin
             if (rst)
                 sqv_r <= 1'b0;
@@ -322,18 +363,30 @@ generate
             if (ce) begin
                 nz_r  <= r_nz;
                 top_r <= top;
-                wsh_r <= w_sh[W_W-1:0];
+                wsh_r <= w_all;
             end
         end
+        always @* begin
+            for (lj = 0; lj < NLN; lj = lj + 1)
+                ov_c[lj] = nz_r[lj] && ($signed(top_r[lj*CMP_W +: CMP_W]) > CAP_S);
+        end
         assign fin_valid = sqv_r;
-        assign fin_over  = nz_r && (top_r > CAP_S);
+        assign fin_over  = ov_c;
         assign fin_w     = wsh_r;
     end else begin : g_direct
         assign fin_valid = sq_valid;
         assign fin_over  = over;
-        assign fin_w     = w_sh[W_W-1:0];
+        assign fin_w     = w_all;
     end
 endgenerate
+
+// the saturated lanes
+reg [NLN*W_W-1:0] w_fin;
+integer           lk;
+always @* begin
+    for (lk = 0; lk < NLN; lk = lk + 1)
+        w_fin[lk*W_W +: W_W] = fin_over[lk] ? W_CAP : fin_w[lk*W_W +: W_W];
+end
 
 // ---------------------------------------------------------------------------
 // all registers: one clocked process
@@ -366,12 +419,12 @@ always @(posedge clk) begin
     if (rst) begin
         valid_reg     <= {VR{1'b0}};
         out_valid_reg <= 1'b0;
-        w_reg         <= {W_W{1'b0}};
+        w_reg         <= {(NLN*W_W){1'b0}};
     end else if (ce) begin
         valid_reg     <= {valid_reg[VR-2:0], in_valid};
         out_valid_reg <= fin_valid;
         if (fin_valid) begin
-            w_reg <= fin_over ? W_CAP : fin_w;
+            w_reg <= w_fin;
         end
     end
 end

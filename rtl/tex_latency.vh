@@ -22,6 +22,8 @@
 `define LAT_COLOUR_MAP_FPGA   19
 `define LAT_CMAP_SAT          13
 `define LAT_CMAP_SAT_FPGA     17
+`define LAT_CMAP_SAT2         13
+`define LAT_CMAP_SAT2_FPGA    17
 `define LAT_CMAP_DIVIDE       9
 `define LAT_CMAP_DIVIDE_FPGA  10
 `define LAT_CMAP_MIP          13

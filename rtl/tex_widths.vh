@@ -349,3 +349,38 @@ function integer tw_d_w;
         tw_d_w = tw_bits_unsigned(255 * 2 * tw_w_cap(w_cap_log2, f_frac));
     end
 endfunction
+
+// ---------------------------------------------------------------------------
+// the trapezoid (filter "sat2", rtl/cmap_sat2.v): u guarded by w_cap (tw_u_w with
+// w_cap_log2 + 1), window ends e = 2u -+ a -+ b, the running sum of csat
+// H[k] <= 255 N (N + 1) / 2, the second difference Gamma <= 2040 ab < 2^(2(w_cap_log2 +
+// f_frac) + 11) and its divisor 4ab <= 2^(2(w_cap_log2 + f_frac) + 2)
+
+function integer tw_x2_w;
+    input integer n_log2_max, f_frac, w_cap_log2;
+    begin
+        tw_x2_w = tw_bits_signed(2 * tw_u_max(n_log2_max, f_frac, w_cap_log2 + 1)
+                                 + 2 * tw_w_cap(w_cap_log2, f_frac));
+    end
+endfunction
+
+function integer tw_csat2_w;
+    input integer n_log2_max;
+    begin
+        tw_csat2_w = tw_bits_unsigned(255 * (((64'd1 << n_log2_max) * ((64'd1 << n_log2_max) + 1)) >> 1));
+    end
+endfunction
+
+function integer tw_d2_w;
+    input integer f_frac, w_cap_log2;
+    begin
+        tw_d2_w = 2 * (w_cap_log2 + f_frac) + 11;
+    end
+endfunction
+
+function integer tw_w2_w;
+    input integer f_frac, w_cap_log2;
+    begin
+        tw_w2_w = 2 * (w_cap_log2 + f_frac) + 3;
+    end
+endfunction

@@ -10,6 +10,8 @@
 // With the filter "sat_fc" (FILTER 3, docs/filters.md) each term is faded by its frequency
 // clamp alpha_i (fc_weight, from the pixel's footprint; fc_scale) before the sums, f = q +
 // sum_i alpha_i a_i n_i and c likewise, and w = max(|c^T J| N, wv), wv the faded terms' spread.
+// With "sat2" (FILTER 4, the trapezoid) w is the pair {b, a} = {|c^T J_y|, |c^T J_x|} N
+// (filter_width COMPONENTS) and colour_map averages over the trapezoid they span (cmap_sat2).
 //
 // Formats (every width derived from the parameters below, rtl/tex_widths.vh):
 //   s      s{S_W}.{S_FRAC}, three of them {r, t, s} (s at the LSBs)
@@ -81,7 +83,8 @@ module texture_pipeline #(
     parameter TRANSFORM      = 0,   // [transform] 0 affine, 1 pow2
     parameter AMPLITUDE      = 0,   // [amplitude] 0 any, 1 pow2
     parameter FILTER         = 1,   // [filter] 0 none (point lookup), 1 sat, 2 mip, 3 sat_fc (sat with
-                                    // frequency clamping: fc_weight, fc_scale; unfolded terms only)
+                                    // frequency clamping: fc_weight, fc_scale; unfolded terms only),
+                                    // 4 sat2 (the trapezoid: filter_width's two components, cmap_sat2)
     parameter NOISE_GRADIENT = 1,   // [noise_gradient] 1: grad f includes the noise terms'
     parameter FPGA_REGS      = 0,   // [fpga_regs] 1: the blocks' extra register stages for an FPGA
                                     // (rtl/tex_latency.vh `LAT_*_FPGA; docs/fpga.md)
@@ -141,7 +144,8 @@ localparam NL_W   = tw_bits_unsigned(N_LOG2_MAX);                              /
 localparam NLMAX  = N_LOG2_MAX;
 localparam PIX_W  = 3*S_W + 6*J_W + JE_W;                                      // pixel input word
 localparam FCL    = (FILTER == 3) && (K > 0) && !FOLD;                         // frequency clamping
-localparam CM_FILTER = (FILTER == 3) ? 1 : FILTER;                            // colour_map: the box
+localparam CM_FILTER = (FILTER == 3) ? 1 : (FILTER == 4) ? 3 : FILTER;       // colour_map: the box, sat2 its own
+localparam NW     = (FILTER == 4) ? 2 : 1;                                     // sat2: w = {b, a}
 localparam FC_AF  = FC_LOG_FRAC + FC_FADE_LOG2;                                // alpha u1.FC_AF
 
 input  wire             clk;
@@ -463,12 +467,12 @@ delay_line #(.W(1), .N(T_CM + LAT_CM)) u_dly_last (.clk(clk), .rst(rst), .ce(ce)
 // ---------------------------------------------------------------------------
 // filter_width on grad f (NG: the tree's c; otherwise the quadric's gradient)
 
-wire [W_W-1:0] fw_w;
+wire [NW*W_W-1:0] fw_w;
 wire           fw_valid;
 
 filter_width #(
     .C_W(C_W), .C_FRAC(C_FRAC), .J_W(J_W), .JE_W(JE_W), .NORM_BITS(NORM_BITS), .F_FRAC(F_FRAC),
-    .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .FPGA_REGS(FPGA_REGS)
+    .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .COMPONENTS(NW - 1), .FPGA_REGS(FPGA_REGS)
 ) u_filter_width (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(NG ? sum_valid : qm_valid),
@@ -483,10 +487,10 @@ filter_width #(
 
 // f and w meet (cm_align: f saturated while it waits, sat_fc's max(w, wv), the delay lines)
 wire [F_W-1:0] f_cm;
-wire [W_W-1:0] cm_w;
+wire [NW*W_W-1:0] cm_w;
 wire           cm_in_valid;
 cm_align #(
-    .F_W(F_W), .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .WV_MAX(FCL ? 1 : 0),
+    .F_W(F_W), .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .WV_MAX(FCL ? 1 : 0), .NW(NW),
     .LATENCY_F(T_CM - T_F), .LATENCY_W(T_CM - T_FW)
 ) u_cm_align (
     .clk(clk), .rst(rst), .ce(ce), .mode(mode_reg),

@@ -40,6 +40,9 @@ WIDTHS = {
     "csat_w": f"{TOP}.u_colour_map.CS_W", "d_w": "cs.D_W",
     "fc_af": f"{TOP}.FC_AF",
 }
+# the trapezoid's words (filter "sat2"), from a stand-alone cmap_sat2 (c2), built where they fit
+# its 62-bit limit (the configuration check refuses sat2 beyond it)
+SAT2_WIDTHS = {"x2_w": "c2.X_W", "csat2_w": "c2.CS2_W", "d2_w": "c2.D_W", "w2_w": "c2.WD_W"}
 # the same word derived where it crosses between blocks: the top's copy must agree
 CROSS = {"qf_w": f"{TOP}.QF_W", "an_w": f"{TOP}.u_noise_leaves.AN_W", "ag_w": f"{TOP}.u_noise_leaves.AG_W",
          "o_w": f"{TOP}.O_W",
@@ -59,12 +62,16 @@ def elaborated_widths(config) -> dict:
     cfg = hdlbuild.config_of(config)
     gdir = hdlbuild.gen_dir(cfg)
     nt = block_params(cfg, "noise_term")
-    names = {**WIDTHS, **{f"{k}@top": v for k, v in CROSS.items()}}
+    sat2 = cfg.d2_w <= 62
+    names = {**WIDTHS, **(SAT2_WIDTHS if sat2 else {}), **{f"{k}@top": v for k, v in CROSS.items()}}
     probe = ["module width_probe;", "texture_unit u ();",
              "noise_term #(" + ", ".join(f".{k}({v})" for k, v in nt.items()) + ") nt ();",
              f"cmap_sat #(.F_FRAC({cfg.f_frac}), .W_CAP_LOG2({cfg.w_cap_log2}), .N_LOG2_MAX({cfg.n_log2_max}), "
-             f".DIV_BITS({cfg.div_bits}), .FPGA_REGS({int(cfg.fpga_regs)})) cs ();",
-             "initial begin"]
+             f".DIV_BITS({cfg.div_bits}), .FPGA_REGS({int(cfg.fpga_regs)})) cs ();"]
+    if sat2:
+        probe.append(f"cmap_sat2 #(.F_FRAC({cfg.f_frac}), .W_CAP_LOG2({cfg.w_cap_log2}), "
+                     f".N_LOG2_MAX({cfg.n_log2_max}), .DIV_BITS({cfg.div_bits})) c2 ();")
+    probe.append("initial begin")
     probe += [f'    $display("{k} %0d", {v});' for k, v in names.items()]
     probe += ["end", "endmodule", ""]
     bdir = hdlbuild.ROOT / "build" / "widths" / cfg.name
@@ -91,7 +98,7 @@ def elaborated_widths(config) -> dict:
 def test_rtl_widths_equal_python(config):
     cfg = hdlbuild.config_of(config)
     got = elaborated_widths(cfg)
-    bad = [f"{k}: RTL {got[k]}, Python {cfg.d[k]}" for k in WIDTHS if got[k] != cfg.d[k]]
+    bad = [f"{k}: RTL {got[k]}, Python {cfg.d[k]}" for k in (*WIDTHS, *SAT2_WIDTHS) if k in got and got[k] != cfg.d[k]]
     bad += [f"{k} (texture_pipeline's copy): RTL {got[k + '@top']}, Python {cfg.d[k]}" for k in CROSS
             if got[k + "@top"] != cfg.d[k]]
     assert not bad, f"{cfg.name}: derived widths differ:\n  " + "\n  ".join(bad)
@@ -107,12 +114,13 @@ MODEL_ONLY = {
     "i_w": "the integral I(x) is never formed whole: colour_map forms D = I(b) - I(a) mod 2^D_W",
     "te_max": "the largest per-term T exponent (formats.t_exp_w): golden model only, hdlbuild refuses t_exp_w > 0",
     "ae_max": "the largest per-term a exponent (formats.a_exp_w): golden model only, hdlbuild refuses a_exp_w > 0",
+    "u_guard": "colour_map's clamp guard, a value (2^GUARD: W/2, sat2 W)",
 }
 
 
 def test_every_derived_width_is_checked():
     """Each width model/hw/config.py derives is read back from the RTL, or named model-only."""
     d = hdlbuild.config_of("full").d
-    assert set(d) == set(WIDTHS) | set(MODEL_ONLY), (
+    assert set(d) == set(WIDTHS) | set(SAT2_WIDTHS) | set(MODEL_ONLY), (
         f"derived but not checked: {sorted(set(d) - set(WIDTHS) - set(MODEL_ONLY))}; "
-        f"checked but not derived: {sorted((set(WIDTHS) | set(MODEL_ONLY)) - set(d))}")
+        f"checked but not derived: {sorted((set(WIDTHS) | set(SAT2_WIDTHS) | set(MODEL_ONLY)) - set(d))}")

@@ -299,7 +299,7 @@ def _derive(c: Config) -> dict:
     # e = 2u -+ a -+ b (units 2^-x_frac), the running sum of csat H[k] = sum_{j<=k} csat[j]
     # (<= 255 N (N + 1) / 2), the trapezoid's second difference of 2G, Gamma = 8 avg a b
     # <= 2040 a b (units 2^-2 x_frac), and its divisor 4ab (cmap_divide's w)
-    d["x2_w"] = bits_signed(2 * umax + 2 * d["w_cap"])
+    d["x2_w"] = bits_signed(2 * ((nmax_entries << c.f_frac) + d["w_cap"]) + 2 * d["w_cap"])  # u guarded by W
     d["csat2_w"] = bits_unsigned(255 * nmax_entries * (nmax_entries + 1) // 2)
     d["d2_w"] = bits_unsigned(2040 * d["w_cap"] ** 2)
     d["w2_w"] = bits_unsigned(4 * d["w_cap"] ** 2)

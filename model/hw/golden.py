@@ -771,7 +771,8 @@ def cm_align(cfg: Config, mode, f, w, wv=None, f_waits: bool = False):
     w = np.asarray(w, dtype=I64)
     if wv is not None:
         w = np.maximum(w, wv)
-    guard = cfg.w_cap_log2 + cfg.f_frac - 1 + (cfg.filter == "sat2")  # sat2: colour_map's guard W
+    sat2 = getattr(cfg, "filter", None) == "sat2"  # sat2: colour_map's guard W
+    guard = cfg.w_cap_log2 + cfg.f_frac - 1 + sat2
     fc_w = guard + 3
     if f_waits and fc_w < cfg.f_w:
         top = 1 << (guard + 1)

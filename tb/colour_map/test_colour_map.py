@@ -38,12 +38,13 @@ from cocotb.triggers import RisingEdge
 
 import hdlbuild
 from model.hw import golden
-from model.hw.config import SAT_FILTERS, load_config, variant
+from model.hw.config import TABLE_FILTERS, load_config, variant
 from tb import pipe
 
 ROOT = Path(__file__).resolve().parents[2]
 SOURCES = ["colour_map.v", "cmap_sat.v", "cmap_divide.v", "cmap_mip.v", "cmap_point.v", "colour_table.v", "sat_index.v",
-           "sat_integral.v", "box_divide.v", "mip_index.v", "delay_line.v"]
+           "sat_integral.v", "box_divide.v", "mip_index.v", "delay_line.v", "cmap_sat2.v", "sat2_table.v",
+           "sat2_integral.v"]
 TABLE_CLUT, TABLE_CSAT, TABLE_MIP = 0, 1, 2
 
 
@@ -187,7 +188,7 @@ async def write_tables(dut, cfg, n_log2, clut, r):
     csat, mip = golden.build_tables(clut)
     cw, nmax = cfg.csat_w, cfg.n_log2_max
     writes = [(TABLE_CLUT, a, e) for a, e in enumerate(clut)]
-    if cfg.filter in SAT_FILTERS:
+    if cfg.filter in TABLE_FILTERS:  # sat, sat_fc, sat2 (which derives csat2 from these writes)
         writes += [(TABLE_CSAT, a, e) for a, e in enumerate(csat)]
     if cfg.filter == "mip":
         writes += [(TABLE_MIP, a, e) for a, e in enumerate(mip)]
@@ -199,7 +200,7 @@ async def write_tables(dut, cfg, n_log2, clut, r):
         writes.append((TABLE_CSAT, int(r.integers(1 << nmax, 2 << nmax)), junk()))
         writes.append((TABLE_MIP, (2 << nmax) - 1, junk()))
         # tables the configuration does not build
-        if cfg.filter not in SAT_FILTERS:
+        if cfg.filter not in TABLE_FILTERS:
             writes.append((TABLE_CSAT, int(r.integers(0, 1 << n_log2)), junk()))
         if cfg.filter != "mip":
             writes.append((TABLE_MIP, int(r.integers(0, (2 << n_log2) - 1)), junk()))
@@ -232,7 +233,7 @@ async def colour_map_vs_golden(dut):
     dut.wr_table.value = 0
     dut.wr_addr.value = 0
     dut.wr_data.value = 0
-    fmask, wmask = (1 << cfg.f_w) - 1, (1 << cfg.w_w) - 1
+    fmask = (1 << cfg.f_w) - 1
     sets = table_sets(cfg, r, variant=os.environ.get("CM_VARIANT") == "1")
     n_rand = -(-pipe.n_vectors() // len(sets))
     total = 0
@@ -246,8 +247,12 @@ async def colour_map_vs_golden(dut):
         filt = np.concatenate([he, re_])
         perm = r.permutation(len(f))
         f, w, mode, filt = f[perm], w[perm], mode[perm], filt[perm]
+        if cfg.filter == "sat2":  # w = (a, b): b the same widths in another order
+            w = np.stack([w, w[r.permutation(len(w))]], axis=-1)
         exp = expected(cfg, n_log2, clut, f, w, mode, filt)
-        fl, wl, ml, el = f.tolist(), w.tolist(), mode.tolist(), filt.tolist()
+        fl, ml, el = f.tolist(), mode.tolist(), filt.tolist()
+        wl = (w[:, 0] | (w[:, 1] << cfg.w_w)).tolist() if w.ndim == 2 else w.tolist()
+        wmask = (1 << (w.ndim * cfg.w_w)) - 1
 
         def apply(i):
             dut.f_in.value = fl[i] & fmask
@@ -292,6 +297,15 @@ def _variant_params():
     sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["icarus"]
     cfgs = [os.environ["CONFIG"]] if os.environ.get("CONFIG") else list(hdlbuild.CONFIGS)
     return [(s, c, f) for s in sims for c in cfgs for f in ("mip", "none")]
+
+
+def test_colour_map_sat2_rtl():
+    """The same cocotb test on the trapezoid (config/candidates/full_sat2.toml: colour_map picks
+    cmap_sat2, w_in = {b, a}, the clamp guard W), the variants' tables, under Icarus (SIM= picks)."""
+    from model.hw.config import ROOT
+
+    run_colour_map(os.environ.get("SIM", "icarus"), load_config(ROOT / "config" / "candidates" / "full_sat2.toml"),
+                   extra_env={"CM_VARIANT": "1"})
 
 
 @pytest.mark.parametrize("sim,config,filt", _variant_params())

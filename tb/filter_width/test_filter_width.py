@@ -48,6 +48,18 @@ def test_filter_width_rtl(sim, config):
     pipe.run_block("filter_width", sim, test_file=__file__, config=config, sources=SOURCES)
 
 
+@pytest.mark.parametrize("fpga", (False, True))
+def test_filter_width_components_rtl(fpga):
+    """COMPONENTS = 1 (filter "sat2": the two screen components a, b instead of |g|) on the
+    candidate config/candidates/full_sat2.toml, and with fpga_regs, under Icarus (SIM= picks)."""
+    from model.hw.config import ROOT, load_config, variant
+
+    cfg = load_config(ROOT / "config" / "candidates" / "full_sat2.toml")
+    if fpga:
+        cfg = variant(cfg, "full_sat2_fpga", fpga_regs=True)
+    pipe.run_block("filter_width", os.environ.get("SIM", "icarus"), test_file=__file__, config=cfg, sources=SOURCES)
+
+
 # ---------------------------------------------------------------------------
 # Reference (plain Python integers)
 
@@ -305,7 +317,8 @@ async def reset_outputs(dut):
     cfg = pipe.cfg()
     await pipe.start(dut)
     assert str(dut.out_valid.value) == "0"
-    assert str(dut.w_out.value) == "0" * cfg.w_w, f"w_out after reset: {dut.w_out.value}"
+    nw = 2 if cfg.filter == "sat2" else 1  # sat2: {b, a}
+    assert str(dut.w_out.value) == "0" * (nw * cfg.w_w), f"w_out after reset: {dut.w_out.value}"
 
 
 @cocotb.test()
@@ -358,6 +371,12 @@ async def vectors_bit_exact(dut):
     await pipe.start(dut)
     got = await pipe.run_vectors(dut, apply, sample, n, latency=latency(cfg), seed=int(os.environ.get("SEED", "1")))
     got = np.array(got, dtype=np.int64)
+    if cfg.filter == "sat2":  # COMPONENTS: w_out = {b, a}
+        ab = np.zeros((n, 2), dtype=np.int64)
+        for k in np.unique(nl):
+            m = nl == k
+            ab[m] = G.filter_width(cfg, c[m], Jm[m], je[m], int(k), components=True)
+        exp = ab[:, 0] | (ab[:, 1] << cfg.w_w)
     bad = np.flatnonzero(got != exp)
     for i in bad[:10]:
         dut._log.error(f"vector {i} [{v.tag[i]}]: c={c[i].tolist()} Jm={Jm[i].tolist()} je={je[i]} "
