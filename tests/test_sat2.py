@@ -177,3 +177,24 @@ def test_sat2_config_widths():
     assert 2040 * cfg.w_cap ** 2 < 1 << cfg.d2_w and 4 * cfg.w_cap ** 2 < 1 << cfg.w2_w
     with pytest.raises(ConfigError, match="sat2"):
         _cfg(w_cap_log2=16, f_frac=16)
+
+
+def test_filter_width_components():
+    """filter_width's components (a, b) are |g_x| and |g_y| normalised and scaled as w: with one
+    screen column of J zero the other component is w itself (isqrt(ax^2) = ax) and this one 0;
+    each saturates at the cap alone."""
+    cfg = _cfg()
+    r = np.random.default_rng(11)
+    n = 4000
+    c = r.integers(-(1 << 12), 1 << 12, size=(n, 3))
+    Jm = r.integers(-(1 << (cfg.j_w - 1)), 1 << (cfg.j_w - 1), size=(n, 3, 2))
+    je = r.integers(cfg.je_min, cfg.je_max + 1, size=n)
+    for col in (0, 1):
+        J1 = Jm.copy()
+        J1[..., 1 - col] = 0
+        w = G.filter_width(cfg, c, J1, je, 8)
+        ab = G.filter_width(cfg, c, J1, je, 8, components=True)
+        assert np.array_equal(ab[:, col], w) and not ab[:, 1 - col].any()
+    ab = G.filter_width(cfg, c, Jm, je, 8, components=True)
+    w = G.filter_width(cfg, c, Jm, je, 8)
+    assert (ab <= cfg.w_cap).all() and (ab.max(axis=1) <= w).all() and (ab == cfg.w_cap).any()
