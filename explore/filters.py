@@ -63,12 +63,19 @@ def _gates(configs):
     for c in configs:
         cfg = load_config(c)
         g = {"colour_map": synth_one(cfg, "colour_map")["ge_total"]}
+        if cfg.filter == "sat2":  # its filter_width (two components, no square root) differs too
+            g["filter_width"] = synth_one(cfg, "filter_width")["ge_total"]
         if cfg.filter == "sat_fc":
             for label, mod in FC_BLOCKS.items():
                 g[label] = synth_one(cfg, mod)["ge_total"]
             g["sat_fc_adds"] = g["fc_weight"] + cfg.noise_terms * g["fc_scale"]
         out[c] = {**g, "noise_terms": cfg.noise_terms}
     return out
+
+
+def _label(c) -> str:
+    """A configuration's name in the tables: a path's stem (config/candidates/full_sat2.toml: full_sat2)."""
+    return Path(c).stem if str(c).endswith(".toml") else str(c)
 
 
 def _fmt(v, f="{:.2f}"):
@@ -89,7 +96,7 @@ def plot(rows, anim, configs, scenes, path: Path) -> None:
     wd = 0.8 / (len(configs) + 1)
     a1.bar(x - 0.4 + wd / 2, [rows[(configs[0], s)]["all_unfiltered"] or np.nan for s in scenes], wd, label="unfiltered")
     for i, c in enumerate(configs):
-        a1.bar(x - 0.4 + wd * (i + 1.5), [rows[(c, s)]["all_filtered"] or np.nan for s in scenes], wd, label=c)
+        a1.bar(x - 0.4 + wd * (i + 1.5), [rows[(c, s)]["all_filtered"] or np.nan for s in scenes], wd, label=_label(c))
     a1.set_xticks(x, scenes, rotation=30, ha="right")
     a1.set_ylabel("PSNR against the truth, whole image (dB)")
     a1.set_ylim(bottom=15)
@@ -97,7 +104,7 @@ def plot(rows, anim, configs, scenes, path: Path) -> None:
     a1.grid(True, axis="y", alpha=0.3)
     for c in configs:
         pf = anim[(c, "seascape")]["per_frame"]
-        a2.plot([r["frame"] for r in pf], [r["band_psnr_filtered_db"] for r in pf], marker="o", label=f"{c} filtered")
+        a2.plot([r["frame"] for r in pf], [r["band_psnr_filtered_db"] for r in pf], marker="o", label=f"{_label(c)} filtered")
     pf = anim[(configs[0], "seascape")]["per_frame"]
     a2.plot([r["frame"] for r in pf], [r["band_psnr_unfiltered_db"] for r in pf], marker="o", label="unfiltered")
     a2.set_xlabel("frame (seascape, flying to the horizon)")
@@ -132,13 +139,22 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
          "sigma the lattice noise's standard deviation, so the box has the variance of the noise it replaces "
          "(after Heitz, Nowrouzezahrai, Poulin and Neyret 2013, \"Filtering color mapped textures and surfaces\", "
          "who filter the colour map by the distribution of f in the footprint). Everything else, the SAT and its edge "
-         "cases, is `sat`'s.", "",
+         "cases, is `sat`'s.",
+         "- **`sat2`** (the trapezoid, `filter = \"sat2\"`, issue 27; rtl/cmap_sat2.v, rtl/sat2_table.v, "
+         "rtl/sat2_integral.v, filter_width with COMPONENTS; model/hw/golden.py cmap_sat2; model/reference.py "
+         "trapezoid_lookup): when f is linear across the pixel (f + f_x x + f_y y, x and y uniform over it) the "
+         "pixel's true average is the colour map convolved with two boxes of widths a = |f_x| N and b = |f_y| N "
+         "entries, a trapezoid, not one box of width |grad f| N. With G the integral of the SAT's S (the running "
+         "sum of csat, which the unit derives from the host's csat writes) it is four look-ups, "
+         "[G(u + a/2 + b/2) - G(u + a/2 - b/2) - G(u - a/2 + b/2) + G(u - a/2 - b/2)] / (ab); a or b = 0 is the box "
+         "of the other (bit-exact with `sat`), both 0 the point lookup. docs/numerics.md \"The trapezoid\" has its "
+         "words, its mod and clamp cases and its error bound.", "",
          "## Whole image and horizon band, every scene", "",
          f"`make render SCENE=<scene> CONFIG=<config> SIZE={size}` (reports in out/render/): PSNR (dB) against the "
          "truth, over the textured pixels and over the band where w > N/8 entries (`band_w_gt_n8`, its pixels "
          "counted by the float reference's width, the same for every filter).", "",
-         "| scene | unfiltered | " + " | ".join(f"`{c}`" for c in configs) + " | band px | band unfiltered | "
-         + " | ".join(f"band `{c}`" for c in configs) + " |",
+         "| scene | unfiltered | " + " | ".join(f"`{_label(c)}`" for c in configs) + " | band px | band unfiltered | "
+         + " | ".join(f"band `{_label(c)}`" for c in configs) + " |",
          "|---|---|" + "---|" * len(configs) + "---|---|" + "---|" * len(configs)]
     for s in scenes:
         r0 = rows[(configs[0], s)]
@@ -160,23 +176,29 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
             ff, fu = m["flicker_filtered_lsb"], m["flicker_unfiltered_lsb"]
             gain = None if bf is None or bu is None else bf - bu
             ratio = None if ff is None or not fu else ff / fu
-            L.append(f"| {a} | `{c}` | {_fmt(bf)} | {_fmt(bu)} | {_fmt(gain, '{:+.2f}')} | {_fmt(ff)} | {_fmt(fu)} | "
+            L.append(f"| {a} | `{_label(c)}` | {_fmt(bf)} | {_fmt(bu)} | {_fmt(gain, '{:+.2f}')} | {_fmt(ff)} | {_fmt(fu)} | "
                      f"{_fmt(ratio)} |")
     L += ["", "## Gate cost", "",
           "`make synth-blocks` (synth/run.py: each block alone, Yosys and synth/cells.lib as `make synth`): the box "
-          "filter is the colour_map block; `sat_fc` adds fc_weight once and fc_scale once a noise term.", "",
-          "| configuration | colour_map (the box) | fc_weight | fc_scale (each) | noise terms | sat_fc adds |",
-          "|---|---|---|---|---|---|"]
+          "filter is the colour_map block (with `sat2` the trapezoid's: cmap_sat2, its tables and four window ends); "
+          "`sat_fc` adds fc_weight once and fc_scale once a noise term; `sat2`'s filter_width (given for it) outputs the two "
+          "screen components instead of the norm (no square root).", "",
+          "| configuration | colour_map (the filter) | filter_width | fc_weight | fc_scale (each) | noise terms | "
+          "sat_fc adds |",
+          "|---|---|---|---|---|---|---|"]
     for c in configs:
         g = gates[c]
-        L.append(f"| `{c}` | {g['colour_map']:,.0f} | {_fmt(g.get('fc_weight'), '{:,.0f}')} | "
+        L.append(f"| `{_label(c)}` | {g['colour_map']:,.0f} | {_fmt(g.get('filter_width'), '{:,.0f}')} | "
+                 f"{_fmt(g.get('fc_weight'), '{:,.0f}')} | "
                  f"{_fmt(g.get('fc_scale'), '{:,.0f}')} | {g['noise_terms']} | {_fmt(g.get('sat_fc_adds'), '{:,.0f}')} |")
     L += ["", "Goals (issue 15): in the horizon band at least 6 dB above unfiltered on the seascape (full); flicker "
               "in the band at most half the unfiltered animation's; on every scene the whole image no worse than "
-              "the box filter. The table above gives each figure as measured; docs/numerics.md has the formats.", ""]
-    from model.hw.config import doc_stamp
+              "the box filter. Goal (issue 27): the zone plate at 256 px at least 50 dB against the truth with `sat2` at "
+              "one pixel a clock (the box: 35.9). The tables above give each figure as measured; docs/numerics.md has "
+              "the formats.", ""]
+    from model.hw.config import doc_stamp, load_config
 
-    L.append(doc_stamp(list(configs)))
+    L.append(doc_stamp([load_config(c) if str(c).endswith(".toml") else c for c in configs]))
     out = docs / "filters.md"
     tmp = out.with_name(".filters.md")
     tmp.write_text("\n".join(L) + "\n")
