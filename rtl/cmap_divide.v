@@ -136,28 +136,36 @@ generate
         //   carries to 2^B), den' = 2^(B-1) with sh = sh0 + 1; else sh = sh0
         //   num' = (D + w + 2 h(sh)) >> (sh + 1), h(s) = 2^s >> 1 (half of the dropped LSB)
 
-        // stage 5(a): sh0 (the leading-one detector on the HW high bits of w) and the two
-        // candidates of 2 h(sh), h_0 = 2^sh0 (0 when sh0 = 0) and h_1 = 2^(sh0 + 1);
-        // FPGA_REGS registers them (5a), else they feed stage 5 directly (only sh0 is read)
-        reg [SH_W-1:0] sh0;
-        reg [W_W:0]    h_0, h_1;
-        integer        i;
-        always @* begin
-            sh0 = {SH_W{1'b0}};
-            for (i = 0; i < HW; i = i + 1)
-                if (w_in[B + i])
-                    sh0 = i[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
-            h_0 = {{W_W{1'b0}}, 1'b1} << sh0;
-            if (sh0 == {SH_W{1'b0}})
-                h_0 = {(W_W+1){1'b0}};
-            h_1 = {{(W_W-1){1'b0}}, 2'b10} << sh0;
-        end
+        // stage 5(a) (FPGA_REGS): sh0 (the leading-one detector on the HW high bits of w) and
+        // the two candidates of 2 h(sh), h_0 = 2^sh0 (0 when sh0 = 0) and h_1 = 2^(sh0 + 1),
+        // registered; without FPGA_REGS stage 5(b) finds sh0 itself in its own always @* and
+        // these words are constant 0 (a block reading a register and another block's result
+        // would run twice a clock in an event-driven simulator)
         wire [SH_W-1:0] sh0_y;
         /* verilator lint_off UNUSEDSIGNAL */  // without FPGA_REGS stage 5 forms 2 h(sh) itself
         wire [W_W:0]    h_0y, h_1y;
         /* verilator lint_on UNUSEDSIGNAL */
-        delay_line #(.W(SH_W + 2*W_W + 2), .N(P)) u_dly_sh0 (.clk(clk), .rst(rst), .ce(ce),
-            .d_in({sh0, h_0, h_1}), .d_out({sh0_y, h_0y, h_1y}));
+        if (P != 0) begin : g_5a
+            reg [SH_W-1:0] sh0;
+            reg [W_W:0]    h_0, h_1;
+            integer        i;
+            always @* begin
+                sh0 = {SH_W{1'b0}};
+                for (i = 0; i < HW; i = i + 1)
+                    if (w_in[B + i])
+                        sh0 = i[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
+                h_0 = {{W_W{1'b0}}, 1'b1} << sh0;
+                if (sh0 == {SH_W{1'b0}})
+                    h_0 = {(W_W+1){1'b0}};
+                h_1 = {{(W_W-1){1'b0}}, 2'b10} << sh0;
+            end
+            delay_line #(.W(SH_W + 2*W_W + 2), .N(P)) u_dly_sh0 (.clk(clk), .rst(rst), .ce(ce),
+                .d_in({sh0, h_0, h_1}), .d_out({sh0_y, h_0y, h_1y}));
+        end else begin : g_no5a
+            assign sh0_y = {SH_W{1'b0}};
+            assign h_0y  = {(W_W+1){1'b0}};
+            assign h_1y  = {(W_W+1){1'b0}};
+        end
 
         // ---- stage 5(b): sh, den' and w + 2 h(sh) from w, once for the four channels
         // 2w >> sh0: < 2^(B+1), bits B..0 are t (bitlen(w) <= B + sh0)
@@ -172,8 +180,18 @@ generate
         // FPGA_REGS: w + 2 h(sh) from the two candidates sh = sh0 and sh0 + 1, formed
         // beside the shift that decides between them (the same value)
         reg [W_W:0]    wn_0, wn_1, wn_f;
+        reg [SH_W-1:0] sh0_v;  // sh0 (FPGA_REGS: from stage 5a)
+        integer        i5;
         always @* begin
-            w2s = {w_y, 1'b0} >> sh0_y;
+            if (P != 0) begin
+                sh0_v = sh0_y;
+            end else begin
+                sh0_v = {SH_W{1'b0}};
+                for (i5 = 0; i5 < HW; i5 = i5 + 1)
+                    if (w_y[B + i5])
+                        sh0_v = i5[SH_W-1:0] + {{(SH_W-1){1'b0}}, 1'b1};
+            end
+            w2s = {w_y, 1'b0} >> sh0_v;
             t = w2s[B:0];
             ovf = &t;
             den_n = t[B:1] + {{(B-1){1'b0}}, t[0]};
@@ -181,7 +199,7 @@ generate
                 den_n = {B{1'b0}};
                 den_n[B-1] = 1'b1;
             end
-            sh = sh0_y + {{(SH_W-1){1'b0}}, ovf};
+            sh = sh0_v + {{(SH_W-1){1'b0}}, ovf};
             h2 = {{W_W{1'b0}}, 1'b1} << sh;
             if (sh == {SH_W{1'b0}})
                 h2 = {(W_W+1){1'b0}};

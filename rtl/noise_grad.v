@@ -148,36 +148,43 @@ always @(posedge clk) begin
     end
 end
 
-// the lerped difference of each axis at stage 6 (gl_z = fz1 - fz0, sign-extended: exact)
-wire signed [D_W-1:0] glz = $signed(fz[1*N_W +: N_W]) - $signed(fz[0*N_W +: N_W]);
-wire [3*D_W-1:0]      gl  = {glz, gyl_reg, gxl_reg};
-/* verilator lint_off UNUSEDSIGNAL */  // pow2: each axis reads its own g
-wire [3*GN_W-1:0]     g_all;  // g_j at element j (stage 6 registers)
-/* verilator lint_on UNUSEDSIGNAL */
+// Stages 6..8, once for each axis (g_axis[k]): every axis's signals stay its own (the
+// registers below, read by name), not slices of one vector driven from three places, and each
+// stage's block reads registers only, so that it runs once a clock (docs/simulation.md).
+reg signed [GN_W-1:0] g0_reg, g1_reg, g2_reg;  // stage 6: g_j
+reg signed [H_W-1:0]  h0_reg, h1_reg, h2_reg;  // stage 7: h_k
+reg [AG_W-1:0]        ag0_reg, ag1_reg, ag2_reg;  // stage 8: ag_k (the output)
 
 genvar gk;
 generate
     for (gk = 0; gk < 3; gk = gk + 1) begin : g_axis
-        // stage 6: g_k = (gl_k dw_k) >> P_FRAC (linear: dw = 1, g = gl); |g| <= 3 * 2^N_FRAC
-        // fits GN_W bits, the rest of sh are sign copies
-        wire signed [D_W-1:0] gl_k = gl[gk*D_W +: D_W];
+        // stage 6: g_k = (gl_k dw_k) >> P_FRAC (linear: dw = 1, g = gl), gl_k the lerped
+        // difference of axis k (z: fz1 - fz0, sign-extended: exact); |g| <= 3 * 2^N_FRAC fits
+        // GN_W bits, the rest of sh are sign copies
+        reg signed [D_W-1:0]  gl_k;
         reg signed [GN_W-1:0] g_next;
         if (CUBIC) begin : g_cubic
             /* verilator lint_off UNUSEDSIGNAL */
             reg signed [D_W+BW-1:0] sh;
             /* verilator lint_on UNUSEDSIGNAL */
             always @* begin
+                if (gk == 0)      gl_k = gxl_reg;
+                else if (gk == 1) gl_k = gyl_reg;
+                else              gl_k = $signed(fz[1*N_W +: N_W]) - $signed(fz[0*N_W +: N_W]);
                 sh     = (gl_k * $signed(dw5_reg[gk*BW +: BW])) >>> P_FRAC;  // exact product
                 g_next = sh[GN_W-1:0];
             end
         end else begin : g_linear
-            always @* g_next = gl_k;
+            always @* begin
+                if (gk == 0)      gl_k = gxl_reg;
+                else if (gk == 1) gl_k = gyl_reg;
+                else              gl_k = $signed(fz[1*N_W +: N_W]) - $signed(fz[0*N_W +: N_W]);
+                g_next = gl_k;
+            end
         end
         // FPGA_REGS: g beside the z lerp's extra registers
         wire [GN_W-1:0] g_p;
         delay_line #(.W(GN_W), .N(LP)) u_dly_g (.clk(clk), .rst(rst), .ce(ce), .d_in(g_next), .d_out(g_p));
-        reg signed [GN_W-1:0] g_reg;
-        assign g_all[gk*GN_W +: GN_W] = g_reg;
 
         // stage 7: h_k = (sum_j g_j T_jk) >> H_SHIFT (pow2: g_k T_kk = g_k << e_k, or 0); h fits
         // H_W bits (model/hw/config.py bound), the rest of the word are sign copies
@@ -187,23 +194,25 @@ generate
         /* verilator lint_on UNUSEDSIGNAL */
         if (AFFINE) begin : g_h_affine
             always @* begin
-                hsum = (($signed(g_all[0*GN_W +: GN_W]) * $signed(t_in[(0+gk)*T_W +: T_W])
-                       + $signed(g_all[1*GN_W +: GN_W]) * $signed(t_in[(3+gk)*T_W +: T_W])
-                       + $signed(g_all[2*GN_W +: GN_W]) * $signed(t_in[(6+gk)*T_W +: T_W])) <<< H_L) >>> H_R;
+                hsum = ((g0_reg * $signed(t_in[(0+gk)*T_W +: T_W])
+                       + g1_reg * $signed(t_in[(3+gk)*T_W +: T_W])
+                       + g2_reg * $signed(t_in[(6+gk)*T_W +: T_W])) <<< H_L) >>> H_R;
                 h_next = hsum[H_W-1:0];
             end
         end else begin : g_h_pow2
+            reg signed [GN_W-1:0] g_k;  // g of this axis alone
             always @* begin
-                hsum   = {{(HX_W-GN_W){g_reg[GN_W-1]}}, g_reg};
+                g_k    = (gk == 0) ? g0_reg : (gk == 1) ? g1_reg : g2_reg;
+                hsum   = {{(HX_W-GN_W){g_k[GN_W-1]}}, g_k};
                 hsum   = t_in[gk*(E_W+1) + E_W] ? {HX_W{1'b0}} : (hsum <<< t_in[gk*(E_W+1) +: E_W]);
                 hsum   = (hsum <<< H_L) >>> H_R;
                 h_next = hsum[H_W-1:0];
             end
         end
-        reg signed [H_W-1:0] h_reg;
 
         // stage 8: ag_k = (a h_k) >> A_FRAC; ag fits AG_W bits (model/hw/config.py bound), the
         // rest of the product are sign copies
+        reg signed [H_W-1:0]    h_k;
         reg [AG_W-1:0]          ag_next;
         /* verilator lint_off UNUSEDSIGNAL */
         reg signed [AGP_W-1:0]  agp;
@@ -213,32 +222,45 @@ generate
             // negative word negates
             reg signed [H_W:0] h_ext;
             always @* begin
-                h_ext   = {h_reg[H_W-1], h_reg};
+                h_k     = (gk == 0) ? h0_reg : (gk == 1) ? h1_reg : h2_reg;
+                h_ext   = {h_k[H_W-1], h_k};
                 h_ext   = a_in[EA_W + 1] ? {(H_W+1){1'b0}} : (a_in[EA_W] ? -h_ext : h_ext);
                 agp     = ({{(AGP_W-H_W-1){h_ext[H_W]}}, h_ext} <<< a_in[EA_W-1:0]) >>> A_FRAC;
                 ag_next = agp[AG_W-1:0];
             end
         end else begin : g_ag_any
             always @* begin
-                agp     = ($signed(a_in) * h_reg) >>> A_FRAC;
+                h_k     = (gk == 0) ? h0_reg : (gk == 1) ? h1_reg : h2_reg;
+                agp     = ($signed(a_in) * h_k) >>> A_FRAC;
                 ag_next = agp[AG_W-1:0];
             end
         end
-        reg [AG_W-1:0] ag_reg;
-        assign ag_out[gk*AG_W +: AG_W] = ag_reg;
-
-        always @(posedge clk) begin
-            if (ce) begin
-                g_reg <= g_p;
-                h_reg <= h_next;
-            end
-            if (rst)
-                ag_reg <= {AG_W{1'b0}};
-            else if (ce && load)
-                ag_reg <= ag_next;
-        end
     end
 endgenerate
+
+// stages 6..8 registers of the three axes: one process
+always @(posedge clk) begin
+    if (ce) begin
+        g0_reg <= g_axis[0].g_p;
+        g1_reg <= g_axis[1].g_p;
+        g2_reg <= g_axis[2].g_p;
+        h0_reg <= g_axis[0].h_next;
+        h1_reg <= g_axis[1].h_next;
+        h2_reg <= g_axis[2].h_next;
+    end
+    if (rst) begin
+        ag0_reg <= {AG_W{1'b0}};
+        ag1_reg <= {AG_W{1'b0}};
+        ag2_reg <= {AG_W{1'b0}};
+    end else if (ce && load) begin
+        ag0_reg <= g_axis[0].ag_next;
+        ag1_reg <= g_axis[1].ag_next;
+        ag2_reg <= g_axis[2].ag_next;
+    end
+end
+
+// the output: the three axes' registers in one concatenation
+assign ag_out = {ag2_reg, ag1_reg, ag0_reg};
 
 endmodule
 

@@ -112,6 +112,13 @@ generate
     end
 endgenerate
 
+reg [(NLEAF+1)*F_W-1:0]   f_all;   // leaf i at [i*F_W +: F_W] (each slice written by its own block)
+/* verilator lint_off UNDRIVEN */  // !NG: no gradient leaves (c_leaves 0)
+/* verilator lint_off UNUSEDSIGNAL */
+reg [(NLEAF+1)*3*C_W-1:0] c_all;
+/* verilator lint_on UNUSEDSIGNAL */
+/* verilator lint_on UNDRIVEN */
+
 genvar gi;
 generate
     for (gi = 0; gi < NLEAF; gi = gi + 1) begin : g_term
@@ -181,48 +188,46 @@ generate
         assign out_valid = g_term[NLEAF-1].v_all;
     end
 
-    // sign extension in processes (a net concatenation would be rebuilt bit by bit in
-    // event-driven simulation)
+    // sign extension in processes, each writing its leaf's slice of one variable (f_all,
+    // c_all: a net driven by slices from several places would be re-resolved whole, bit by
+    // bit, on every change of any slice in event-driven simulation; docs/simulation.md)
     for (gi = 0; gi <= NLEAF; gi = gi + 1) begin : g_leaf
-        wire [F_W-1:0]   f;
-        wire [3*C_W-1:0] c;
         if (gi == 0) begin : g_q
-            reg [F_W-1:0] f_x;
             if (FX_Q > 0) begin : g_fx
-                always @* f_x = {{FX_Q{q_in[QF_W-1]}}, q_in};
+                always @* f_all[0 +: F_W] = {{FX_Q{q_in[QF_W-1]}}, q_in};
             end else begin : g_f
-                always @* f_x = q_in;
+                always @* f_all[0 +: F_W] = q_in;
             end
-            assign f = f_x;
-            // !NG: the tree carries no gradient (the quadric's goes to filter_width)
-            assign c = NG ? cq_in : {3*C_W{1'b0}};
+            // !NG: the tree carries no gradient (the quadric's goes to filter_width; c_leaves 0)
+            if (NG) begin : g_c
+                always @* c_all[0 +: 3*C_W] = cq_in;
+            end
         end else begin : g_n
             wire [LN_W-1:0]   an = g_term[gi-1].an_d;
             /* verilator lint_off UNUSEDSIGNAL */  // !NG: the terms' ag outputs are 0, not summed
             wire [3*LG_W-1:0] ag = g_term[gi-1].ag_d;
             /* verilator lint_on UNUSEDSIGNAL */
-            reg [F_W-1:0] f_x;
             if (FX_N > 0) begin : g_fx
-                always @* f_x = {{FX_N{an[LN_W-1]}}, an};
+                always @* f_all[gi*F_W +: F_W] = {{FX_N{an[LN_W-1]}}, an};
             end else begin : g_f
-                always @* f_x = an;
+                always @* f_all[gi*F_W +: F_W] = an;
             end
-            assign f = f_x;
             if (NG && CX_N > 0) begin : g_cx
-                reg [3*C_W-1:0] c_x;
-                always @* c_x = {{CX_N{ag[3*LG_W-1]}}, ag[2*LG_W +: LG_W], {CX_N{ag[2*LG_W-1]}}, ag[LG_W +: LG_W],
-                                 {CX_N{ag[LG_W-1]}}, ag[0 +: LG_W]};
-                assign c = c_x;
+                always @* c_all[gi*3*C_W +: 3*C_W] = {{CX_N{ag[3*LG_W-1]}}, ag[2*LG_W +: LG_W],
+                                                      {CX_N{ag[2*LG_W-1]}}, ag[LG_W +: LG_W],
+                                                      {CX_N{ag[LG_W-1]}}, ag[0 +: LG_W]};
             end else if (NG) begin : g_c
-                assign c = ag;
-            end else begin : g_c0
-                assign c = {3*C_W{1'b0}};
+                always @* c_all[gi*3*C_W +: 3*C_W] = ag;
             end
         end
-        assign f_leaves[gi*F_W +: F_W]     = f;
-        assign c_leaves[gi*3*C_W +: 3*C_W] = c;
+    end
+    if (NG) begin : g_cl
+        assign c_leaves = c_all;
+    end else begin : g_cl0
+        assign c_leaves = {(NLEAF+1)*3*C_W{1'b0}};
     end
 endgenerate
+assign f_leaves = f_all;
 
 endmodule
 

@@ -277,17 +277,13 @@ assign an_out    = an_reg;
 // row j of T: affine t_in, pow2 its decoded diagonal entry); stage 3: the blend weights w and
 // slopes dw of each axis (noise_blend; the slopes only feed the gradient)
 
-wire [3*HB-1:0]     ip;        // cell of axis j at element j (stage 2 registers)
-wire [3*BW-1:0]     w_next;    // stage 3: w, dw of axis j at element j
-/* verilator lint_off UNUSEDSIGNAL */
-wire [3*BW-1:0]     dw_next;
-/* verilator lint_on UNUSEDSIGNAL */
-
+// each axis's signals stay its own (g_axis[j].ip_j, w_j, dw_j: read by name below), not
+// slices of one vector driven from three places (docs/simulation.md)
 genvar gj;
 generate
     for (gj = 0; gj < 3; gj = gj + 1) begin : g_axis
         wire [P_FRAC-1:0] fp;
-        wire [HB-1:0]     ip_j;
+        wire [HB-1:0]     ip_j;      // cell of axis j (stage 2 registers)
         noise_xform #(
             .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .P_FRAC(P_FRAC), .HASH_BITS(HB),
             .TRANSFORM(TRANSFORM), .AXIS(gj)
@@ -295,14 +291,15 @@ generate
             .clk(clk), .ce(ce), .s_in(s_in), .t_row(tc_in[gj*TR_W +: TR_W]), .o_in(o_s2[gj*O_W +: O_W]),
             .ip(ip_j), .fp(fp)
         );
-        assign ip[gj*HB +: HB] = ip_j;
-        wire signed [BW-1:0] w_j, dw_j;
+        // stage 3: w, dw of axis j (the slopes only feed the gradient)
+        wire signed [BW-1:0] w_j;
+        /* verilator lint_off UNUSEDSIGNAL */
+        wire signed [BW-1:0] dw_j;
+        /* verilator lint_on UNUSEDSIGNAL */
         // FPGA_REGS: f2 and f3 registered beside the hash's ROM levels
         noise_blend #(.BLEND(BLEND), .P_FRAC(P_FRAC), .BW(BW), .PIPE(P)) u_blend (
             .clk(clk), .ce(ce), .fp(fp), .w(w_j), .dw(dw_j)
         );
-        assign w_next[gj*BW +: BW]  = w_j;
-        assign dw_next[gj*BW +: BW] = dw_j;
     end
 endgenerate
 
@@ -315,9 +312,9 @@ wire [8*N_W-1:0]     v_next;
 noise_hash #(.H(HB), .N_FRAC(N_FRAC), .N_W(N_W), .PERM(PERM), .PIPE(P)) u_hash (
     .clk(clk),
     .ce(ce),
-    .ix(ip[0*HB +: HB]),
-    .iy(ip[1*HB +: HB]),
-    .iz(ip[2*HB +: HB]),
+    .ix(g_axis[0].ip_j),
+    .iy(g_axis[1].ip_j),
+    .iz(g_axis[2].ip_j),
     .v_out(v_next)
 );
 
@@ -329,9 +326,7 @@ delay_line #(.W(BW), .N(LP))   u_dly_w4 (.clk(clk), .rst(rst), .ce(ce), .d_in(wz
 // ---------------------------------------------------------------------------
 // Stage 4: x lerps e[j][k] = lerp(v0jk, v1jk, wx); stage 5: y lerps fz[k] = lerp(e0k, e1k, wy)
 
-wire [4*N_W-1:0] e_next;
-wire [2*N_W-1:0] fz_next;
-
+// (each lerp's y is read by name in the clocked process, not through one vector)
 genvar gl;
 generate
     for (gl = 0; gl < 4; gl = gl + 1) begin : g_lerp_x
@@ -339,14 +334,12 @@ generate
         lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp (
             .clk(clk), .ce(ce), .a(v_reg[gl*N_W +: N_W]), .b(v_reg[(4+gl)*N_W +: N_W]), .t(wx_reg), .y(y)
         );
-        assign e_next[gl*N_W +: N_W] = y;
     end
     for (gl = 0; gl < 2; gl = gl + 1) begin : g_lerp_y
         wire signed [N_W-1:0] y;
         lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp (
             .clk(clk), .ce(ce), .a(e_reg[gl*N_W +: N_W]), .b(e_reg[(2+gl)*N_W +: N_W]), .t(wy4_reg), .y(y)
         );
-        assign fz_next[gl*N_W +: N_W] = y;
     end
 endgenerate
 
@@ -397,13 +390,13 @@ endgenerate
 always @(posedge clk) begin
     if (ce) begin
         v_reg    <= v_next;
-        wx_reg   <= w_next[0*BW +: BW];
-        wy_reg   <= w_next[1*BW +: BW];
-        wz_reg   <= w_next[2*BW +: BW];
-        e_reg    <= e_next;
+        wx_reg   <= g_axis[0].w_j;
+        wy_reg   <= g_axis[1].w_j;
+        wz_reg   <= g_axis[2].w_j;
+        e_reg    <= {g_lerp_x[3].y, g_lerp_x[2].y, g_lerp_x[1].y, g_lerp_x[0].y};
         wy4_reg  <= wy_p;
         wz4_reg  <= wz_p;
-        fz_reg   <= fz_next;
+        fz_reg   <= {g_lerp_y[1].y, g_lerp_y[0].y};
         wz5_reg  <= wz4_p;
         n_reg    <= n_next;
         n7_reg   <= n_reg;
@@ -425,7 +418,7 @@ generate
     if (GRAD) begin : g_grad
         reg [3*BW-1:0] dw_reg;  // stage 3: slopes {z, y, x}
         always @(posedge clk) begin
-            if (ce) dw_reg <= dw_next;
+            if (ce) dw_reg <= {g_axis[2].dw_j, g_axis[1].dw_j, g_axis[0].dw_j};
         end
         noise_grad #(
             .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC), .P_FRAC(P_FRAC), .N_FRAC(N_FRAC),
