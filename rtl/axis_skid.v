@@ -106,6 +106,88 @@ assign m_axis_tdata  = m_data_reg;
 assign m_axis_tvalid = m_valid_reg;
 assign m_axis_tlast  = m_last_reg;
 
+`ifdef FORMAL
+// ---------------------------------------------------------------------------
+// Formal properties (Yosys `read -formal`; make formal, formal/axis_skid.sby). The source obeys
+// AXI4-Stream (assumed); the skid buffer is proved to: keep the AXI4-Stream rules on m_axis
+// (asserted), hold nothing but what it accepted (f_occ beats: accepted minus delivered, always
+// m_axis_tvalid + the temporary register), and deliver an arbitrary accepted beat (f_pick) as it
+// was accepted, after exactly the beats that were in the buffer ahead of it (in order, once).
+reg              f_past_valid = 1'b0;
+reg [1:0]        f_occ;                 // beats accepted and not yet delivered
+reg              f_picked, f_done;      // the tracked beat: accepted / delivered
+reg [DATA_W-1:0] f_data;                // its word
+reg              f_last;
+reg              f_ahead;               // beats ahead of it in the buffer (0 or 1)
+(* anyseq *) wire f_pick;               // any accepted beat may be the tracked one
+wire f_in  = s_axis_tvalid && s_axis_tready;
+wire f_out = m_axis_tvalid && m_axis_tready;
+
+always @(posedge clk) begin
+    f_past_valid <= 1'b1;
+    if (rst) begin
+        f_occ    <= 2'd0;
+        f_picked <= 1'b0;
+        f_done   <= 1'b0;
+        f_ahead  <= 1'b0;
+    end else begin
+        f_occ <= f_occ + {1'b0, f_in} - {1'b0, f_out};
+        if (f_in && f_pick && !f_picked) begin
+            f_picked <= 1'b1;
+            f_data   <= s_axis_tdata;
+            f_last   <= s_axis_tlast;
+            f_ahead  <= f_occ[0] && !f_out;      // the beat ahead of it stays (f_occ <= 1 here)
+        end else if (f_picked && !f_done && f_out) begin
+            if (f_ahead)
+                f_ahead <= 1'b0;
+            else
+                f_done <= 1'b1;
+        end
+    end
+end
+
+always @* begin
+    // the first clock is a reset (the buffer's state before it is not defined)
+    if (!f_past_valid) assume(rst);
+end
+
+always @(posedge clk) begin
+    if (f_past_valid && !$past(rst)) begin
+        // AXI4-Stream source rule on s_axis (assumed): a beat offered and not taken stays, unchanged
+        if ($past(s_axis_tvalid && !s_axis_tready))
+            assume(s_axis_tvalid && s_axis_tdata == $past(s_axis_tdata) && s_axis_tlast == $past(s_axis_tlast));
+        // the same rule on m_axis (asserted): output data, last and valid hold while stalled
+        if ($past(m_axis_tvalid && !m_axis_tready))
+            assert(m_axis_tvalid && m_axis_tdata == $past(m_axis_tdata) && m_axis_tlast == $past(m_axis_tlast));
+    end
+    // reset: no output beat, not ready, the clock after a reset
+    if (f_past_valid && $past(rst))
+        assert(!m_axis_tvalid && !s_axis_tready);
+end
+
+always @* begin
+    if (f_past_valid) begin
+        // nothing appears that was not accepted, nothing accepted is lost or doubled: the beats
+        // held are the beats accepted minus those delivered, at most two
+        assert(f_occ == {1'b0, m_valid_reg} + {1'b0, temp_valid_reg});
+        assert(!temp_valid_reg || m_valid_reg);
+        // ready only with room: a beat accepted has a register to go to
+        assert(!s_axis_tready || !temp_valid_reg);
+        // the tracked beat, accepted and not yet delivered: in the output register with no beat
+        // ahead of it, in the temporary register behind the output register's beat
+        if (f_picked && !f_done) begin
+            if (!f_ahead)
+                assert(m_valid_reg && m_data_reg == f_data && m_last_reg == f_last);
+            else
+                assert(temp_valid_reg && temp_data_reg == f_data && temp_last_reg == f_last && m_valid_reg);
+        end
+        // it leaves as it came, after exactly the beats ahead of it (in order, once)
+        if (f_picked && !f_done && !f_ahead && f_out)
+            assert(m_axis_tdata == f_data && m_axis_tlast == f_last);
+    end
+end
+`endif
+
 endmodule
 
 `default_nettype wire

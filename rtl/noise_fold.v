@@ -189,6 +189,101 @@ always @(posedge clk) begin
     end
 end
 
+`ifdef FORMAL
+// ---------------------------------------------------------------------------
+// Formal properties (Yosys `read -formal`; make formal, formal/: noise_term cut to free outputs).
+// Under any pattern of ce (the pipeline's stalls), in_valid (gaps) and rst, with k_used <= K and
+// stable while a pixel issues (assumed: the header's contract): a pixel taken with k_used terms
+// has exactly P = max(MIN_CLOCKS, ceil(k_used / U)) issue slots (enabled clocks), counted here as
+// f_n; issue f_n gives unit u term f_n U + u (its a zeroed past k_used), so every term
+// k < k_used is issued once (f_issued) and none is skipped; px_valid marks the last slot, and
+// in_ready = !busy || last slot (the header's rule).
+reg          f_past_valid = 1'b0;
+reg [7:0]    f_n;         // issue slots of the held pixel so far
+reg [K-1:0]  f_issued;    // its terms issued so far
+wire [7:0]   f_ku   = {{(8-KU_W){1'b0}}, k_used};
+// P of each k_used: max(MIN_CLOCKS, ceil(k_used / U)), at elaboration
+function integer f_slots;
+    input integer ku;
+    begin
+        f_slots = (ku + U - 1) / U;
+        if (f_slots < MIN_CLOCKS) f_slots = MIN_CLOCKS;
+    end
+endfunction
+reg [7:0]    f_p;
+integer      fq;
+always @* begin
+    f_p = 8'd0;
+    for (fq = 0; fq <= K; fq = fq + 1)
+        if (f_ku == fq) f_p = f_slots(fq);
+end
+wire         f_take = ce && in_valid && in_ready;
+wire         f_last = (f_n == f_p - 1'b1);
+reg [K-1:0]  f_now, f_used, f_before;  // terms of this slot, of the pixel, of its earlier slots
+integer      fk;
+always @* begin
+    // term k is issued on slot k / U (unit k mod U)
+    for (fk = 0; fk < K; fk = fk + 1) begin
+        f_used[fk]   = (fk < f_ku);
+        f_now[fk]    = (fk < f_ku) && (f_n == fk / U);
+        f_before[fk] = (fk < f_ku) && (f_n > fk / U);
+    end
+end
+
+always @(posedge clk) begin
+    f_past_valid <= 1'b1;
+    if (rst) begin
+        f_n      <= 8'd0;
+        f_issued <= {K{1'b0}};
+    end else if (ce) begin
+        if (f_take) begin
+            f_n      <= 8'd0;
+            f_issued <= {K{1'b0}};
+        end else if (busy_reg) begin
+            f_n      <= f_n + 8'd1;
+            f_issued <= f_issued | f_now;
+        end
+    end
+end
+
+always @* begin
+    if (!f_past_valid) assume(rst);
+    assume(k_used <= K);
+end
+
+always @(posedge clk) begin
+    // k_used is static while a pixel issues (texture_pipeline's per-pass register)
+    if (f_past_valid && busy_reg)
+        assume(k_used == $past(k_used));
+    if (f_past_valid && !$past(rst)) begin
+        // ce = 0 holds the issue state
+        if (!$past(ce))
+            assert(busy_reg == $past(busy_reg) && j_reg == $past(j_reg));
+        // a pixel leaves the hold registers after its last slot, unless the next one is taken
+        if ($past(ce && busy_reg))
+            assert(busy_reg == ($past(f_take) || !$past(f_last)));
+    end
+end
+
+always @* begin
+    if (f_past_valid && !rst) begin
+        if (busy_reg) begin
+            // the issue index counts the slots, never past P
+            assert(j_reg == f_n[J_W-1:0] && f_n < f_p);
+            // the terms issued so far are those of the earlier slots, each once
+            assert(f_issued == f_before);
+            assert((f_issued & f_now) == {K{1'b0}});
+            // the last slot completes the pixel's terms: none skipped
+            if (f_last)
+                assert((f_issued | f_now) == f_used);
+        end
+        // px_valid on the last slot only; in_ready: empty, or the last slot
+        assert(px_valid == (busy_reg && f_last));
+        assert(in_ready == (!busy_reg || f_last));
+    end
+end
+`endif
+
 // ---------------------------------------------------------------------------
 // Units: unit u gets term j U + u (a = 0 past K_used); first / last tags beside them
 
@@ -221,6 +316,28 @@ generate
                 end
             end
         end
+`ifdef FORMAL
+        // the parameters this unit gets on slot f_n: those of term f_n U + u (a = 0 past
+        // k_used; nothing past K)
+        reg [A_W-1:0]   f_a;
+        reg [9*T_W-1:0] f_t;
+        reg [3*O_W-1:0] f_o;
+        integer         fm;
+        always @* begin
+            f_a = {A_W{1'b0}};
+            f_t = {9*T_W{1'b0}};
+            f_o = {3*O_W{1'b0}};
+            for (fm = gu; fm < K; fm = fm + U) begin
+                if (f_n == fm / U) begin
+                    f_a = (fm < f_ku) ? a_all[fm*A_W +: A_W] : {A_W{1'b0}};
+                    f_t = t_all[fm*9*T_W +: 9*T_W];
+                    f_o = o_all[fm*3*O_W +: 3*O_W];
+                end
+            end
+            if (f_past_valid && !rst && busy_reg)
+                assert(a_sel == f_a && t_sel == f_t && o_sel == f_o);
+        end
+`endif
         wire [A_W-1:0]   a_u;
         wire [9*T_W-1:0] t_u;
         wire [3*O_W-1:0] o_u;

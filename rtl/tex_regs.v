@@ -199,6 +199,110 @@ always @(posedge clk) begin
     end
 end
 
+`ifdef FORMAL
+// ---------------------------------------------------------------------------
+// Formal properties (make formal). Written from the register map's addresses (absolute word
+// addresses, not the decoder's bit slices): a register changes only on a write to its own
+// address, and then to the written value (so a register write never changes another
+// register); a table write reaches the table port one clock later with the table, the entry
+// (the address minus the table's base) and the data it addressed, and nothing else does
+// (tbl_wr_en only then: writes past a table's end and to other addresses never reach it).
+integer              fa, fb;
+reg                  f_past_valid = 1'b0;
+reg                  f_rst, f_en;          // the last clock's reset and write
+reg [AW-1:0]         f_addr;
+reg [RM_DATA_W-1:0]  f_data;
+reg [3*CSAT_W-1:0]   f_csat;              // the last value written to each staged csat channel c < 3
+wire [AW-1:0]        f_coff = cfg_wr_addr - RM_ADDR_CSAT;   // a csat write's word offset
+localparam           F_CH = $clog2(NCH);   // NCH words an entry (a power of two: the checks below)
+always @(posedge clk) begin
+    f_past_valid <= 1'b1;
+    f_rst        <= rst;
+    f_en         <= cfg_wr_en;
+    f_addr       <= cfg_wr_addr;
+    f_data       <= cfg_wr_data;
+end
+always @(posedge clk) begin
+    if (rst)
+        f_csat <= {3*CSAT_W{1'b0}};
+    else if (cfg_wr_en && cfg_wr_addr >= RM_ADDR_CSAT && f_coff < (1 << RL))
+        for (fa = 0; fa < NCH - 1; fa = fa + 1)
+            if (f_coff[F_CH-1:0] == fa) f_csat[fa*CSAT_W +: CSAT_W] <= cfg_wr_data[CSAT_W-1:0];
+end
+
+// the previous value of every register output
+reg                      f_mode, f_filter_en;
+reg [NL_W-1:0]           f_n_log2;
+reg [KU_W-1:0]           f_k_used;
+reg [RM_Q_COUNT*Q_W-1:0] f_q;
+reg [KV*A_W-1:0]         f_a;
+reg [KV*9*T_W-1:0]       f_t;
+reg [KV*3*O_W-1:0]       f_o;
+always @(posedge clk) begin
+    {f_mode, f_filter_en, f_n_log2, f_k_used} <= {mode, filter_en, n_log2, k_used};
+    {f_q, f_a, f_t, f_o} <= {q_coef, a_all, t_all, o_all};
+end
+
+wire f_wr = f_past_valid && !f_rst && f_en;   // a write landed at this clock's edge
+always @* begin
+    if (!f_past_valid) assume(rst);  // the first clock is a reset
+    // the staging register holds the channels written last (an invariant for the induction)
+    if (f_past_valid) assert(csat_stage_reg == f_csat);
+    if (f_past_valid && f_rst) begin
+        assert({mode, filter_en, n_log2, k_used} == 0 && q_coef == 0 && a_all == 0 && t_all == 0 && o_all == 0);
+        assert(!tbl_wr_en);
+    end
+    if (f_past_valid && !f_rst) begin
+        // CTRL
+        if (f_wr && f_addr == RM_ADDR_CTRL)
+            assert(mode == f_data[RM_CTRL_MODE_BIT] && filter_en == f_data[RM_CTRL_FILTER_BIT]
+                   && n_log2 == f_data[RM_CTRL_NLOG2_LSB +: NL_W] && k_used == f_data[RM_CTRL_KUSED_LSB +: KU_W]);
+        else
+            assert(mode == f_mode && filter_en == f_filter_en && n_log2 == f_n_log2 && k_used == f_k_used);
+        // quadric coefficient i at ADDR_Q + i
+        for (fa = 0; fa < RM_Q_COUNT; fa = fa + 1)
+            if (f_wr && f_addr == RM_ADDR_Q + fa)
+                assert(q_coef[fa*Q_W +: Q_W] == f_data[Q_W-1:0]);
+            else
+                assert(q_coef[fa*Q_W +: Q_W] == f_q[fa*Q_W +: Q_W]);
+        // term k's fields at ADDR_TERM + TERM_STRIDE k + field
+        for (fa = 0; fa < K; fa = fa + 1) begin
+            if (f_wr && f_addr == RM_ADDR_TERM + RM_TERM_STRIDE*fa + RM_TERM_A)
+                assert(a_all[fa*A_W +: A_W] == f_data[A_W-1:0]);
+            else
+                assert(a_all[fa*A_W +: A_W] == f_a[fa*A_W +: A_W]);
+            for (fb = 0; fb < 9; fb = fb + 1)
+                if (f_wr && f_addr == RM_ADDR_TERM + RM_TERM_STRIDE*fa + RM_TERM_T + fb)
+                    assert(t_all[(9*fa + fb)*T_W +: T_W] == f_data[T_W-1:0]);
+                else
+                    assert(t_all[(9*fa + fb)*T_W +: T_W] == f_t[(9*fa + fb)*T_W +: T_W]);
+            for (fb = 0; fb < 3; fb = fb + 1)
+                if (f_wr && f_addr == RM_ADDR_TERM + RM_TERM_STRIDE*fa + RM_TERM_O + fb)
+                    assert(o_all[(3*fa + fb)*O_W +: O_W] == f_data[O_W-1:0]);
+                else
+                    assert(o_all[(3*fa + fb)*O_W +: O_W] == f_o[(3*fa + fb)*O_W +: O_W]);
+        end
+        // the table port: clut entry n at ADDR_CLUT + n, mip entry m at ADDR_MIP + m (RGBA8
+        // spread over the channel fields), csat entry n channel 3 at ADDR_CSAT + 4n + 3 (with
+        // the staged channels 0..2)
+        if (f_wr && f_addr >= RM_ADDR_CLUT && f_addr - RM_ADDR_CLUT < (1 << (NLMAX + RM_CLUT_LOG2))) begin
+            assert(tbl_wr_en && tbl_wr_table == RM_TABLE_CLUT && tbl_wr_addr == f_addr - RM_ADDR_CLUT);
+            for (fa = 0; fa < 4; fa = fa + 1)
+                assert(tbl_wr_data[fa*CSAT_W +: CSAT_W] == f_data[fa*8 +: 8]);
+        end else if (f_wr && f_addr >= RM_ADDR_MIP && f_addr - RM_ADDR_MIP < (1 << (NLMAX + RM_MIP_LOG2))) begin
+            assert(tbl_wr_en && tbl_wr_table == RM_TABLE_MIP && tbl_wr_addr == f_addr - RM_ADDR_MIP);
+            for (fa = 0; fa < 4; fa = fa + 1)
+                assert(tbl_wr_data[fa*CSAT_W +: CSAT_W] == f_data[fa*8 +: 8]);
+        end else if (f_wr && f_addr >= RM_ADDR_CSAT && f_addr - RM_ADDR_CSAT < (1 << (NLMAX + RM_CSAT_LOG2))
+                     && ((f_addr - RM_ADDR_CSAT) & (NCH - 1)) == NCH - 1) begin
+            assert(tbl_wr_en && tbl_wr_table == RM_TABLE_CSAT && tbl_wr_addr == (f_addr - RM_ADDR_CSAT) >> F_CH);
+            assert(tbl_wr_data == {f_data[CSAT_W-1:0], f_csat});
+        end else
+            assert(!tbl_wr_en);
+    end
+end
+`endif
+
 // elaboration checks: the table's shape this decoder assumes
 generate
     if (NCH != 4 || K > RM_TERM_SLOTS || NLMAX + RM_CSAT_LOG2 >= RL) begin : g_bad_params

@@ -8,8 +8,9 @@ The order, lowest first (the README's layout table gives the same):
                meshes, passes, truth), the float reference, and model.cli, the one-line-error
                parser, staged outputs and progress bar that every command shares
     hdlbuild   builds and runs an RTL top under Icarus or Verilator
-    sim, synth full-frame RTL simulation; Yosys and the ECP5 flow (side by side: neither imports
-               the other)
+    sim, synth, formal
+               full-frame RTL simulation; Yosys and the ECP5 flow; the formal proofs (side by
+               side: none imports another)
     app        the command layer: render, animation (its --rtl runs sim), precision, quality, needs
     explore    the design-space sweep, fit and filters, built on all of the above (filters runs
                app.render and app.animation, fit and measure use app.needs and app.quality)
@@ -27,7 +28,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 
-LAYERS = (("model",), ("hdlbuild",), ("sim", "synth"), ("app",), ("explore",))
+LAYERS = (("model",), ("hdlbuild",), ("sim", "synth", "formal"), ("app",), ("explore",))
 TOP = ("tb", "tests")  # above every layer; imported only by themselves
 SKIP_DIRS = {"build", "out", "node_modules", "__pycache__"}
 
