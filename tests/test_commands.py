@@ -143,6 +143,8 @@ COMMANDS = {
                         "--quiet", "--step", "f_frac=14"], {}, lambda r, out: (_ok(r), "| f_frac=14 |" in r.stdout)),
     "icarus-perf": (["icarus-perf", "CONFIG=reduced", "PERF_PIXELS=4"], {}, lambda r, out: _ok(r)),
     "synth-check": (["synth-check"], {}, lambda r, out: _ok(r)),
+    "formal (one task)": (["formal", "FORMAL_FLAGS=--only delay_line.n1_clear"], {},
+                          lambda r, out: (_ok(r), "delay_line.n1_clear" in r.stdout and "PASS" in r.stdout)),
     "synth / synth-blocks (entry point, one block)": (None, {}, None),
     "config": ([PY, "-m", "model.hw.config", "reduced"], {}, lambda r, out: (_ok(r), "derived" in r.stdout)),
     "scene check": ([PY, "-m", "model.scene.scene", "scenes/wood.toml"], {}, lambda r, out: (_ok(r), "wood" in r.stdout)),
