@@ -31,7 +31,7 @@ COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 TRUTH_FLAGS = $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS)) $(if $(BAND_SS),--band-ss $(BAND_SS))
 
 .PHONY: corpus validate help setup setup-check gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
-        synth synth-check synth-blocks fpga clean precision animation explore fit filters formal
+        synth synth-check synth-blocks fpga clean precision animation explore fit filters formal mutants
 
 help:
 	@echo "make setup           install everything (Debian packages, pinned Python venv)"
@@ -51,6 +51,7 @@ help:
 	@echo "make animation SCENE=seascape [CONFIG=full] [FRAMES=16] [SIZE=128] [RTL=1]   section 4.4: frames vs truth, flicker, docs/animation.md"
 	@echo "make corpus [SEED=2] [N=200]   a scene corpus: out/corpus/seed<SEED>/ (2: held-out, with the hard cases; 1: fit)"
 	@echo "make validate CONFIG=full [N=200] [VALIDATE_SIZE=48] [RTL_SCENES=4]   the configuration's promise on the held-out corpus: docs/validation.md"
+	@echo "make mutants [N=100] [SEED=1]   N seeded single mutations of rtl/, each against its block's testbench and a 16x16 frame (Icarus): docs/verification.md (Mutants)"
 	@echo "make bench-sim       Verilator vs golden model pixels/s and ratio (full, compact, reduced), and Icarus"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
@@ -143,6 +144,12 @@ precision:
 animation: gen
 	$(VENV_ENV) $(PY) -m app.animation --scene $(SCENE) --config $(CONFIG) $(if $(FRAMES),--frames $(FRAMES)) \
 	  --size $(if $(filter command line,$(origin SIZE)),$(SIZE),128) $(if $(RTL),--rtl) $(if $(OUT),--out $(OUT)) $(TRUTH_FLAGS)
+
+# mutation testing (issue 29): N seeded single mutations of rtl/ (a scratch copy each), each run
+# against its block's testbench and one 16x16 frame under Icarus, JOBS at once; the share killed and
+# every mutant in docs/verification.md's Mutants section (verify/mutants.py; out/mutants/results.json)
+mutants: gen
+	$(VENV_ENV) $(PY) -m verify.mutants --n $(or $(N),100) --seed $(or $(SEED),1) --jobs $(JOBS) --docs docs/verification.md
 
 bench-sim: gen
 	$(VENV_ENV) $(PY) -m sim.bench

@@ -16,6 +16,8 @@
   a block testbench's Verilator C++ is built without optimisation (-O0: VECTORS up to the
   default; more, as make test-long runs, keep -Os).
 - `sim_params()`, `seed()`, `vectors()`: the test environment knobs.
+- `rtl_dir()`, `build_root()`: rtl/ and build/, or, with RTL_DIR set, that directory and a build/
+  beside it (verify/mutants.py builds a scratch copy of rtl/ that way, never sharing a build).
 
 Environment: SIM (icarus|verilator) and CONFIG (full|reduced) narrow the
 parametrization; SEED fixes the random seed (printed either way); VECTORS sets the
@@ -43,7 +45,20 @@ RTL_DIR = ROOT / "rtl"
 
 __all__ = ["ROOT", "RTL_DIR", "SIMS", "CONFIGS", "FPGA_CONFIG", "DEFAULT_VECTORS", "gen_dir", "config_of", "config_ref",
            "setup_verilator_env", "need_simulator", "need_tool", "sim_params", "seed", "vectors", "on_sys_path", "environ",
-           "run", "family_params", "block_params", "top_params", "texture_unit_source", "latency", "write_if_changed"]
+           "run", "rtl_dir", "build_root", "family_params", "block_params", "top_params", "texture_unit_source", "latency", "write_if_changed"]
+
+
+def rtl_dir() -> Path:
+    """The RTL sources the builds read: rtl/, or the directory the environment's RTL_DIR names
+    (a scratch copy of rtl/, verify/mutants.py)."""
+    d = os.environ.get("RTL_DIR")
+    return Path(d).resolve() if d else RTL_DIR
+
+
+def build_root() -> Path:
+    """build/, or, with RTL_DIR set, build/ beside that directory: a scratch rtl/ never shares a build."""
+    d = os.environ.get("RTL_DIR")
+    return Path(d).resolve().parent / "build" if d else ROOT / "build"
 
 
 def setup_verilator_env() -> None:
@@ -224,7 +239,7 @@ BLOCK_OPT = "OPT_FAST=-O0 OPT_GLOBAL=-O0"  # make variables of a block testbench
 
 def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=None, parameters=None,
         test_dir: Path | None = None, build_name: str | None = None) -> None:
-    """Build `sources` (names in rtl/ or absolute paths) with `toplevel` and run cocotb
+    """Build `sources` (names in rtl/ (rtl_dir()) or absolute paths) with `toplevel` and run cocotb
     `test_module` (found in `test_dir`); fail on any failed test.
 
     `config` is a configuration name or a Config (a variant); `parameters` are the toplevel's
@@ -247,7 +262,7 @@ def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=No
     # optimisation (half the build time; make test-long's 100,000 vectors keep Verilator's -Os; the
     # frame harness, sim/frame_rtl.py, builds its own C++ main at -O2), in a build directory of its own
     fast_build = sim == "verilator" and vectors() <= DEFAULT_VECTORS
-    build_dir = ROOT / "build" / "sim" / toplevel / (f"{build_name or config}-{tag}-{sim}{'-O0' if fast_build else ''}"
+    build_dir = build_root() / "sim" / toplevel / (f"{build_name or config}-{tag}-{sim}{'-O0' if fast_build else ''}"
                                                      f"{'-waves' if waves else ''}")
     runner = get_runner(sim)
     build_args = []
@@ -258,8 +273,8 @@ def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=No
     build_env = {"MAKEFLAGS": os.environ.get("MAKEFLAGS", "") + " " + BLOCK_OPT} if fast_build else {}
     with environ(build_env):
         runner.build(
-            sources=[RTL_DIR / s if not str(s).startswith("/") else s for s in sources],
-            includes=[RTL_DIR],
+            sources=[rtl_dir() / s if not str(s).startswith("/") else s for s in sources],
+            includes=[rtl_dir()],
             hdl_toplevel=toplevel,
             parameters=parameters or {},
             build_args=build_args,

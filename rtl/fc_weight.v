@@ -378,6 +378,7 @@ end
 
 // stage 8: wv = min(shift(pr << n_log2, C0), 2^CAPB)
 reg [PW_W-1:0] pw;
+reg [PW_W+W_W-1:0] pw_x;  // pw zero-extended: pw_x[W_W-1:0] is in range when PW_W < W_W
 reg [W_W-1:0]  wv0;
 always @* begin
     pw = {{(PW_W-SD_W-KS_W){1'b0}}, pr6} << n_log2;
@@ -385,7 +386,8 @@ always @* begin
         pw = pw << ((C0 >= 0) ? C0 : 0);
     else
         pw = pw >> ((C0 < 0) ? -C0 : 0);
-    wv0 = ({{W_W{1'b0}}, pw} > CAP_V) ? CAP_V[W_W-1:0] : pw[W_W-1:0];
+    pw_x = {{W_W{1'b0}}, pw};
+    wv0 = (pw_x > CAP_V) ? CAP_V[W_W-1:0] : pw_x[W_W-1:0];
 end
 reg        v7;
 always @(posedge clk) begin

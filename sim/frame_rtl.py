@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hdlbuild import ROOT, config_of, config_ref, gen_dir, need_simulator
+from hdlbuild import build_root, config_of, config_ref, gen_dir, need_simulator, rtl_dir
 from model.hw.config import load_config
 from model.hw.regmap import pack_pixels_u32, pix_width, pixels_hex, unpack_rgba, write_sequence, writes_hex
 
@@ -77,18 +77,18 @@ def memory(sim: str) -> dict:
 def build_dir(config, sim: str) -> Path:
     """build/sim/frame_tb/<configuration name>-<sim> (config: a name or a Config)."""
     name = config if isinstance(config, str) else config.name
-    return ROOT / "build" / "sim" / TOPLEVEL / f"{name}-{sim}{BUILD_TAG if sim == 'verilator' else ''}"
+    return build_root() / "sim" / TOPLEVEL / f"{name}-{sim}{BUILD_TAG if sim == 'verilator' else ''}"
 
 
 def _sources(gdir: Path) -> list[Path]:
     # every RTL module (the simulators elaborate only what frame_tb instantiates) and the
     # configuration's wrapper texture_unit
-    return sorted((ROOT / "rtl").glob("*.v")) + [gdir / "texture_unit.v", HARNESS]
+    return sorted(rtl_dir().glob("*.v")) + [gdir / "texture_unit.v", HARNESS]
 
 
 def _stamp(config: str, sim: str, gdir: Path) -> str:
     h = hashlib.sha256()
-    files = _sources(gdir) + sorted((ROOT / "rtl").glob("*.vh"))
+    files = _sources(gdir) + sorted(rtl_dir().glob("*.vh"))
     for p in files:
         if p.is_file():
             h.update(str(p.name).encode())
@@ -107,7 +107,7 @@ def _verilator_build(cfg, gdir: Path, bdir: Path) -> None:
     build with its GPI clock streamed 1.8x slower, docs/simulation.md)."""
     params = {**memory("verilator"), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)}
     cmd = ["verilator", "--cc", "--exe", "--build", "-j", "2", "-Mdir", str(bdir), "--top-module", TOPLEVEL,
-           "-o", TOPLEVEL, *VERILATOR_ARGS, f"-I{ROOT / 'rtl'}", *[f"-G{k}={v}" for k, v in params.items()],
+           "-o", TOPLEVEL, *VERILATOR_ARGS, f"-I{rtl_dir()}", *[f"-G{k}={v}" for k, v in params.items()],
            str(MAIN_CPP), *[str(p) for p in _sources(gdir)]]
     env = dict(os.environ)
     env["MAKEFLAGS"] = (env.get("MAKEFLAGS", "") + " " + " ".join(f"{k}={v}" for k, v in CXX_OPT.items())).strip()
@@ -159,7 +159,7 @@ def build(config, sim: str) -> Path:
 
                 get_runner(sim).build(
                     sources=_sources(gdir),
-                    includes=[ROOT / "rtl"],
+                    includes=[rtl_dir()],
                     hdl_toplevel=TOPLEVEL,
                     parameters={**memory(sim), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)},
                     build_dir=bdir,

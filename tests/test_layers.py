@@ -12,6 +12,7 @@ The order, lowest first (the README's layout table gives the same):
                full-frame RTL simulation; Yosys and the ECP5 flow; the formal proofs (side by
                side: none imports another)
     app        the command layer: render, animation (its --rtl runs sim), precision, quality, needs
+    verify     beside app: make mutants (verify.mutants runs tb/ and sim.frame as commands, importing neither)
     explore    the design-space sweep, fit and filters, built on all of the above (filters runs
                app.render and app.animation, fit and measure use app.needs and app.quality)
 
@@ -28,7 +29,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 
-LAYERS = (("model",), ("hdlbuild",), ("sim", "synth", "formal"), ("app",), ("explore",))
+LAYERS = (("model",), ("hdlbuild",), ("sim", "synth", "formal"), ("app", "verify"), ("explore",))
 TOP = ("tb", "tests")  # above every layer; imported only by themselves
 SKIP_DIRS = {"build", "out", "node_modules", "__pycache__"}
 

@@ -1,0 +1,732 @@
+"""Mutation testing of rtl/ (issue 29 part 4, `make mutants [N=100] [SEED=1]`): N seeded single
+mutations, each in a scratch copy of rtl/, each run against the mutated block's testbench and one
+small frame; the share killed, and a table of every mutant.
+
+The mutations (one per mutant, on a live line of an rtl/*.v file: not a comment, a string, a
+preprocessor line, an `ifdef FORMAL block, a declaration (module, parameter, localparam, port,
+reg, wire without `=`), nor a generate-time latency check):
+
+- operator:   a binary + or - swapped, & and | swapped (binary or reduction), ^ to |, && and || swapped
+- constant:   one bit of a literal flipped (sized: within its width; unsized: within its bit length)
+- comparison: loosened or tightened: < to <=, > to >=, <= to < (inside parentheses), >= to >,
+              == and != swapped
+- stage:      a register stage skipped: `a <= b;` where b is a register written `b <= e;` becomes `a <= (e);`
+- shift:      a shift amount off by one (<<, >>, >>>: n to n +- 1, x to (x + 1) or (x - 1))
+
+A mutant is drawn kind first (by WEIGHTS), then a site, then one of the site's
+alternatives, from random.Random(SEED); sites are drawn without replacement.
+
+Each mutant is screened with Icarus first: the design is compiled for every configuration that
+instantiates the mutated module (full, compact, reduced, full_fc, and the variants compact on two
+noise units, full with filter mip and none, compact with fpga_regs) and compared with the
+unmutated compile. A mutant that compiles in none of them is stillborn (not counted; the next one
+drawn takes its place); one that compiles in some only is killed (any testbench building the others
+fails); the configurations whose compiled design differs are the ones its frames run on (none
+differs: the mutation is dead code in every one of them, and only the block testbench, with its
+random configurations, sees it).
+Then, with RTL_DIR set to the scratch copy (hdlbuild.rtl_dir(): builds go to a build/ beside it):
+
+1. the mutated block's testbench, tb/<module>/ (when it has one), every Icarus case, `pytest -x`;
+2. if that passed: `python -m sim.frame` of each scene (default marble, noise terms, and
+   zone_plate, the quadric) at 16x16 under Icarus on each of those configurations, every pixel
+   against the golden model, until one fails.
+
+The first test that fails kills the mutant (a timeout kills it too). Survivors that are
+equivalent to the original (no input can tell them apart) are listed in EQUIVALENT below by
+their id, with the reason; the report gives the share killed of all mutants and of the
+non-equivalent ones. Results are cached by mutant and by the sources its verdict depends on (the mutated file,
+rtl/*.vh, the block's testbench, tb/pipe.py, sim/, hdlbuild/, model/hw/; out/mutants/cache/); a
+survivor is rerun whenever the run's options changed. A rerun after a new test reruns only the
+mutants of that block (an edit of another rtl/ file keeps a kill: the block's testbench builds
+the mutated file with its own submodules, and the frames only add tests).
+
+    python -m verify.mutants --n 100 --seed 1 --jobs 2 [--files a.v,b.v] [--scenes marble,zone_plate] [--size 16]
+        [--docs docs/verification.md] [--out out/mutants] [--list]
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import random
+import re
+import shutil
+import subprocess
+import sys
+import threading
+import time
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from hdlbuild import ROOT, config_of, gen_dir
+from model.cli import Parser, UserError, progress_bar, resolve_scene, run_main
+from model.hw.config import config_toml, doc_stamp, load_config, variant
+
+RTL = ROOT / "rtl"
+KINDS = ("operator", "constant", "comparison", "stage", "shift")
+# the share of each kind among the drawn mutants (the sites: about 700 operators, 1300 constants,
+# 250 comparisons, 80 shifts, 17 register stages)
+WEIGHTS = {"operator": 0.3, "constant": 0.3, "comparison": 0.2, "stage": 0.08, "shift": 0.12}
+TIMEOUT = 900  # seconds per test of a mutant (a hang is a kill)
+
+# Survivors shown equivalent to the original: mutant id -> why no input tells them apart.
+# Kinds of argument: (loop) a loop bound loosened: the extra iteration indexes past the vector it
+# writes, and Verilog drops a write out of range (its reads only feed that write); (trunc) the MSB
+# index of a select raised: the extra high bits are cut where the result is assigned (the low bits
+# of a sum or a concatenation's low part do not depend on them); (reset) the reset value of a data
+# register that no valid output reads before it is loaded.
+_LOOP = "the extra iteration writes past the vector (or array), a write Verilog drops; its reads feed only that write"
+EQUIVALENT: dict[str, str] = {
+    "47877a40": "(loop) the extra generate lane l = LANES reads and writes rem_in/rem_out past their LANES lanes: " + _LOOP,
+    "6dfa04d7": "(loop) c = 4 writes num_x past its 4 channels: " + _LOOP + " (sum and pt are loop temporaries)",
+    "c67ff000": "(loop) al3[K] is past the array al3[0:K-1]: " + _LOOP,
+    "a1713a5f": "(loop) tn[(3K + ka) T_W +: T_W] is past tn's 3K entries: " + _LOOP,
+    "99da974d": "(loop) sd4[K] is past the array sd4[0:K-1]: " + _LOOP,
+    "d2d2d371": "(loop) pi = RM_Q_COUNT writes q_coef past its RM_Q_COUNT words: " + _LOOP
+                + "; the register at that offset is written by its own decode as before",
+    "23e05d09": "(trunc) {valid_reg[Q_W+2:0], in_valid} is cut to valid_reg's Q_W bits: the same low bits",
+    "b0c1f383": "(trunc) y is W bits: the low W bits of a + step[W+1:0] are those of a + step[W-1:0]",
+    "af4c8dca": "(trunc) last_issue_of returns J_W bits: q[J_W+1:0] is cut to q[J_W-1:0]",
+    "dc5b47bc": "(trunc) prod_next is ACC_W bits in the pow2 branch (NPROD = 1): shl[ACC_W:0] is cut to shl[ACC_W-1:0]",
+    "82555dfb": "a zero of 2 C_W bits zero-extended to c_step's 3 C_W bits is the same zero",
+    "1aae2966": "the delay line is 7H bits wide on 6H-bit nets: its input is zero-extended, the extra output bits dropped; "
+                "the 6H bits the nets carry are delayed as before",
+    "1ae3f703": "FC_W = F_W takes g_fext instead of g_fnoext: a sign extension by zero bits ({0{...}} in a "
+                "concatenation is empty) is f_dly itself",
+    "6895a351": "inside `if (C0 >= 0)`, (C0 > 0) ? C0 : 0 differs from (C0 >= 0) ? C0 : 0 only at C0 = 0, where both are 0",
+    "2f72ca41": "(reset) tn is rewritten on every clock (no ce) from the pass registers: one clock after rst falls it "
+                "holds the same value whatever rst wrote, and no valid pixel reads it earlier",
+    "335826b3": "(reset) c_acc_reg is loaded with c_step on a pixel's first term (first_o) before any sum is valid: "
+                "its reset value never reaches the output",
+    "42a2bf56": "e's default is read only when a = 0 (no bit set), where ac's zero flag makes the term's product 0 "
+                "(noise_term stage 8): the exponent is not used",
+    "b4115851": "m_nx's default is overwritten: the channel loop assigns all four D_W slices of it",
+    "8f70a181": "(loop) k0 = 3 writes m0[3], past the array m0[0:2]: " + _LOOP + " (ja, jb are loop temporaries)",
+    "5dae4462": "m = NJ adds an iteration whose condition never holds: NJ = ceil(K / U), so NJ U + gu >= K",
+    "6f1613d0": "tc's default is overwritten: the loop over j assigns all three E_W + 1-bit fields of tc (TC_W = 3 (E_W + 1))",
+    "c38d2b94": "with the condition inverted a diagonal quadric on two clocks takes g_diag, the one-clock form of the "
+                "same arithmetic (same latency, tb/quadric_mac checks it: twice the multipliers), and an affine one "
+                "cannot have two clocks (model/hw/config.py: quadric_clocks = 2 needs a diagonal quadric)",
+    "10ba35ae": "at f = lo_thr = -(guard >> n_log2) the unclamped u = f N is -guard exactly (guard = 2^GUARD, "
+                "GUARD = W_CAP_LOG2 + F_FRAC - 1 > n_log2 since w_cap_log2 >= n_log2_max), the clamp's own value",
+    "1ee186ff": "NG = 0 with CX_N > 0 takes g_cx instead of g_c0: the sign extension of ag, and ag (noise_term's "
+                "ag_out) is 0 when NOISE_GRADIENT = 0, so c is 0 either way",
+}
+
+
+# --------------------------------------------------------------------------- the sites
+
+
+@dataclass(frozen=True)
+class Mutant:
+    file: str   # name in rtl/
+    line: int   # 1-based
+    col: int    # 0-based, in the raw line
+    old: str
+    new: str
+    kind: str
+    text: str   # the original line, stripped
+
+    @property
+    def id(self) -> str:
+        key = f"{self.file}|{self.text}|{self.col}|{self.old}|{self.new}"
+        return hashlib.sha1(key.encode()).hexdigest()[:8]
+
+    @property
+    def module(self) -> str:
+        return Path(self.file).stem
+
+    def describe(self) -> str:
+        return f"`{self.old}` -> `{self.new}`"
+
+    def apply(self, src: str) -> str:
+        lines = src.split("\n")
+        raw = lines[self.line - 1]
+        assert raw[self.col:self.col + len(self.old)] == self.old, (self, raw)
+        lines[self.line - 1] = raw[:self.col] + self.new + raw[self.col + len(self.old):]
+        return "\n".join(lines)
+
+
+DECL = re.compile(r"^\s*(module|endmodule|parameter|localparam|input|output|inout|reg|integer|genvar|"
+                  r"function|endfunction|task|endtask|generate|endgenerate|`)\b|^\s*`")
+CHECK = re.compile(r"begin\s*:\s*g_(bad|latency_mismatch)|_mismatch_|mismatch_see")  # the generate-time checks
+SYSTASK = re.compile(r"\$(display|error|fatal|finish|warning|info|stop|write)")
+
+
+def live_code(src: str) -> list[str]:
+    """Each line of `src` with what is not live code blanked (same length, spaces): comments,
+    strings, preprocessor lines, `ifdef FORMAL blocks, declarations (a wire's `= expr` kept),
+    generate-time latency checks and system-task lines."""
+    out = []
+    in_block = False
+    stack: list[tuple[str, bool]] = []  # (macro, this branch excluded) of each open `ifdef
+    for raw in src.split("\n"):
+        m = list(raw)
+        i, n = 0, len(raw)
+        while i < n:
+            if in_block:
+                j = raw.find("*/", i)
+                end = n if j < 0 else j + 2
+                m[i:end] = " " * (end - i)
+                in_block = j < 0
+                i = end
+            elif raw.startswith("//", i):
+                m[i:] = " " * (n - i)
+                break
+            elif raw.startswith("/*", i):
+                in_block = True
+            elif raw[i] == '"':
+                j = raw.find('"', i + 1)
+                end = n if j < 0 else j + 1
+                m[i:end] = " " * (end - i)
+                i = end
+            else:
+                i += 1
+        code = "".join(m)
+        w = code.split()
+        if w and w[0] in ("`ifdef", "`ifndef"):
+            mac = w[1] if len(w) > 1 else ""
+            stack.append((mac, mac == "FORMAL" if w[0] == "`ifdef" else False))
+        elif w and w[0] == "`else" and stack:
+            mac, ex = stack[-1]
+            stack[-1] = (mac, (not ex) if mac == "FORMAL" else ex)
+        elif w and w[0] == "`endif" and stack:
+            stack.pop()
+        skip = (any(ex for _, ex in stack) or not w or w[0].startswith("`") or DECL.match(code)
+                or CHECK.search(code) or SYSTASK.search(code) or "initial" in w)
+        if not skip and re.match(r"^\s*wire\b", code):
+            k = code.find("=")
+            code = " " * (k + 1) + code[k + 1:] if k >= 0 else ""
+        out.append(" " * len(raw) if skip or not code.strip() else code.ljust(len(raw)))
+    return out
+
+
+TOKEN = re.compile(r"\d+\s*'[sS]?[bBoOdDhH]\s*[0-9a-fA-F_xXzZ?]+|'[sS]?[bBoOdDhH][0-9a-fA-F_xXzZ?]+|"
+                   r"<<<|>>>|===|!==|<<|>>|<=|>=|==|!=|&&|\|\||~&|~\||~\^|\^~|[A-Za-z_][\w$]*|\d[\d_]*|\S")
+REPL = re.compile(r"\{\s*(\((?:[^(){}]|\([^(){}]*\))*\)|[A-Za-z_]\w*|\d+)\s*\{")
+SIZED = re.compile(r"(\d+)\s*'([sS]?)([bBoOdDhH])\s*([0-9a-fA-F_]+)$")
+
+
+def _operand_end(code: str, i: int) -> int | None:
+    """End of the shift amount starting at code[i] (an identifier with its selects, a number, a
+    parenthesized expression), or None."""
+    while i < len(code) and code[i] == " ":
+        i += 1
+    m = re.match(r"[A-Za-z_][\w$]*|\d[\d_]*", code[i:])
+    if m:
+        j = i + m.end()
+    elif code[i:i + 1] == "(":
+        j = i
+    else:
+        return None
+    while j < len(code) and code[j] in "([":
+        close = {"(": ")", "[": "]"}[code[j]]
+        depth, k = 0, j
+        while k < len(code):
+            depth += code[k] == code[j]
+            depth -= code[k] == close
+            k += 1
+            if depth == 0:
+                break
+        if depth:
+            return None
+        j = k
+        if m:  # an identifier's selects only
+            continue
+        break
+    return j
+
+
+def _flip_sized(lit: str) -> list[str]:
+    m = SIZED.match(lit)
+    if not m:
+        return []
+    width, s, base, digits = int(m.group(1)), m.group(2), m.group(3), m.group(4).replace("_", "")
+    radix = {"b": 2, "o": 8, "d": 10, "h": 16}[base.lower()]
+    v = int(digits, radix)
+    fmt = {2: "b", 8: "o", 10: "d", 16: "x"}[radix]
+    return [f"{width}'{s}{base}{format(v ^ (1 << b), fmt)}" for b in range(min(width, 32))]
+
+
+def sites(file: str, src: str) -> list[tuple[str, list[Mutant]]]:
+    """Every mutation site of an rtl/ file: (kind, its alternatives)."""
+    raws = src.split("\n")
+    codes = live_code(src)
+    out: list[tuple[str, list[Mutant]]] = []
+
+    def add(kind, li, col, old, news):
+        ms = [Mutant(file, li + 1, col, old, n, kind, raws[li].strip()) for n in news if n != old]
+        if ms:
+            out.append((kind, ms))
+
+    # registers and what they are written with (one line each: `r <= expr;`)
+    writes: dict[str, list[str]] = {}
+    for code in codes:
+        m = re.match(r"^\s*(?:if\s*\(.*\)\s*|else\s+)?([A-Za-z_]\w*)\s*<=\s*(.+?);\s*$", code)
+        if m:
+            writes.setdefault(m.group(1), []).append(m.group(2).strip())
+
+    def constant(e: str) -> bool:
+        return bool(re.fullmatch(r"[\d'sSbBoOdDhH_0-9a-fA-F{}\s]*|\{\s*\w+\s*\{[^}]*\}\s*\}", e))
+
+    for li, code in enumerate(codes):
+        if not code.strip():
+            continue
+        # a for loop's increment clause is not mutated (a loop that never ends is not a bug of the design)
+        fm = re.search(r"\bfor\s*\(([^;]*;[^;]*;)", code)
+        if fm:
+            k = fm.end()
+            close = code.find(")", k)
+            code = code[:k] + " " * ((close if close >= 0 else len(code)) - k) + code[(close if close >= 0 else len(code)):]
+        # a replication's count is a width (a sign extension's: a wider word truncated where it is
+        # assigned), like a declaration's: not mutated
+        code = REPL.sub(lambda m: m.group(0)[:m.start(1) - m.start(0)] + " " * len(m.group(1))
+                        + m.group(0)[m.end(1) - m.start(0):], code)
+        toks = [(t.group(0), t.start()) for t in TOKEN.finditer(code)]
+        depth = 0
+        prev = None
+        for ti, (t, c) in enumerate(toks):
+            nxt = toks[ti + 1][0] if ti + 1 < len(toks) else ""
+            operand_before = prev is not None and (re.match(r"[\w$']", prev[-1]) is not None or prev in (")", "]", "}"))
+            if t in "([{" and len(t) == 1:
+                depth += 1
+            elif t in ")]}" and len(t) == 1:
+                depth -= 1
+            elif t in ("+", "-") and operand_before and nxt != ":":
+                add("operator", li, c, t, ["-" if t == "+" else "+"])
+            elif t in ("&", "|") and nxt != "=":
+                add("operator", li, c, t, ["|" if t == "&" else "&"])
+            elif t == "^":
+                add("operator", li, c, t, ["|"])
+            elif t in ("&&", "||"):
+                add("operator", li, c, t, ["||" if t == "&&" else "&&"])
+            elif t in ("==", "!="):
+                add("comparison", li, c, t, ["!=" if t == "==" else "=="])
+            elif t in ("<", ">"):
+                add("comparison", li, c, t, [t + "="])
+            elif t == ">=" or (t == "<=" and depth > 0):
+                add("comparison", li, c, t, [t[0]])
+            elif t in ("<<", ">>", ">>>", "<<<"):
+                j = _operand_end(code, c + len(t))
+                if j is not None:
+                    k = c + len(t)
+                    amt = raws[li][k:j]
+                    a = amt.strip()
+                    lead = amt[:len(amt) - len(amt.lstrip())]
+                    if re.fullmatch(r"\d+", a):
+                        news = [f"{lead}{int(a) + 1}"] + ([f"{lead}{int(a) - 1}"] if int(a) > 0 else [])
+                    else:
+                        news = [f"{lead}({a} + 1)", f"{lead}({a} - 1)"]
+                    add("shift", li, k, amt, news)
+            elif "'" in t and SIZED.match(t):
+                add("constant", li, c, t, _flip_sized(t))
+            elif re.fullmatch(r"\d[\d_]*", t) and prev != "#" and "'" not in nxt:
+                v = int(t.replace("_", ""))
+                add("constant", li, c, t, [str(v ^ (1 << b)) for b in range(max(1, v.bit_length()))])
+            prev = t
+        # a register stage skipped: `a <= b;` with b a register written once with a non-constant `b <= e;`
+        m = re.match(r"^(\s*(?:if\s*\(.*\)\s*|else\s+)?[A-Za-z_]\w*\s*<=\s*)([A-Za-z_]\w*)\s*;\s*$", code)
+        if m:
+            src_reg = m.group(2)
+            es = [e for e in writes.get(src_reg, []) if not constant(e)]
+            if len(es) == 1 and not re.search(rf"\b{src_reg}\b", es[0]):
+                add("stage", li, m.start(2), src_reg, [f"({es[0]})"])
+    return out
+
+
+def all_sites(files=None) -> list[tuple[str, list[Mutant]]]:
+    out = []
+    for p in sorted(RTL.glob("*.v")):
+        if files and p.name not in files:
+            continue
+        out += sites(p.name, p.read_text())
+    return out
+
+
+def draw(site_list, seed: int):
+    """Mutants in the seeded order: a kind (by WEIGHTS) among those with sites left, a site of it
+    (without replacement), one of its alternatives."""
+    r = random.Random(seed)
+    by_kind = {k: [alts for kk, alts in site_list if kk == k] for k in KINDS}
+    by_kind = {k: v for k, v in by_kind.items() if v}
+    while by_kind:
+        ks = sorted(by_kind)
+        k = r.choices(ks, weights=[WEIGHTS[x] for x in ks])[0]
+        alts = by_kind[k].pop(r.randrange(len(by_kind[k])))
+        if not by_kind[k]:
+            del by_kind[k]
+        yield r.choice(alts)
+
+
+# --------------------------------------------------------------------------- the configurations
+
+
+def frame_configs(work: Path) -> dict[str, str]:
+    """{name: what sim.frame's --config takes}: the named configurations a mutant's frame may run
+    on, in order, and the variants that reach the rest of rtl/ (compact on two noise units, filter
+    mip and none, fpga_regs), written to configuration files under work/."""
+    out = {n: n for n in ("full", "compact", "reduced", "full_fc")}
+    full, compact = load_config("full"), load_config("compact")
+    for name, cfg in (("compact_u2", variant(compact, "compact_u2", noise_units=2)),
+                      ("full_mip", variant(full, "full_mip", filter="mip")),
+                      ("full_none", variant(full, "full_none", filter="none")),
+                      ("compact_fpga", variant(compact, "compact_fpga", fpga_regs=True))):
+        p = work / "configs" / f"{name}.toml"
+        p.parent.mkdir(parents=True, exist_ok=True)
+        text = config_toml(cfg)
+        if not p.exists() or p.read_text() != text:
+            p.write_text(text)
+        out[name] = str(p)
+    return out
+
+
+def compile_top(rtl: Path, config: str, vvp: Path) -> tuple[bool, str]:
+    """Icarus-compile texture_unit of `config` from `rtl`; (ok, the compiled design normalized:
+    addresses numbered in order, the rtl directory's path dropped)."""
+    gdir = gen_dir(config_of(config))
+    r = subprocess.run(["iverilog", "-g2005", f"-I{rtl}", "-o", str(vvp), "-s", "texture_unit",
+                        *map(str, sorted(rtl.glob("*.v"))), str(gdir / "texture_unit.v")],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        return False, (r.stderr.strip().splitlines() or ["?"])[0]
+    ids: dict[str, str] = {}
+    text = vvp.read_text().replace(str(rtl), "RTL")
+    vvp.unlink()
+    text = re.sub(r"0x[0-9a-f]{6,}", lambda m: ids.setdefault(m.group(0), f"@{len(ids)}"), text)
+    return True, hashlib.sha256(text.encode()).hexdigest()
+
+
+def scopes_of(rtl: Path, config: str, vvp: Path) -> set[str]:
+    gdir = gen_dir(config_of(config))
+    subprocess.run(["iverilog", "-g2005", f"-I{rtl}", "-o", str(vvp), "-s", "texture_unit",
+                    *map(str, sorted(rtl.glob("*.v"))), str(gdir / "texture_unit.v")], check=True)
+    mods = set(re.findall(r'\.scope module, "[^"]*" "(\w+)"', vvp.read_text()))  # instance, module
+    vvp.unlink()
+    return mods
+
+
+# --------------------------------------------------------------------------- one mutant
+
+
+def source_hash(*paths: Path) -> str:
+    h = hashlib.sha256()
+    for base in paths:
+        files = [base] if base.is_file() else sorted(p for p in base.rglob("*") if p.is_file()
+                                                     and "__pycache__" not in p.parts and p.suffix in (".py", ".v", ".vh", ".cpp"))
+        for p in files:
+            h.update(str(p.relative_to(ROOT)).encode() + b"\0" + p.read_bytes())
+    return h.hexdigest()[:16]
+
+
+@dataclass
+class Opts:
+    scenes: tuple = ("marble", "zone_plate")
+    size: int = 16
+    seed: int = 1
+    timeout: int = TIMEOUT
+    keep: bool = False
+    configs: dict = field(default_factory=dict)      # name -> --config argument
+    baseline: dict = field(default_factory=dict)     # name -> compiled-design hash of rtl/
+    instances: dict = field(default_factory=dict)    # name -> modules instantiated
+
+
+def _run(cmd, env, timeout, log: Path) -> tuple[str, int, str]:
+    """('ok'|'fail'|'timeout', returncode, output) of a subprocess, its output to log."""
+    try:
+        r = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired as e:
+        out = (e.stdout or b"").decode(errors="replace") if isinstance(e.stdout, bytes) else (e.stdout or "")
+        log.write_text(out)
+        return "timeout", -1, out
+    out = r.stdout + r.stderr
+    log.write_text(out)
+    return ("ok" if r.returncode == 0 else "fail"), r.returncode, out
+
+
+def run_mutant(m: Mutant, opts: Opts, work: Path) -> dict:
+    """Screen, then test one mutant; its result record."""
+    t0 = time.perf_counter()
+    wdir = work / "run" / m.id
+    if wdir.exists():
+        shutil.rmtree(wdir)
+    rtl = wdir / "rtl"
+    rtl.mkdir(parents=True)
+    for p in RTL.iterdir():
+        if p.is_file():
+            shutil.copy2(p, rtl / p.name)
+    (rtl / m.file).write_text(m.apply((RTL / m.file).read_text()))
+    rec = {**asdict(m), "id": m.id, "mutation": m.describe(), "module": m.module}
+    # screen: compile every configuration that instantiates the module; the first that differs runs the frame
+    changed, compiled, errors = [], 0, []
+    for name, arg in opts.configs.items():
+        if m.module not in opts.instances[name]:
+            continue
+        ok, h = compile_top(rtl, arg, wdir / f"{name}.vvp")
+        if not ok:
+            errors.append(f"{name}: {h}")
+            continue
+        compiled += 1
+        if h != opts.baseline[name]:
+            changed.append(name)
+    if errors and not compiled:
+        rec.update(result="stillborn", by=f"does not compile ({errors[0]})", seconds=round(time.perf_counter() - t0, 1))
+        _cleanup(wdir, opts)
+        return rec
+    if errors:  # elaborates in some configurations only: any testbench building the others fails
+        rec.update(result="killed", by=f"elaboration ({errors[0]})", seconds=round(time.perf_counter() - t0, 1))
+        _cleanup(wdir, opts)
+        return rec
+    rec["frame_configs"] = changed
+    env = dict(os.environ, RTL_DIR=str(rtl), SIM="icarus", SEED=str(opts.seed), PYTHONPATH=str(ROOT))
+    for k in ("CONFIG", "VECTORS", "WAVES", "RANDOM_CONFIGS", "RANDOM_SEED"):
+        env.pop(k, None)
+    tb = ROOT / "tb" / m.module
+    if tb.is_dir():
+        st, rc, out = _run([sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider", "-p", "no:randomly",
+                            str(tb.relative_to(ROOT))], env, opts.timeout, wdir / "tb.log")
+        if st != "ok" and rc != 5:
+            failed = re.findall(r"^FAILED (\S+)", out, re.M)
+            by = failed[0] if failed else (f"tb/{m.module} (timeout)" if st == "timeout" else
+                                             f"tb/{m.module} (exit {rc})")
+            rec.update(result="killed", by=by, seconds=round(time.perf_counter() - t0, 1))
+            _cleanup(wdir, opts)
+            return rec
+    for name in changed:  # a frame of each scene on each configuration the mutation changes
+        for scene in opts.scenes:
+            fout = wdir / "frame"
+            st, rc, out = _run([sys.executable, "-m", "sim.frame", "--scene", scene, "--config",
+                                opts.configs[name], "--sim", "icarus", "--size", str(opts.size), "--out", str(fout),
+                                "--quiet"], env, opts.timeout, wdir / "frame.log")
+            if st != "ok":
+                what = "timeout" if st == "timeout" else (
+                    "pixels differ" if "pixels differ" in out else
+                    (out.strip().splitlines() or ["?"])[-1][:80])
+                rec.update(result="killed", by=f"frame {scene} {name} {opts.size}px ({what})",
+                           seconds=round(time.perf_counter() - t0, 1))
+                _cleanup(wdir, opts)
+                return rec
+    rec.update(result="survived", by=("" if changed else "no frame: no named configuration's compiled design changes"),
+               seconds=round(time.perf_counter() - t0, 1))
+    _cleanup(wdir, opts)
+    return rec
+
+
+def _cleanup(wdir: Path, opts: Opts) -> None:
+    if not opts.keep:
+        shutil.rmtree(wdir, ignore_errors=True)
+
+
+# --------------------------------------------------------------------------- the run
+
+
+def prepare(work: Path, opts: Opts) -> None:
+    """The frame configurations, the unmutated compile of each and the modules it instantiates."""
+    opts.configs = frame_configs(work)
+    tmp = work / "baseline"
+    tmp.mkdir(parents=True, exist_ok=True)
+    for name, arg in opts.configs.items():
+        ok, h = compile_top(RTL, arg, tmp / f"{name}.vvp")
+        if not ok:
+            raise RuntimeError(f"rtl/ does not compile for {name}: {h}")
+        opts.baseline[name] = h
+        opts.instances[name] = scopes_of(RTL, arg, tmp / f"{name}.vvp")
+
+
+def cache_file(m: Mutant, cache: Path) -> Path:
+    """The mutant's record under the sources its verdict depends on."""
+    deps = [RTL / m.file, *sorted(RTL.glob("*.vh")), ROOT / "tb" / "pipe.py", ROOT / "sim", ROOT / "hdlbuild",
+            ROOT / "model" / "hw"]
+    if (ROOT / "tb" / m.module).is_dir():
+        deps.append(ROOT / "tb" / m.module)
+    return cache / f"{m.id}-{source_hash(*deps)}.json"
+
+
+def opts_key(opts: Opts) -> str:
+    """What a survivor's verdict also depends on (a kill stands whatever the frames are)."""
+    return json.dumps([list(opts.scenes), opts.size, opts.seed, opts.timeout, list(opts.configs)])
+
+
+def run_all(n: int, seed: int, jobs: int, files, opts: Opts, work: Path, progress: bool = True) -> list[dict]:
+    """Draw and run mutants until n of them are not stillborn; their records in drawn order."""
+    site_list = all_sites(files)
+    if not site_list:
+        raise UserError(f"--files {','.join(files or [])}: no mutation sites")
+    prepare(work, opts)
+    cache = work / "cache"
+    cache.mkdir(parents=True, exist_ok=True)
+    gen = draw(site_list, seed)
+    results: dict[int, dict] = {}
+    valid = 0
+    bar = progress_bar(progress, total=n, desc="mutants", unit="mutant")
+    lock = threading.Lock()
+
+    def one(i, m):
+        cf = cache_file(m, cache)
+        if cf.exists():
+            rec = json.loads(cf.read_text())
+            if rec["result"] != "survived" or rec.get("opts") == opts_key(opts):
+                return i, {**rec, "cached": True}
+        rec = {**run_mutant(m, opts, work), "opts": opts_key(opts)}
+        cf.write_text(json.dumps(rec, indent=1))
+        return i, rec
+
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
+        pending = set()
+        i = 0
+        exhausted = False
+        while True:
+            while not exhausted and valid + len(pending) < n:
+                m = next(gen, None)
+                if m is None:
+                    exhausted = True
+                    break
+                pending.add(ex.submit(one, i, m))
+                i += 1
+            if not pending:
+                break
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for f in done:
+                k, rec = f.result()
+                with lock:
+                    results[k] = rec
+                    if rec["result"] != "stillborn":
+                        valid += 1
+                        bar.update()
+                        bar.set_postfix(killed=sum(r["result"] == "killed" for r in results.values()))
+    bar.close()
+    return [results[k] for k in sorted(results)]
+
+
+def summarize(recs: list[dict]) -> dict:
+    counted = [r for r in recs if r["result"] != "stillborn"]
+    killed = [r for r in counted if r["result"] == "killed"]
+    surv = [r for r in counted if r["result"] == "survived"]
+    equiv = [r for r in surv if r["id"] in EQUIVALENT]
+    by_kind = {}
+    for k in KINDS:
+        rs = [r for r in counted if r["kind"] == k]
+        by_kind[k] = {"mutants": len(rs), "killed": sum(r["result"] == "killed" for r in rs)}
+    n = len(counted)
+    return {"mutants": n, "killed": len(killed), "survived": len(surv), "equivalent": len(equiv),
+            "unexplained": len(surv) - len(equiv), "stillborn": len(recs) - n,
+            "killed_share": round(len(killed) / n, 4) if n else None,
+            "score": round(len(killed) / (n - len(equiv)), 4) if n - len(equiv) else None,
+            "by_kind": by_kind}
+
+
+def _cell(s: str) -> str:
+    return str(s).replace("|", "\\|")
+
+
+def section(recs: list[dict], s: dict, args: dict, seconds: float) -> str:
+    """The "## Mutants" section of docs/verification.md."""
+    cmd = f"make mutants N={args['n']} SEED={args['seed']}"
+    L = ["## Mutants", "",
+         f"Written by `{cmd}` (verify/mutants.py; JOBS={args['jobs']}, {seconds / 60:.1f} min on this machine's "
+         f"2 cores). {s['mutants']} seeded single mutations of rtl/ (kinds: an operator swapped, a constant bit flipped, "
+         "a comparison loosened or tightened, a register stage skipped, a shift amount off by one; only live lines: "
+         "no comments, `ifdef FORMAL` blocks, declarations or latency checks), each in a scratch copy of rtl/, run "
+         f"against the mutated block's testbench (tb/<module>/, every Icarus case, stopping at the first failure) "
+         f"and then, if it passed, small frames ({', '.join(args['scenes'])} at {args['size']}x{args['size']}, Icarus, "
+         "every pixel against the golden model) on each configuration whose compiled design the mutation changes "
+         "(full, compact, reduced, full_fc and the variants compact on two noise units, full with filter mip and "
+         "none, compact with fpga_regs), until one fails. The first failing test is named.", "",
+         f"**Killed: {s['killed']} of {s['mutants']} ({100 * s['killed_share']:.1f}%)**; survived {s['survived']}, "
+         f"of which {s['equivalent']} shown equivalent (below); score without the equivalent ones "
+         f"{100 * s['score']:.1f}%" + (f"; {s['stillborn']} drawn mutants did not compile (stillborn, replaced)."
+                                       if s['stillborn'] else "."), "",
+         "| kind | mutants | killed |", "|---|---:|---:|"]
+    for k, v in s["by_kind"].items():
+        L.append(f"| {k} | {v['mutants']} | {v['killed']} |")
+    L += ["", "| id | file:line | kind | mutation | result | killed by |", "|---|---|---|---|---|---|"]
+    for r in recs:
+        if r["result"] == "stillborn":
+            continue
+        res = r["result"] + (" (equivalent)" if r["result"] == "survived" and r["id"] in EQUIVALENT else "")
+        L.append(f"| {r['id']} | {r['file']}:{r['line']} | {r['kind']} | {_cell(r['mutation'])} | {res} | {_cell(r['by'])} |")
+    surv = [r for r in recs if r["result"] == "survived"]
+    if surv:
+        L += ["", "Survivors:", ""]
+        for r in surv:
+            why = EQUIVALENT.get(r["id"], "NOT EXPLAINED: needs a test or an equivalence argument")
+            L.append(f"- {r['id']} {r['file']}:{r['line']} {_cell(r['mutation'])} in `{_cell(r['text'])}`: {why}")
+    L += ["", doc_stamp(["full", "compact", "reduced", "full_fc"])]
+    return "\n".join(L) + "\n"
+
+
+def write_section(doc: Path, text: str) -> None:
+    """Replace (or add) the "## Mutants" section of doc, keeping every other section."""
+    old = doc.read_text() if doc.exists() else "# Verification\n\nWhat the tests prove beyond random vectors (issue 29).\n"
+    lines = old.split("\n")
+    start = next((i for i, x in enumerate(lines) if x.strip() == "## Mutants"), None)
+    if start is None:
+        new = old.rstrip("\n") + "\n\n" + text
+    else:
+        end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("## ")), len(lines))
+        rest = "\n".join(lines[end:])
+        new = "\n".join(lines[:start]).rstrip("\n") + "\n\n" + text + ("\n" + rest if rest.strip() else "")
+    doc.parent.mkdir(parents=True, exist_ok=True)
+    doc.write_text(new.lstrip("\n"))
+
+
+def main(argv=None) -> int:
+    ap = Parser(prog="mutants", description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=100, help="mutants (not counting stillborn ones)")
+    ap.add_argument("--seed", type=int, default=1, help="the draw's seed (also the testbenches' SEED)")
+    ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", 2)), help="mutants run at once")
+    ap.add_argument("--files", help="only these rtl/ files (comma-separated names, e.g. bitlen.v)")
+    ap.add_argument("--scenes", default="marble,zone_plate", help="the frames' scenes (comma-separated)")
+    ap.add_argument("--size", type=int, default=16, help="the frame's width")
+    ap.add_argument("--timeout", type=int, default=TIMEOUT, help="seconds per test of a mutant")
+    ap.add_argument("--out", type=Path, default=ROOT / "out" / "mutants", help="results.json, the cache, scratch copies")
+    ap.add_argument("--docs", type=Path, help="write the Mutants section of this file (make mutants: docs/verification.md)")
+    ap.add_argument("--list", action="store_true", help="print the drawn mutants and the site counts; run nothing")
+    ap.add_argument("--keep", action="store_true", help="keep each mutant's scratch directory and logs")
+    ap.add_argument("--quiet", action="store_true")
+    a = ap.parse_args(argv)
+
+    def go():
+        if a.n < 1:
+            raise UserError(f"--n {a.n}: expected at least 1")
+        if a.size < 1 or a.size > 1024:
+            raise UserError(f"--size {a.size}: expected 1..1024")
+        files = [f for f in (a.files or "").split(",") if f]
+        for f in files:
+            if not (RTL / f).is_file():
+                raise UserError(f"--files: no rtl/{f}")
+        if shutil.which("iverilog") is None:
+            raise UserError("iverilog: not found on PATH (run `make setup`)")
+        if a.list:
+            sl = all_sites(files)
+            counts = {k: sum(kk == k for kk, _ in sl) for k in KINDS}
+            print(json.dumps({"sites": counts}))
+            for m, _ in zip(draw(sl, a.seed), range(a.n)):
+                print(f"{m.id} {m.file}:{m.line} {m.kind} {m.describe()}  | {m.text}")
+            return 0
+        scenes = tuple(x for x in a.scenes.split(",") if x)
+        for x in scenes:
+            resolve_scene(x)
+        opts = Opts(scenes=scenes, size=a.size, seed=a.seed, timeout=a.timeout, keep=a.keep)
+        t0 = time.perf_counter()
+        recs = run_all(a.n, a.seed, a.jobs, files, opts, a.out, progress=not a.quiet)
+        secs = time.perf_counter() - t0
+        s = summarize(recs)
+        args = {"n": a.n, "seed": a.seed, "jobs": a.jobs, "scenes": list(scenes), "size": a.size, "files": files}
+        a.out.mkdir(parents=True, exist_ok=True)
+        (a.out / "results.json").write_text(json.dumps({"summary": s, "args": args, "seconds": round(secs, 1),
+                                                        "mutants": recs}, indent=1) + "\n")
+        if a.docs:
+            write_section(a.docs, section(recs, s, args, secs))
+        print(json.dumps({**s, "seconds": round(secs, 1)}))
+        for r in recs:
+            if r["result"] == "survived":
+                print(f"survived {r['id']} {r['file']}:{r['line']} {r['mutation']} | {r['text']}"
+                      + (f" (equivalent: {EQUIVALENT[r['id']]})" if r["id"] in EQUIVALENT else ""), file=sys.stderr)
+        return 0 if s["unexplained"] == 0 else 1
+
+    return run_main("mutants", go)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
