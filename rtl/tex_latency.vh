@@ -9,6 +9,12 @@
 `define TEX_LATENCY_VH
 `define LAT_QUADRIC_MAC       4
 `define LAT_QUADRIC_MAC_FPGA  6
+// quadric_mac's datapaths (stages 1-3; quadric_mac adds its output stage, checked there)
+`define LAT_QMAC_FULL         3
+`define LAT_QMAC_FULL_FPGA    5
+`define LAT_QMAC_DIAG         3
+`define LAT_QMAC_DIAG_FOLD    3
+`define LAT_QMAC_DIAG_PIPE    5
 `define LAT_NOISE_TERM        8
 `define LAT_NOISE_TERM_FPGA   16
 `define LAT_NOISE_XFORM       2

@@ -107,35 +107,76 @@ def mip_offset(n: int, level):
 # Blocks
 
 
+def qmac_full(Q, s, s_frac: int):
+    """rtl/qmac_full.v, quadric_mac's datapath for the full quadric: for x = (s, t, r, 1),
+    v_k = ((Q_k0 s + Q_k1 t + Q_k2 r) >> s_frac) + Q_k3 (k = 0..3, v = Q x) and the products
+    r_k = s_k v_k (k < 3), so that q = ((r_0 + r_1 + r_2) >> s_frac) + v_3.
+
+    s: int64 [..., 3] s{s_w}.{s_frac}; Q: [10] A..J s{q_w}.{q_frac}.
+    Returns r [..., 3] (s_frac + q_frac fraction bits) and v [..., 4] (q_frac)."""
+    A, B, C, D, E, F, G, H, I, J = (int(x) for x in Q)
+    s0, s1, s2 = s[..., 0], s[..., 1], s[..., 2]
+    v0 = ((A * s0 + B * s1 + C * s2) >> s_frac) + D
+    v1 = ((B * s0 + E * s1 + F * s2) >> s_frac) + G
+    v2 = ((C * s0 + F * s1 + H * s2) >> s_frac) + I
+    v3 = ((D * s0 + G * s1 + I * s2) >> s_frac) + J
+    return np.stack([s0 * v0, s1 * v1, s2 * v2], axis=-1), np.stack([v0, v1, v2, v3], axis=-1)
+
+
+def qmac_diag(Q, s, s_frac: int):
+    """rtl/qmac_diag.v, quadric_mac's datapath for the diagonal quadric (B = C = F = 0,
+    checked): v_k = (Q_kk s_k >> s_frac) + Q_k3 (k < 3), the products r_k = s_k (v_k + Q_k3)
+    and v_3 = J, so that q = ((r_0 + r_1 + r_2) >> s_frac) + v_3 (one floor for the whole
+    quadratic-plus-linear sum). Formats and results as qmac_full."""
+    A, B, C, D, E, F, G, H, I, J = (int(x) for x in Q)
+    if B or C or F:
+        raise ValueError("qmac_diag: a diagonal quadric; B, C, F must be 0")
+    s0, s1, s2 = s[..., 0], s[..., 1], s[..., 2]
+    v0 = ((A * s0) >> s_frac) + D
+    v1 = ((E * s1) >> s_frac) + G
+    v2 = ((H * s2) >> s_frac) + I
+    r = np.stack([s0 * (v0 + D), s1 * (v1 + G), s2 * (v2 + I)], axis=-1)
+    return r, np.stack([v0, v1, v2, np.full_like(v0, J)], axis=-1)
+
+
+def qmac_diag_fold(Q, s, s_frac: int):
+    """rtl/qmac_diag_fold.v (quadric_clocks = 2): qmac_diag's values, its 6 products on 3
+    multipliers over a vector's two clocks."""
+    return qmac_diag(Q, s, s_frac)
+
+
+def qmac_diag_pipe(Q, s, s_frac: int):
+    """rtl/qmac_diag_pipe.v (fpga_regs): qmac_diag's values, each product on mul_pipe and
+    v_k + Q_k3 formed as (Q_kk s_k >> s_frac) + 2 Q_k3."""
+    return qmac_diag(Q, s, s_frac)
+
+
+def qmac_datapath(cfg: Config):
+    """The twin of the datapath rtl/quadric_mac.v picks for cfg (its generate)."""
+    if cfg.quadric != "diagonal":
+        return qmac_full
+    if cfg.fpga_regs:
+        return qmac_diag_pipe
+    return qmac_diag_fold if cfg.quadric_clocks == 2 else qmac_diag
+
+
 def quadric_mac(cfg: Config, Q, s):
     """q = x^T Q x and the texture-space gradient dq/ds = 2 (Q x)[0:3], x = (s, t, r, 1).
 
     s: int64 [..., 3] s{s_w}.{s_frac}; Q: int64 [10] A..J s{q_w}.{q_frac}.
     Returns q [...] with f_frac fraction bits and cq [..., 3] with c_frac bits.
 
-    quadric = "diagonal" (B = C = F = 0, checked): 6 products instead of 15,
-      v_k = (Q_kk s_k >> s_frac) + Q_k3,  q = ((sum_k s_k (v_k + Q_k3)) >> s_frac) + J
-    (one floor for the whole quadratic-plus-linear sum instead of two).
+    The datapath (qmac_datapath: qmac_full, or with quadric = "diagonal", B = C = F = 0
+    checked, 6 products instead of 15: qmac_diag and its schedules) gives r, v; then
+    q = ((r_0 + r_1 + r_2) >> s_frac) + v_3, and the output shifts.
     """
-    A, B, C, D, E, F, G, H, I, J = (int(x) for x in Q)
-    s0, s1, s2 = s[..., 0], s[..., 1], s[..., 2]
-    sf = cfg.s_frac
-    if cfg.quadric == "diagonal":
-        if B or C or F:
-            raise ValueError(f"quadric_mac: configuration {cfg.name!r} has a diagonal quadric; B, C, F must be 0")
-        v0 = ((A * s0) >> sf) + D
-        v1 = ((E * s1) >> sf) + G
-        v2 = ((H * s2) >> sf) + I
-        q = ((s0 * (v0 + D) + s1 * (v1 + G) + s2 * (v2 + I)) >> sf) + J
-    else:
-        v0 = ((A * s0 + B * s1 + C * s2) >> sf) + D
-        v1 = ((B * s0 + E * s1 + F * s2) >> sf) + G
-        v2 = ((C * s0 + F * s1 + H * s2) >> sf) + I
-        v3 = ((D * s0 + G * s1 + I * s2) >> sf) + J
-        q = ((s0 * v0 + s1 * v1 + s2 * v2) >> sf) + v3
+    if cfg.quadric == "diagonal" and (int(Q[1]) or int(Q[2]) or int(Q[5])):
+        raise ValueError(f"quadric_mac: configuration {cfg.name!r} has a diagonal quadric; B, C, F must be 0")
+    r, v = qmac_datapath(cfg)(Q, s, cfg.s_frac)
+    q = ((r[..., 0] + r[..., 1] + r[..., 2]) >> cfg.s_frac) + v[..., 3]
     qf = shift(q, cfg.f_frac - cfg.q_frac)
     sh = cfg.c_frac - cfg.q_frac + 1  # the factor 2 of 2 Q x is a shift
-    cq = np.stack([shift(v0, sh), shift(v1, sh), shift(v2, sh)], axis=-1)
+    cq = np.stack([shift(v[..., 0], sh), shift(v[..., 1], sh), shift(v[..., 2], sh)], axis=-1)
     return qf, cq
 
 

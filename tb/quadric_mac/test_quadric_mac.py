@@ -40,7 +40,8 @@ import hdlbuild
 from model.hw import golden as G
 from tb import pipe
 
-SOURCES = ["quadric_mac.v", "mul_pipe.v", "delay_line.v"]
+SOURCES = ["quadric_mac.v", "qmac_full.v", "qmac_diag.v", "qmac_diag_fold.v", "qmac_diag_pipe.v", "mul_pipe.v",
+           "delay_line.v"]
 MAX_BATCH = 256  # random batches: 1..MAX_BATCH vectors, log-uniform
 
 
@@ -307,3 +308,69 @@ async def vectors_bit_exact(dut):
         dut._log.error(f"vector {i} [{v.tag[i]}]: s={s[i].tolist()} Q={Q[i].tolist()}: "
                        f"expected q={exp_qf[i]} cq={exp_cq[i].tolist()}, got q={got_qf[i]} cq={got_cq[i].tolist()}")
     assert len(bad) == 0, f"{len(bad)} of {n} vectors differ from golden quadric_mac (first at {bad[0]})"
+
+
+# ---------------------------------------------------------------------------
+# The datapaths (rtl/qmac_full.v, qmac_diag.v, qmac_diag_fold.v, qmac_diag_pipe.v): their
+# testbenches (tb/qmac_*/) share the parameter sets and the check below.
+
+DP_KEYS = {"S_W": "s_w", "S_FRAC": "s_frac", "Q_W": "q_w"}
+
+
+def datapath_sets(configs, seeds, edges: dict, fpga=()) -> dict:
+    """{name: HDL parameters} of a datapath: (S_W, S_FRAC, Q_W) of the named `configs` and of
+    the random valid configurations `seeds`, plus `edges` ({name: (S_W, S_FRAC, Q_W)}); the
+    sets named in `fpga` also with FPGA_REGS = 1 (qmac_full), as <name>_fpga."""
+    from model.hw.config import load_config, random_config
+
+    cfgs = [(n, load_config(n)) for n in configs] + [(f"random{s}", random_config(s)) for s in seeds]
+    out = {name: {k: getattr(c, v) for k, v in DP_KEYS.items()} for name, c in cfgs}
+    for name, (sw, sf, qw) in edges.items():
+        out[name] = {"S_W": sw, "S_FRAC": sf, "Q_W": qw}
+    out.update({f"{k}_fpga": {**out[k], "FPGA_REGS": 1} for k in fpga})
+    return out
+
+
+async def datapath_bit_exact(dut, module: str, spacing: int = 1):
+    """The datapath `module` (its golden twin of the same name) on the hard cases and
+    n_vectors(500) random vectors of build_vectors, in drained batches (q_coef stable within
+    one) with stalls and gaps, a vector at most every `spacing` enabled clocks; r_out and v_out
+    every bit, the latency from rtl/tex_latency.vh."""
+    from types import SimpleNamespace
+
+    p = pipe.block_params()
+    sw, sf, qw = p["S_W"], p["S_FRAC"], p["Q_W"]
+    v_w = len(dut.v_out) // 4
+    p2_w = sw + v_w
+    assert len(dut.v_out) == 4 * v_w and len(dut.r_out) == 3 * p2_w, "r_out / v_out widths"
+    diagonal = module != "qmac_full"
+    # the stimulus' formats (q_frac only places the hard cases' fractions: the datapath has none)
+    fmt = SimpleNamespace(s_w=sw, s_frac=sf, q_w=qw, q_frac=qw // 2, quadric="diagonal" if diagonal else "full")
+    lat = hdlbuild.latency(module, SimpleNamespace(fpga_regs=bool(p.get("FPGA_REGS", 0))))
+    twin = getattr(G, module)
+    r = pipe.rng(23)
+    v, n_hard = build_vectors(fmt, r, pipe.n_vectors(500))
+    s, Q, group = v.arrays()
+    bs = batches(group)
+    exp_r = np.zeros((len(s), 3), dtype=np.int64)
+    exp_v = np.zeros((len(s), 4), dtype=np.int64)
+    for b, e in bs:
+        exp_r[b:e], exp_v[b:e] = twin(Q[b], s[b:e], sf)
+    lim = lambda x, w: (x >= -(1 << (w - 1))).all() and (x < (1 << (w - 1))).all()  # noqa: E731
+    assert lim(exp_v, v_w) and lim(exp_r, p2_w), f"the twin's v or r overflows V_W = {v_w}"
+
+    def sample():
+        return int(dut.r_out.value), int(dut.v_out.value)
+
+    def params(b):
+        dut.q_coef.value = pipe.pack(Q[b], qw)
+
+    await pipe.start(dut)
+    assert int(dut.out_valid.value) == 0, "out_valid after reset"
+    got = await pipe.run_batches(
+        dut, bs, params, {"s_in": [pipe.pack(x, sw) for x in s]}, sample, lat,
+        junk={"s_in": 3 * sw, "q_coef": 10 * qw}, seed=int(os.environ.get("SEED", "1")), spacing=spacing)
+    got = [tuple(pipe.unpack(g[0], p2_w, 3)) + tuple(pipe.unpack(g[1], v_w, 4)) for g in got]
+    exp = [tuple(exp_r[i]) + tuple(exp_v[i]) for i in range(len(s))]
+    pipe.check_equal(dut, got, exp, lambda i: f"[{v.tag[i]}] s={s[i].tolist()} Q={Q[i].tolist()}",
+                     f"{module} {p} ({n_hard} hard cases), (r0, r1, r2, v0, v1, v2, v3)")

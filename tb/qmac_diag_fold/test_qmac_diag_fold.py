@@ -1,0 +1,27 @@
+"""qmac_diag_fold (rtl/qmac_diag_fold.v, quadric_mac's diagonal datapath on 3 multipliers,
+quadric_clocks = 2) bit-exact against golden qmac_diag_fold (qmac_diag's values), every bit,
+latency `LAT_QMAC_DIAG_FOLD, a vector at most every other enabled clock (its contract).
+
+Parameter sets (S_W, S_FRAC, Q_W): compact (S_W > Q_W: the multiplier's first operand is s's
+width) and a random valid configuration with quadric_clocks = 2, and the edge "narrow_s"
+(6, 2, 12: Q_W > S_W).
+Stimulus: tb/quadric_mac's hard cases and random batches sharing a Q (B = C = F = 0), drained
+between batches, with ce stalls and input gaps, spacing 2 (tb/quadric_mac datapath_bit_exact).
+"""
+from __future__ import annotations
+
+import cocotb
+
+from tb import pipe
+from tb.quadric_mac import test_quadric_mac as qm
+
+SETS = qm.datapath_sets(("compact",), (1401,), {"narrow_s": (6, 2, 12)})
+
+# every set under Icarus, one under Verilator (a build costs 5-20 s)
+test_qmac_diag_fold_rtl = pipe.block_test("qmac_diag_fold", SETS, ("compact",), __file__,
+                                          sources=["qmac_diag_fold.v"])
+
+
+@cocotb.test()
+async def qmac_diag_fold_bit_exact(dut):
+    await qm.datapath_bit_exact(dut, "qmac_diag_fold", spacing=2)
