@@ -262,7 +262,19 @@ def write_doc() -> None:
           "the reports of commit 3c6b346, totals: full -0.49% (601,570 -> 598,632 GE), reduced -0.07%, compact "
           "+0.10% (99,660 -> 99,759, within its 100,000 budget); control full +1.62%, reduced -0.03%, compact "
           "-0.09%. Yosys/ABC noise: blocks whose RTL did not change moved as much in the same run (noise_term "
-          "-0.77 / +0.09 / +0.16%, filter_width -0.82 / -0.40 / -0.13%, quadric +0.46 / -0.20 / +0.37%).", ""]
+          "-0.77 / +0.09 / +0.16%, filter_width -0.82 / -0.40 / -0.13%, quadric +0.46 / -0.20 / +0.37%).", "",
+          "quadric_mac split into its datapath modules (issue 25: qmac_full, qmac_diag, qmac_diag_fold, "
+          "qmac_diag_pipe, picked by its parameters; stage 4 stays in quadric_mac): the same flip-flops "
+          "(sequential GE unchanged in all three), the same function (bit-exact block and frame tests). Against "
+          "`make synth` on its base commit 8ee46ea, quadric: full +1.30% (61,111 -> 61,907 GE), reduced -0.41% "
+          "(26,753 -> 26,642), compact +2.27% (19,250 -> 19,688); totals full +0.28% (598,632 -> 600,329), "
+          "reduced -0.01% (94,897 -> 94,889), compact +0.50% (99,759 -> 100,262: over its 100,000 budget by 262). "
+          "ABC's mapping of the same logic in another cell order: the flattened quadric's generic netlist "
+          "already differs (CMOS cross-check, compact 103,608 -> 104,516 transistors) while its flip-flops do "
+          "not; the name of the datapath instance changes nothing (u_dp or u_datapath: 19,687.6 GE); and the "
+          "new files alone move blocks whose RTL did not change (noise_term, compact, synthesized on 8ee46ea "
+          "with the four qmac_*.v files beside it, unused: 23,123 -> 23,271 GE, +0.64%; the old quadric_mac "
+          "likewise: 19,250 -> 19,251). compact's 241-GE margin (0.24%) is inside that noise.", ""]
     L += ["## Reproduce", "", "    make setup", "    make synth          # every configuration, synth/reports/",
           "    make synth-check    # fails when a configuration is over budget",
           "    make synth-blocks   # GE of each block for every configuration", ""]
