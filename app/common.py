@@ -29,3 +29,27 @@ def git_describe() -> str:
                               text=True, timeout=10).stdout.strip() or "unknown"
     except (OSError, subprocess.SubprocessError):
         return "unknown"
+
+
+VERIFICATION_DOC = ROOT / "docs" / "verification.md"
+
+
+def write_doc_section(title: str, body: str, path=VERIFICATION_DOC) -> None:
+    """Replace the section `## <title>` of a doc shared by several commands (docs/verification.md:
+    formal, gate-level simulation, coverage, mutants), from its heading to the next `## ` heading,
+    with `body` (appended when the doc has no such section; the doc is created when missing). The
+    other sections are left as they are."""
+    from pathlib import Path
+
+    path = Path(path)
+    head = f"## {title}"
+    text = path.read_text() if path.exists() else "# Verification beyond random vectors\n"
+    lines = text.rstrip("\n").split("\n")
+    new = [head, "", *body.strip("\n").split("\n")]
+    if head in lines:
+        i = lines.index(head)
+        j = next((k for k in range(i + 1, len(lines)) if lines[k].startswith("## ")), len(lines))
+        lines[i:j] = new + ([""] if j < len(lines) else [])
+    else:
+        lines += ["", *new]
+    path.write_text("\n".join(lines) + "\n")

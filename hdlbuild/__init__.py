@@ -19,6 +19,11 @@
 - `rtl_dir()`, `build_root()`: rtl/ and build/, or, with RTL_DIR set, that directory and a build/
   beside it (verify/mutants.py builds a scratch copy of rtl/ that way, never sharing a build).
 
+Coverage (`make coverage`): with COVERAGE=1 every Verilator build adds `--coverage-line
+--coverage-toggle` (a build directory of its own, ...-cov) and every run's coverage points are
+kept as a file of their own under COVERAGE_DIR (default build/coverage/dat/; `coverage_file`),
+for verilator_coverage to merge; Icarus runs have none.
+
 Environment: SIM (icarus|verilator) and CONFIG (full|reduced) narrow the
 parametrization; SEED fixes the random seed (printed either way); VECTORS sets the
 number of random vectors; WAVES=1 dumps FST waveforms into the build directory.
@@ -45,7 +50,7 @@ RTL_DIR = ROOT / "rtl"
 
 __all__ = ["ROOT", "RTL_DIR", "SIMS", "CONFIGS", "FPGA_CONFIG", "DEFAULT_VECTORS", "gen_dir", "config_of", "config_ref",
            "setup_verilator_env", "need_simulator", "need_tool", "sim_params", "seed", "vectors", "on_sys_path", "environ",
-           "run", "rtl_dir", "build_root", "family_params", "block_params", "top_params", "texture_unit_source", "latency", "write_if_changed"]
+           "run", "rtl_dir", "build_root", "family_params", "block_params", "netlist_wrapper", "coverage_on", "coverage_file", "without_env", "top_params", "texture_unit_source", "latency", "write_if_changed"]
 
 
 def rtl_dir() -> Path:
@@ -147,6 +152,14 @@ def gen_dir(config) -> Path:
     return out
 
 
+def netlist_wrapper(config) -> Path:
+    """build/gen/<name>/texture_unit_netlist.v: the wrapper texture_unit around texture_pipeline's
+    synthesized netlist (no parameters: synth/netlist.py, `make gls`)."""
+    cfg = config_of(config)
+    gen_dir(cfg)
+    return write_if_changed(ROOT / "build" / "gen" / cfg.name / "texture_unit_netlist.v", texture_unit_source(cfg, netlist=True))
+
+
 def _is_file_config(cfg: Config) -> bool:
     return cfg.name in CONFIG_NAMES and Path(cfg.path).resolve() == (ROOT / "config" / f"{cfg.name}.toml").resolve()
 
@@ -234,6 +247,34 @@ def environ(env: dict):
                 os.environ[k] = v
 
 
+COVERAGE_ARGS = ["--coverage-line", "--coverage-toggle"]
+_cov_counter = iter(range(1 << 62))
+
+
+def coverage_on() -> bool:
+    """COVERAGE=1: Verilator builds with line and toggle coverage (make coverage)."""
+    return os.environ.get("COVERAGE") == "1"
+
+
+def coverage_file(toplevel: str, name: str) -> Path:
+    """A fresh path for one run's coverage points: COVERAGE_DIR (default build/coverage/dat/)
+    /<toplevel>-<name>-<pid>-<n>.dat."""
+    d = Path(os.environ.get("COVERAGE_DIR") or ROOT / "build" / "coverage" / "dat")
+    d.mkdir(parents=True, exist_ok=True)
+    return d / f"{toplevel}-{name}-{os.getpid()}-{threading.get_ident() % 10000}-{next(_cov_counter)}.dat"
+
+
+@contextlib.contextmanager
+def without_env(name: str):
+    """The variable `name` unset for the duration, then restored."""
+    saved = os.environ.pop(name, None)
+    try:
+        yield
+    finally:
+        if saved is not None:
+            os.environ[name] = saved
+
+
 BLOCK_OPT = "OPT_FAST=-O0 OPT_GLOBAL=-O0"  # make variables of a block testbench's Verilator build
 
 
@@ -262,14 +303,17 @@ def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=No
     # optimisation (half the build time; make test-long's 100,000 vectors keep Verilator's -Os; the
     # frame harness, sim/frame_rtl.py, builds its own C++ main at -O2), in a build directory of its own
     fast_build = sim == "verilator" and vectors() <= DEFAULT_VECTORS
+    cov = sim == "verilator" and coverage_on()
     build_dir = build_root() / "sim" / toplevel / (f"{build_name or config}-{tag}-{sim}{'-O0' if fast_build else ''}"
-                                                     f"{'-waves' if waves else ''}")
+                                                     f"{'-waves' if waves else ''}{'-cov' if cov else ''}")
     runner = get_runner(sim)
     build_args = []
     if sim == "verilator":
         build_args = ["-Wno-fatal", "--x-assign", "unique", "--x-initial", "unique", "-O3"]
         if waves:
             build_args += ["--trace-fst", "--trace-structs"]
+        if cov:
+            build_args += COVERAGE_ARGS
     build_env = {"MAKEFLAGS": os.environ.get("MAKEFLAGS", "") + " " + BLOCK_OPT} if fast_build else {}
     with environ(build_env):
         runner.build(
@@ -292,7 +336,9 @@ def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=No
     # cocotb's runner lets the calling process's environment override extra_env (a CONFIG=
     # set in the shell would win over a variant's CONFIG), so set ours for the duration;
     # the simulator runs in the build directory, so results and waveforms stay out of the source tree
-    with environ(env), on_sys_path(*([test_dir] if test_dir else [])):
+    # COVERAGE=1 is this project's switch; cocotb reads the same variable as a request for Python
+    # coverage of the testbench, so the simulator runs without it
+    with environ(env), without_env("COVERAGE"), on_sys_path(*([test_dir] if test_dir else [])):
         results = runner.test(
             hdl_toplevel=toplevel,
             test_module=test_module,
@@ -303,6 +349,10 @@ def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=No
             waves=waves,
             timescale=("1ns", "1ps"),
         )
+    if cov:  # the run wrote coverage.dat in its directory (cocotb's Verilator main): keep it
+        dat = build_dir / "coverage.dat"
+        assert dat.is_file(), f"{toplevel}: COVERAGE=1 but the run wrote no {dat}"
+        shutil.move(str(dat), coverage_file(toplevel, build_name or config))
     n_tests, n_fail = get_results(results)
     assert n_tests > 0, f"{toplevel}: no cocotb test ran"
     assert n_fail == 0, f"{toplevel} [{build_name or config} {sim}]: {n_fail} of {n_tests} cocotb tests failed (SEED={s})"

@@ -137,8 +137,10 @@ def latency(module: str, cfg: Config | None = None) -> int:
     return config_latency(module, cfg)
 
 
-def texture_unit_source(cfg: Config) -> str:
-    """The wrapper module `texture_unit`: texture_pipeline with the parameters of `cfg`."""
+def texture_unit_source(cfg: Config, netlist: bool = False) -> str:
+    """The wrapper module `texture_unit`: texture_pipeline with the parameters of `cfg`.
+    netlist: around texture_pipeline's synthesized netlist (synth/netlist.py, `make gls`), which
+    was synthesized with those parameters and takes none (they stay in the header comment)."""
     params = top_params(cfg)
     lines = [f"// Generated from {rel_path(cfg.path)} by hdlbuild/params.py. Do not edit.",
              f"// texture_unit: texture_pipeline with the parameters of configuration `{cfg.name}`",
@@ -148,8 +150,14 @@ def texture_unit_source(cfg: Config) -> str:
     for d, w, n in PORTS:
         w = pix_width(cfg) if w is None else w
         lines.append(f"{d:<6} wire {f'[{w - 1}:0] ' if w > 1 else ''}{n};")
-    lines.append("texture_pipeline #(")
-    lines.append(",\n".join(f"    .{k}({v})" for k, v in params.items()))
-    lines.append(") u_pipe (" + ", ".join(f".{n}({n})" for _, _, n in PORTS) + ");")
+    ports = ", ".join(f".{n}({n})" for _, _, n in PORTS)
+    if netlist:
+        lines[1] += " (its synthesized netlist)"
+        lines.append("// parameters it was synthesized with: " + ", ".join(f"{k}={v}" for k, v in params.items()))
+        lines.append(f"texture_pipeline u_pipe ({ports});")
+    else:
+        lines.append("texture_pipeline #(")
+        lines.append(",\n".join(f"    .{k}({v})" for k, v in params.items()))
+        lines.append(f") u_pipe ({ports});")
     lines += ["endmodule", "", "`default_nettype wire", ""]
     return "\n".join(lines)

@@ -54,22 +54,25 @@ def check_args(config_name: str, sim: str, size: int, gaps: int, stalls: int) ->
 
 
 def run_frame(scene_name: str, config_name: str, sim: str, size: int, out_root: Path | None = None,
-              progress: bool = True, gaps: int = 0, stalls: int = 0, strict: bool = False) -> dict:
+              progress: bool = True, gaps: int = 0, stalls: int = 0, strict: bool = False, netlists=None,
+              command: str | None = None) -> dict:
     """One scene (a name or a .toml path) through the RTL into
     <out_root>/<scene>/<config>/<sim>-<size>/ (staged: only a completed run is moved into place;
     a failed one leaves a failure report there). strict: any approximation the configuration
-    makes to the scene is an error, raised before the simulation."""
+    makes to the scene is an error, raised before the simulation. netlists: the configuration's
+    synthesized netlists simulated in place of rtl/ (synth/netlist.py; `make gls`, whose `command`
+    the report names)."""
     check_args(config_name, sim, size, gaps, stalls)
     scene_name, path = resolve_scene(scene_name)
     target = (out_root or ROOT / "out" / "frames") / scene_name / config_label(config_name) / f"{sim}-{size}"
-    command = f"make frame SCENE={scene_name} CONFIG={config_name} SIM={sim} SIZE={size}"
+    command = command or f"make frame SCENE={scene_name} CONFIG={config_name} SIM={sim} SIZE={size}"
     with staged(target, command) as out:
-        rep = _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, stalls, strict)
+        rep = _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, stalls, strict, netlists)
         (out / "report.json").write_text(json.dumps(rep, indent=2) + "\n")
     return rep
 
 
-def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, stalls, strict) -> dict:
+def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, stalls, strict, netlists=None) -> dict:
     from model.scene.frontend import render_passes
     from model.scene.scene import load_scene
     from sim.frame_rtl import run_passes_rtl
@@ -88,7 +91,7 @@ def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, sta
     mismatches = []
     # every pass of the frame in one simulator run (passes without pixels run nowhere)
     rtls, info = run_passes_rtl(config_name, sim, [(pd.ti, pd.si, pd.Jm, pd.je) for pd in pds], gaps=gaps,
-                                stalls=stalls, return_stats=True)
+                                stalls=stalls, return_stats=True, netlists=netlists)
     cycles, sim_s, stream_s = sum(info["cycles"]), info["seconds"], info["stream_seconds"]
     for pd, r in zip(pds, rtls):
         g = golden.texture_pipeline(cfg, pd.ti, pd.si, pd.Jm, pd.je)
@@ -128,6 +131,7 @@ def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, sta
     rep = {
         "status": "ok" if n_bad == 0 else "mismatch",
         "scene": scene_name, "config": config_name, "simulator": sim, "width": W, "height": H,
+        "netlists": bool(netlists),
         "pixels_textured": int(textured.sum()), "pixels_streamed": px, "passes": len(pds),
         "mismatched_pixels": n_bad, "bit_exact": n_bad == 0,
         # the scene's texture as written; what the configuration changed is in approximations,

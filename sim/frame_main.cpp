@@ -16,6 +16,8 @@
 //                       words; model/hw/regmap.py pack_pixels_u32) loaded into the harness's pixel
 //                       memory before reset, and its +NPIXTOTAL colours written back as uint32 after
 //                       done (the harness then skips its $readmemh / $writememh of those two).
+//   +COVERAGE=<file>    a build with Verilator's coverage (make coverage, COVERAGE=1): write the run's
+//                       coverage points there when done.
 // A failure prints one line "frame_tb: ERROR: ..." and exits with status 1 (the harness's own
 // $display errors come first in the log; sim/frame_rtl.py shows the first).
 
@@ -30,6 +32,9 @@
 #include "Vframe_tb.h"
 #include "Vframe_tb___024root.h"
 #include "verilated.h"
+#if VM_COVERAGE
+#include "verilated_cov.h"
+#endif
 
 namespace {
 
@@ -164,6 +169,10 @@ int main(int argc, char** argv) {
     if (hostmem) save_colours(plusarg_str("OUTBIN"), npix);
     std::printf("frame_tb: %ld clocks after reset, %.3f s\n", n, us / 1e6);
     top->final();
+#if VM_COVERAGE
+    const std::string cov_file = plusarg_str("COVERAGE");
+    if (!cov_file.empty()) ctx->coveragep()->write(cov_file.c_str());
+#endif
     delete top;
     delete ctx;
     return 0;

