@@ -83,7 +83,7 @@ def _worst(cfg):
         tn = 1 << (cfg.t_frac + 1)
     T = np.zeros((1, 3, 3), dtype=np.int64)
     T[0] = np.diag([tn, 0, 0])
-    tex = SimpleNamespace(a=np.array([1 << cfg.a_frac]), T=T, k_used=1, filter=True, n_log2=8)
+    tex = SimpleNamespace(a=np.array([1 << cfg.a_frac]), T=T, te=np.zeros(1, dtype=np.int64), ae=np.zeros(1, dtype=np.int64), k_used=1, filter=True, n_log2=8)
     knee = cfg.fc_knee / (1 << lf)
     mid = knee - (1 << cfg.fc_fade_log2) / 2.0 - (math.log2(tn) - cfg.t_frac)  # log2 max|J| mid-fade
     jes = np.arange(int(mid) - e - 3, int(mid) - e + 3)
@@ -107,7 +107,7 @@ def _case(cfg, seed: int, n: int = 20000):
         else:
             T[i] = r.integers(-(1 << (cfg.t_w - 2)), 1 << (cfg.t_w - 2), (3, 3)) >> int(r.integers(0, cfg.t_w - 3))
     a = np.full(K, 1 << cfg.a_frac >> 1, dtype=np.int64)
-    tex = SimpleNamespace(a=a, T=T, k_used=K, filter=True, n_log2=8)
+    tex = SimpleNamespace(a=a, T=T, te=np.zeros(K, dtype=np.int64), ae=np.zeros(K, dtype=np.int64), k_used=K, filter=True, n_log2=8)
     knee = cfg.fc_knee / (1 << cfg.fc_log_frac)
     tnl = np.log2(np.maximum(np.abs(T).reshape(K, -1).max(-1), 1)) - cfg.t_frac
     # log2 max|J| from below the first term's fade to beyond the last's

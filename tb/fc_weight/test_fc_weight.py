@@ -101,7 +101,7 @@ def make_pass(cfg, r, kind: str):
         T[min(2, K - 1), :, 2] = 0  # a zero column: that axis does not count
         a[min(1, K - 1)] = 0
         a[-1] = alo
-    return SimpleNamespace(a=a, T=T, k_used=int(r.integers(0, K + 1)) if kind == "k_used" else K,
+    return SimpleNamespace(a=a, T=T, te=np.zeros(K, dtype=np.int64), ae=np.zeros(K, dtype=np.int64), k_used=int(r.integers(0, K + 1)) if kind == "k_used" else K,
                            filter=kind != "filter_off", n_log2=int(r.integers(0, cfg.n_log2_max + 1)))
 
 
