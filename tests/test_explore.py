@@ -113,7 +113,7 @@ def test_plan_has_forty_points_and_every_knob():
     for p in pts:
         base = next(q for q in pts if q["label"] == p["base"]) if p["base"] in ("full", "reduced", "compact") else None
         if base:
-            changed |= {k for k in SCHEMA if p["values"][k] != base["values"][k]}
+            changed |= {k for k in SCHEMA if p["values"].get(k) != base["values"].get(k)}
     want = {"noise_terms", "noise_units", "blend", "transform", "amplitude", "quadric", "filter", "div_bits",
             "w_cap_log2", "s_frac", "q_frac", "t_frac", "a_frac", "p_frac", "n_frac", "f_frac", "c_frac", "j_w",
             "norm_bits", "noise_gradient", "quadric_clocks"}

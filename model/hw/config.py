@@ -477,10 +477,10 @@ def _check(c: Config, p: Path) -> None:
     te_max, ae_max = (1 << c.t_exp_w) - 1, (1 << c.a_exp_w) - 1
     need(c.t_exp_w == 0 or c.transform == "affine", "formats.t_exp_w > 0 needs transform = \"affine\"")
     need(c.a_exp_w == 0 or c.amplitude == "any", "formats.a_exp_w > 0 needs amplitude = \"any\"")
-    need(c.s_frac + c.t_frac - c.p_frac >= te_max, "formats: s_frac + t_frac - p_frac must be >= 2^t_exp_w - 1 "
+    need(c.t_exp_w == 0 or c.s_frac + c.t_frac - c.p_frac >= te_max, "formats: s_frac + t_frac - p_frac must be >= 2^t_exp_w - 1 "
                                                    "(T s is shifted right by it less the exponent)")
-    need(c.n_frac + c.t_frac - c.c_frac >= te_max, "formats: n_frac + t_frac - c_frac must be >= 2^t_exp_w - 1")
-    need(c.a_frac + c.n_frac - c.f_frac >= ae_max, "formats: a_frac + n_frac - f_frac must be >= 2^a_exp_w - 1")
+    need(c.t_exp_w == 0 or c.n_frac + c.t_frac - c.c_frac >= te_max, "formats: n_frac + t_frac - c_frac must be >= 2^t_exp_w - 1")
+    need(c.a_exp_w == 0 or c.a_frac + c.n_frac - c.f_frac >= ae_max, "formats: a_frac + n_frac - f_frac must be >= 2^a_exp_w - 1")
     need(c.a_frac >= ae_max, "formats: a_frac must be >= 2^a_exp_w - 1")
     need(c.n_frac >= c.hash_bits - 1, "formats.n_frac must be >= hash_bits - 1 (lattice values are exact)")
     need(c.w_cap_log2 >= c.n_log2_max, "formats.w_cap_log2 must be >= n_log2_max (w must reach N)")

@@ -71,7 +71,8 @@ async def noise_leaves_bit_exact(dut):
         m = int(r.integers(1, 200))
         s = rand_s(cfg, r, m)
         tex = SimpleNamespace(k_used=int(r.integers(0, k + 1)), a=[rand_a(cfg, r) if r.random() > 0.15 else 0 for _ in range(k)],
-                              T=[rand_T(cfg, r) for _ in range(k)], o=[rand_o(cfg, r) for _ in range(k)])
+                              T=[rand_T(cfg, r) for _ in range(k)], o=[rand_o(cfg, r) for _ in range(k)],
+                              te=np.zeros(k, dtype=np.int64), ae=np.zeros(k, dtype=np.int64))
         q = int(r.integers(-(1 << (cfg.qf_w - 1)), 1 << (cfg.qf_w - 1)))
         cq = r.integers(-(1 << (cfg.c_w - 1)), 1 << (cfg.c_w - 1), 3, dtype=np.int64)
         alpha = r.integers(0, (1 << cfg.fc_af) + 1, kv, dtype=np.int64)
@@ -120,7 +121,7 @@ async def noise_leaves_bit_exact(dut):
 
         q_all = r.integers(-(1 << (cfg.qf_w - 1)), 1 << (cfg.qf_w - 1), 200, dtype=np.int64)
         cq_all = r.integers(-(1 << (cfg.c_w - 1)), 1 << (cfg.c_w - 1), (200, 3), dtype=np.int64)
-        fl, cl = G.noise_leaves(cfg, SimpleNamespace(k_used=0, a=[], T=[], o=[]), np.zeros((200, 3), dtype=np.int64),
+        fl, cl = G.noise_leaves(cfg, SimpleNamespace(k_used=0, a=[], T=[], o=[], te=[], ae=[]), np.zeros((200, 3), dtype=np.int64),
                                 q_all, cq_all, skip=False)
         exp = [(int(fl[0][t]),) + tuple(int(v) for v in cl[0][t]) for t in range(200)]
         got = await pipe.run_comb(dut, apply, sample_v, 200)
