@@ -253,7 +253,9 @@ def write_doc(summary_dir: Path = SUMMARY_DIR, doc: Path = DOC) -> None:
                  f"{s.get('covered', '-')} | "
                  f"{r['min']} / {r['p5']} / {r['median']} | {t['min']} / {t['p5']} / {t['median']} | {ps} | {kept} | "
                  + (f"{rtl['exact']}/{rtl['scenes']} scenes, {rtl['pixels']:,} pixels" if rtl else "-") + " |")
-    L += ["", f"RTL source hash of each RTL check: " + ", ".join(f"{s['config']} {s['source_hash']}" for s in sums), ""]
+    checked = [s for s in sums if s.get("rtl")]
+    L += ["", "RTL source hash of each RTL check: " + (", ".join(f"{s['config']} {s['source_hash']}" for s in checked)
+                                                       or "none (no configuration was checked through the RTL)"), ""]
     for s in sums:
         L += [f"## {s['config']}", "", f"`make validate CONFIG={s['config']} N={s['n']} SIZE={s['size']}` "
               f"(configuration hash {s['config_hash']}, {s['config_path']}).", ""]
