@@ -3,7 +3,9 @@ every leaf of f and c, the valid bit and the latency.
 
 Configurations (unfolded: the K noise_term instances): full (eight terms, affine, the noise
 gradient), reduced (two terms, diagonal quadric, no noise gradient: the c leaves are 0),
-random:8 (sat_fc: each term faded by its alpha, fc_scale) and random:10 (fpga_regs); LATENCY
+random:8 (sat_fc: each term faded by its alpha, fc_scale), random:10 (fpga_regs) and full_q12s12
+(full on s12.10 and q12.11, Icarus: the one configuration here where q's leaf is sign-extended
+into f, F_W 21 > QF_W 20; no named or random configuration has F_W > QF_W); LATENCY
 the terms' own, and (full: two, random:8: one) more (the delay lines of a slower quadric). The folded path (noise_fold's
 sum, one leaf, passed through) is covered by tb/frame's folded configurations. random:3 has
 K = 0: the quadric's leaf alone, combinational (q_valid toggled: out_valid follows it).
@@ -24,14 +26,20 @@ import cocotb
 
 import hdlbuild
 from model.hw import golden as G
-from model.hw.config import folded, latency
+from model.hw.config import folded, latency, load_config, variant
 from tb import pipe
 from tb.noise_term.test_noise_term import rand_a, rand_o, rand_s, rand_T
 
 SOURCES = ["noise_leaves.v", "noise_term.v", "noise_xform.v", "noise_grad.v", "noise_hash.v", "noise_blend.v",
            "lerp.v", "fc_scale.v", "delay_line.v"]
 CONFIGS = (("full", 0), ("full", 2), ("reduced", 0), ("random:8", 0), ("random:8", 1), ("random:10", 0),
-           ("random:3", 0))
+           ("random:3", 0), ("full_q12s12", 0))
+# configurations of this testbench's own (a narrow s and q: q's sign extension, FX_Q > 0)
+OWN = {"full_q12s12": lambda: variant(load_config("full"), "full_q12s12", s_w=12, q_w=12)}
+
+
+def config_of(config):
+    return OWN[config]() if config in OWN else hdlbuild.config_of(config)
 
 
 def params(cfg, extra: int) -> dict:
@@ -51,9 +59,9 @@ def _cases():
 
 @pytest.mark.parametrize("sim,config,extra", _cases())
 def test_noise_leaves_rtl(sim, config, extra):
-    cfg = hdlbuild.config_of(config)
+    cfg = config_of(config)
     assert not folded(cfg)
-    pipe.run_block("noise_leaves", sim, f"{cfg.name}-x{extra}", params(cfg, extra), __file__, config=config,
+    pipe.run_block("noise_leaves", sim, f"{cfg.name}-x{extra}", params(cfg, extra), __file__, config=cfg,
                    sources=SOURCES)
 
 

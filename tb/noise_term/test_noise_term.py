@@ -163,8 +163,8 @@ def rand_o(cfg, r):
 def rand_s(cfg, r, m):
     lo, hi = _lim(cfg.s_w)
     full = _uniform(r, lo, hi, (m, 3))
-    small = 1 << (cfg.s_frac + 3)  # |s| <= 8
-    near = _uniform(r, -small, small, (m, 3))
+    small = 1 << (cfg.s_frac + 3)  # |s| <= 8, within the format (s{s_w}.{s_frac} may hold less)
+    near = _uniform(r, max(lo, -small), min(hi, small), (m, 3))
     return np.where((r.random(m) < 0.5)[:, None], full, near)
 
 
@@ -233,7 +233,7 @@ def build_vectors(cfg, r, n_random):
     negs = [-1, -q + 1, -q, -q - 1, -one_s, -one_s - 1, -one_s + 1, -one_s // 2, -3 * one_s - q,
             slo, slo + 1, -(1 << (cfg.s_w - 2))]
     pos = [0, 1, q - 1, q, one_s - 1, one_s, one_s + q, shi, shi - 1]
-    vals = negs + pos
+    vals = [min(max(x, slo), shi) for x in negs + pos]  # a narrow s (few integer bits) holds less
     rows = [[vals[i], vals[(i + 5) % len(vals)], vals[(3 * i + 1) % len(vals)]] for i in range(len(vals))]
     rows += [[x, x, x] for x in vals]
     for o in (np.zeros(3, np.int64), np.full(3, mask_p, np.int64)):
