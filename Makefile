@@ -55,7 +55,7 @@ help:
 	@echo "make bench-sim       Verilator vs golden model pixels/s and ratio (full, compact, reduced), and Icarus"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
-	@echo "make coverage        line and toggle coverage of rtl/ over the block and frame tests (Verilator): out/coverage/, docs/verification.md"
+	@echo "make coverage [COVERAGE_TESTS=tb/x,...] [COVERAGE_REUSE=1]   line and toggle coverage of rtl/ over the block and frame tests (Verilator): out/coverage/, docs/verification.md"
 	@echo "make gls CONFIG=reduced [GLS_SIZE=32] [GLS_SCENES=a,b]   the synthesized netlists simulated on every scene, bit-exact (docs/verification.md)"
 	@echo "make fpga CONFIG=reduced [FREQ=100] [SEED=1] [FPGA_REGS=0] [DSP_REGS=0]   ECP5 85F place and route (yowasp) of the fpga_regs variant (FPGA_REGS=0: as configured): synth/reports/fpga_<name>[-fpga].json, docs/fpga.md"
 	@echo "  render/frame also take OUT= STRICT=1 (TRUTH_SS= BAND_SS=; GAPS= STALLS=); renders/frames OUT= RENDERS_SIZE= FRAMES_SIZE= FRAMES_SCENES="
@@ -186,9 +186,10 @@ fpga: gen
 	  $(if $(FPGA_REGS),--fpga-regs $(FPGA_REGS)) $(if $(DSP_REGS),--dsp-regs $(DSP_REGS))
 
 # line and toggle coverage of rtl/ (issue 29): the block and frame tests under Verilator with COVERAGE=1,
-# merged and annotated under out/coverage/, per-module figures in docs/verification.md (COVERAGE_TESTS=)
+# merged and annotated under out/coverage/, per-module figures in docs/verification.md (COVERAGE_TESTS=;
+# COVERAGE_REUSE=1: no test run, the last run's points summarized again, e.g. after app/coverage_reasons.toml changed)
 coverage: gen
-	$(VENV_ENV) $(PY) -m app.coverage --jobs $(JOBS) $(if $(COVERAGE_TESTS),--tests $(COVERAGE_TESTS))
+	$(VENV_ENV) $(PY) -m app.coverage --jobs $(JOBS) $(if $(COVERAGE_TESTS),--tests $(COVERAGE_TESTS)) $(if $(COVERAGE_REUSE),--reuse)
 
 clean:
 	rm -rf build out

@@ -11,10 +11,15 @@ coverage_file; the frame harness's C++ main writes them too), then
   - sums each module (rtl/<module>.v: one module a file) over every instance and parameter set:
     a point (a line or branch block, or one direction of one bit of a signal) is covered when any
     instance of any build hit it; writes out/coverage/summary.json and, unless --no-doc,
-    docs/verification.md's "Coverage" section: each module's lines % and toggles % and every
-    line point no test reached.
+    docs/verification.md's "Coverage" section: each module's lines % and toggles %, the totals,
+    and every line point no test reached with its reason (app/coverage_reasons.toml, written by
+    hand from the annotated sources: which parameter makes the point unreachable, or "reachable,
+    not tested"; a point with no entry shows as not analysed).
 
-    python -m app.coverage [--tests tb] [--jobs 2] [--out out/coverage] [--no-doc]
+    python -m app.coverage [--tests tb] [--jobs 2] [--out out/coverage] [--no-doc] [--reuse]
+
+--reuse: no test run; merge, annotate and summarize the coverage files of the run already in
+--out (its dat/ and the run facts in its summary.json), e.g. after a reason was added.
 
 Exit status 1 when a test failed (the figures are still written, from the runs that completed).
 """
@@ -27,6 +32,7 @@ import shutil
 import subprocess
 import sys
 import time
+import tomllib
 from pathlib import Path
 
 from app.common import write_doc_section
@@ -35,6 +41,10 @@ from model.cli import Parser, UserError, check_range, run_main
 from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp
 
 TITLE = "Coverage"
+REASONS = Path(__file__).with_name("coverage_reasons.toml")
+NOT_ANALYSED = "not analysed yet"
+# a reason starts with its category and a colon
+CATEGORIES = ("unreachable", "elaboration only", "reachable, not tested")
 GOAL = {"lines": 98.0, "toggles": 90.0}  # issue 29's goal, per module
 RTL = ROOT / "rtl"
 
@@ -63,11 +73,22 @@ def parse_dat(path: Path) -> list[tuple[dict, int]]:
     return out
 
 
+def _signal(comment: str) -> str:
+    """The signal of a toggle point's comment (`g[2].name[5]:0->1`: `g[*].name`; the bit and the
+    direction dropped, a generate index as [*])."""
+    name = re.sub(r"\[\d+\]$", "", comment.rsplit(":", 1)[0])
+    return re.sub(r"\[\d+\]", "[*]", name)
+
+
 def summarize(points) -> dict:
-    """{module: {"lines": [hit, total], "toggles": [hit, total], "uncovered_lines": [line, ...]}}
-    over rtl/ modules: a point's identity is (kind, line, column, comment) in its file, covered when
-    any instance of any build counted it."""
+    """{module: {"lines": [hit, total], "toggles": [hit, total], "lines_pct", "toggles_pct",
+    "uncovered_lines": [line, ...], "uncovered": [{"line", "span", "point"}, ...],
+    "untoggled": {signal: points never toggled}}} over rtl/ modules (rtl/*.v; rtl/*.vh holds
+    constant functions that run at elaboration only, never in simulation): a point's identity is
+    (kind, line, column, comment) in its file, covered when any instance of any build counted it;
+    "lines" counts Verilator's line points: statement blocks and each arm of an if, case or ?:."""
     best: dict[tuple, int] = {}
+    span: dict[tuple, str] = {}
     for kv, n in points:
         f = Path(kv.get("f", ""))
         if f.suffix != ".v" or f.parent.name != "rtl":
@@ -77,22 +98,70 @@ def summarize(points) -> dict:
             continue
         key = (f.stem, "toggles" if kind == "v_toggle" else "lines", int(kv.get("l", 0)), kv.get("n", ""), kv.get("o", ""))
         best[key] = max(best.get(key, 0), n)
+        if kv.get("S"):
+            span[key] = kv["S"]
     mods: dict[str, dict] = {}
-    for (mod, metric, line, _col, _o), n in best.items():
-        m = mods.setdefault(mod, {"lines": [0, 0], "toggles": [0, 0], "uncovered_lines": set(), "untoggled": 0})
+    for key, n in sorted(best.items(), key=lambda kv: (kv[0][0], kv[0][1], kv[0][2], int(kv[0][3] or 0), kv[0][4])):
+        mod, metric, line, _col, o = key
+        m = mods.setdefault(mod, {"lines": [0, 0], "toggles": [0, 0], "uncovered": [], "untoggled": {}})
         m[metric][1] += 1
         if n > 0:
             m[metric][0] += 1
         elif metric == "lines":
-            m["uncovered_lines"].add(line)
+            m["uncovered"].append({"line": line, "span": span.get(key, str(line)), "point": o})
         else:
-            m["untoggled"] += 1
+            sig = _signal(o)
+            m["untoggled"][sig] = m["untoggled"].get(sig, 0) + 1
     for m in mods.values():
-        m["uncovered_lines"] = sorted(m["uncovered_lines"])
+        m["uncovered_lines"] = sorted({u["line"] for u in m["uncovered"]})
+        m["untoggled"] = dict(sorted(m["untoggled"].items(), key=lambda kv: (-kv[1], kv[0])))
         for k in ("lines", "toggles"):
             hit, tot = m[k]
             m[f"{k}_pct"] = round(100.0 * hit / tot, 2) if tot else None
     return dict(sorted(mods.items()))
+
+
+def totals(mods: dict) -> dict:
+    """{"lines": [hit, total], "toggles": [...], "lines_pct", "toggles_pct"} over every module."""
+    t = {k: [sum(m[k][0] for m in mods.values()), sum(m[k][1] for m in mods.values())] for k in ("lines", "toggles")}
+    for k in ("lines", "toggles"):
+        t[f"{k}_pct"] = round(100.0 * t[k][0] / t[k][1], 2) if t[k][1] else None
+    return t
+
+
+def meets_goal(m: dict) -> bool:
+    return all(m[f"{k}_pct"] is None or m[f"{k}_pct"] >= GOAL[k] for k in GOAL)
+
+
+def load_reasons(path: Path = REASONS) -> list[dict]:
+    """app/coverage_reasons.toml's [[uncovered]] entries: module, text (found in the point's first
+    source line), optional point (Verilator's comment: block, if, else, cond_then, ...), reason."""
+    if not path.exists():
+        return []
+    try:
+        data = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as e:
+        raise UserError(f"{path.name}: {e}") from None
+    out = []
+    for i, e in enumerate(data.get("uncovered", [])):
+        miss = [k for k in ("module", "text", "reason") if not isinstance(e.get(k), str) or not e[k]]
+        if miss:
+            raise UserError(f"{path.name}: entry {i + 1}: missing {', '.join(miss)}")
+        if e["reason"].split(":")[0] not in CATEGORIES:
+            raise UserError(f"{path.name}: entry {i + 1}: the reason must start with one of "
+                            + ", ".join(f"'{c}:'" for c in CATEGORIES))
+        out.append(e)
+    return out
+
+
+def reason_for(mod: str, u: dict, reasons: list[dict]) -> str | None:
+    """The reason of the first entry for `mod` whose text is in the point's first source line
+    (and whose point, when given, is the point's kind); None when none is."""
+    src = source_line(mod, u["line"])
+    for e in reasons:
+        if e["module"] == mod and e["text"] in src and e.get("point", u["point"]) == u["point"]:
+            return e["reason"]
+    return None
 
 
 def run_tests(tests: list[str], jobs: int, dat_dir: Path) -> int:
@@ -128,32 +197,60 @@ def source_line(mod: str, line: int) -> str:
         return "?"
 
 
-def doc_body(summ: dict) -> str:
+def _cell(text: str, limit: int = 70) -> str:
+    """Source text as a table cell: cut to `limit` characters, `|` escaped, in backticks."""
+    text = text if len(text) <= limit else text[:limit - 3] + "..."
+    return "`" + text.replace("|", "\\|").replace("`", "'") + "`"
+
+
+def doc_body(summ: dict, reasons: list[dict] | None = None) -> str:
     mods = summ["modules"]
-    L = ["Written by `make coverage` (app/coverage.py): Verilator line and toggle coverage "
+    reasons = load_reasons() if reasons is None else reasons
+    pct = lambda v: "-" if v is None else f"{v:.1f}"  # noqa: E731
+    tot = totals(mods)
+    short = [m for m, v in mods.items() if not meets_goal(v)]
+    cmd = summ.get("command") or "make coverage"
+    L = [f"Written by `{cmd}` (app/coverage.py): Verilator line and toggle coverage "
          "(`--coverage-line --coverage-toggle`, hdlbuild's COVERAGE=1) of rtl/ over "
          f"`{' '.join(summ['tests'])}` under Verilator ({summ['runs']} simulator runs, {summ['seconds']:.0f} s, "
          f"pytest exit status {summ['pytest_status']}), merged with `verilator_coverage --write`, annotated "
-         "under out/coverage/annotated/. A point (a line or branch block; a direction of a bit of a signal) counts "
-         "as covered when any instance in any build (every parameter set the tests run) reached it. Goal "
+         "under out/coverage/annotated/. A point counts as covered when any instance in any build (every "
+         "parameter set the tests run) reached it. Lines: Verilator's line points (each statement block and "
+         "each arm of an if, case or ?:); toggles: each bit of each signal, 0->1 and 1->0 counted apart. "
+         "rtl/*.vh (constant functions, run at elaboration only) and the generated top "
+         "build/gen/<config>/texture_unit.v (wiring) are left out. Goal "
          f"(issue 29): {GOAL['lines']:g}% of lines and {GOAL['toggles']:g}% of toggles in every module.", "",
          "| module | lines | lines % | toggles | toggles % | meets the goal |", "|---|---|---|---|---|---|"]
     for mod, m in mods.items():
-        ok = (m["lines_pct"] is None or m["lines_pct"] >= GOAL["lines"]) and \
-             (m["toggles_pct"] is None or m["toggles_pct"] >= GOAL["toggles"])
-        pct = lambda v: "-" if v is None else f"{v:.1f}"  # noqa: E731
         L.append(f"| {mod} | {m['lines'][0]}/{m['lines'][1]} | {pct(m['lines_pct'])} | {m['toggles'][0]}/"
-                 f"{m['toggles'][1]} | {pct(m['toggles_pct'])} | {'yes' if ok else 'no'} |")
+                 f"{m['toggles'][1]} | {pct(m['toggles_pct'])} | {'yes' if meets_goal(m) else 'no'} |")
+    L.append(f"| **total** | {tot['lines'][0]}/{tot['lines'][1]} | {pct(tot['lines_pct'])} | {tot['toggles'][0]}/"
+             f"{tot['toggles'][1]} | {pct(tot['toggles_pct'])} | {len(mods) - len(short)} of {len(mods)} modules |")
     missing = sorted(p.stem for p in RTL.glob("*.v") if p.stem not in mods)
     if missing:
         L += ["", "Modules with no coverage point from these tests: " + ", ".join(missing) + "."]
-    L += ["", "Line points no test reached (module:line: the source line):", ""]
-    any_ = False
+    L += ["", "Modules below the goal: " + (", ".join(short) if short else "none") + "."]
+    low = [(m, v) for m, v in mods.items() if v["toggles_pct"] is not None and v["toggles_pct"] < GOAL["toggles"]]
+    if low:
+        L += ["", "Below the toggle goal, the signals with the most points never toggled (points: a bit, "
+              "one direction):", ""]
+        for mod, v in low:
+            top = list(v["untoggled"].items())[:5]
+            L.append(f"- {mod}: " + ", ".join(f"`{sig}` {n}" for sig, n in top))
+    rows, count = [], dict.fromkeys((*CATEGORIES, NOT_ANALYSED), 0)
     for mod, m in mods.items():
-        for line in m["uncovered_lines"]:
-            any_ = True
-            L.append(f"- `{mod}.v:{line}`: `{source_line(mod, line)}`")
-    if not any_:
+        for u in m["uncovered"]:
+            r = reason_for(mod, u, reasons) or NOT_ANALYSED
+            count[r.split(":")[0]] += 1
+            rows.append(f"| {mod} | {u['span']} | {u['point']} | {_cell(source_line(mod, u['line']))} | {r} |")
+    L += ["", f"Line points no test reached: {len(rows)} ("
+          + ", ".join(f"{k}: {n}" for k, n in count.items()) + "). The reasons are app/coverage_reasons.toml's, "
+          "written by reading the annotated sources (unreachable: no configuration the tests run, named or "
+          "random, can reach it, and the parameter that decides; elaboration only: a constant function; "
+          "reachable, not tested: a configuration could reach it, no test does).", ""]
+    if rows:
+        L += ["| module | lines | point | first line | reason |", "|---|---|---|---|---|", *rows]
+    else:
         L.append("- none")
     L += ["", doc_stamp(CONFIG_NAMES)]
     return "\n".join(L)
@@ -165,6 +262,8 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=2, help="pytest workers (-n)")
     ap.add_argument("--out", default="", help="output directory (default out/coverage)")
     ap.add_argument("--no-doc", action="store_true", help="leave docs/verification.md alone")
+    ap.add_argument("--reuse", action="store_true",
+                    help="no test run: summarize the run already in --out (its dat/ and summary.json)")
     a = ap.parse_args(argv)
 
     def go() -> int:
@@ -174,25 +273,37 @@ def main(argv=None) -> int:
             if not (ROOT / t.split("::")[0]).exists():
                 raise UserError(f"--tests {t}: no such file or directory")
         tool()
-        setup_verilator_env()
+        load_reasons()  # a malformed reasons file fails before the run, not after it
         out = Path(a.out) if a.out else ROOT / "out" / "coverage"
         dat_dir = out / "dat"
-        shutil.rmtree(dat_dir, ignore_errors=True)
-        dat_dir.mkdir(parents=True)
-        t0 = time.perf_counter()
-        status = run_tests(tests, a.jobs, dat_dir)
-        secs = time.perf_counter() - t0
+        if a.reuse:
+            try:
+                run = json.loads((out / "summary.json").read_text())
+            except (OSError, ValueError) as e:
+                raise UserError(f"--reuse: no run to reuse in {out} ({e})") from None
+            run = {k: run[k] for k in ("tests", "pytest_status", "runs", "seconds", "command") if k in run}
+            run.setdefault("command", f"make coverage JOBS={a.jobs}")  # a run from before the key was kept
+        else:
+            setup_verilator_env()
+            shutil.rmtree(dat_dir, ignore_errors=True)
+            dat_dir.mkdir(parents=True)
+            t0 = time.perf_counter()
+            status = run_tests(tests, a.jobs, dat_dir)
+            cmd = f"make coverage JOBS={a.jobs}" + (f" COVERAGE_TESTS={a.tests}" if a.tests != "tb" else "")
+            run = {"tests": tests, "pytest_status": status, "runs": len(list(dat_dir.glob("*.dat"))),
+                   "seconds": round(time.perf_counter() - t0, 1), "command": cmd}
         merged = merge_and_annotate(dat_dir, out)
-        summ = {"tests": tests, "pytest_status": status, "runs": len(list(dat_dir.glob("*.dat"))),
-                "seconds": round(secs, 1), "merged": str(merged), "annotated": str(out / "annotated"),
+        summ = {**run, "merged": str(merged), "annotated": str(out / "annotated"),
                 "modules": summarize(parse_dat(merged))}
+        summ["totals"] = totals(summ["modules"])
         (out / "summary.json").write_text(json.dumps(summ, indent=2) + "\n")
         if not a.no_doc:
             write_doc_section(TITLE, doc_body(summ))
-        worst = min(summ["modules"].items(), key=lambda kv: kv[1]["lines_pct"] or 0, default=(None, None))
-        print(f"coverage: {summ['runs']} runs, {len(summ['modules'])} modules, merged {merged}"
-              + (f"; lowest lines: {worst[0]} {worst[1]['lines_pct']}%" if worst[0] else ""))
-        return 0 if status == 0 else 1
+        t = summ["totals"]
+        print(f"coverage: {summ['runs']} runs, {len(summ['modules'])} modules, lines {t['lines_pct']}%, "
+              f"toggles {t['toggles_pct']}%; below the goal: "
+              + (", ".join(m for m, v in summ["modules"].items() if not meets_goal(v)) or "none") + f"; merged {merged}")
+        return 0 if summ["pytest_status"] == 0 else 1
 
     return run_main("coverage", go)
 
