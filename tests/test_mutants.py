@@ -62,6 +62,15 @@ def test_draw_is_seeded_and_covers_the_rtl():
     assert a == [m.id for m, _ in zip(mu.draw(sl, 5), range(30))] and len(set(a)) == 30
 
 
+def test_testbenches_of_a_module():
+    """A block's own testbench; a module without one (sat2_integral) is run under the testbenches that
+    build it; noise_fold, which none builds, has only the frames."""
+    tb = mu.ROOT / "tb"
+    assert mu.testbenches("bitlen") == [tb / "bitlen"]
+    assert tb / "cmap_sat2" in mu.testbenches("sat2_integral") and tb / "cmap_sat2" in mu.testbenches("sat2_table")
+    assert mu.testbenches("noise_fold") == []
+
+
 def test_section_merges(tmp_path):
     doc = tmp_path / "verification.md"
     doc.write_text("# Verification\n\n## Formal\n\nproved.\n\n## Mutants\n\nold\n\n## Coverage\n\n98%\n")

@@ -26,7 +26,8 @@ differs: the mutation is dead code in every one of them, and only the block test
 random configurations, sees it).
 Then, with RTL_DIR set to the scratch copy (hdlbuild.rtl_dir(): builds go to a build/ beside it):
 
-1. the mutated block's testbench, tb/<module>/ (when it has one), every Icarus case, `pytest -x`;
+1. the mutated block's testbench, tb/<module>/, every Icarus case, `pytest -x` (a module without one,
+   sat2_table or sat2_integral: the testbenches that build it, those whose sources name <module>.v);
 2. if that passed: `python -m sim.frame` of each scene (default marble, noise terms, and
    zone_plate, the quadric) at 16x16 under Icarus on each of those configurations, every pixel
    against the golden model, until one fails.
@@ -105,9 +106,12 @@ EQUIVALENT: dict[str, str] = {
     "8f70a181": "(loop) k0 = 3 writes m0[3], past the array m0[0:2]: " + _LOOP + " (ja, jb are loop temporaries)",
     "5dae4462": "m = NJ adds an iteration whose condition never holds: NJ = ceil(K / U), so NJ U + gu >= K",
     "6f1613d0": "tc's default is overwritten: the loop over j assigns all three E_W + 1-bit fields of tc (TC_W = 3 (E_W + 1))",
-    "c38d2b94": "with the condition inverted a diagonal quadric on two clocks takes g_diag, the one-clock form of the "
-                "same arithmetic (same latency, tb/quadric_mac checks it: twice the multipliers), and an affine one "
-                "cannot have two clocks (model/hw/config.py: quadric_clocks = 2 needs a diagonal quadric)",
+    "c38d2b94": "with the condition inverted a diagonal quadric on two clocks (FPGA_REGS 0) takes g_diag, qmac_diag, "
+                "instead of g_diag_fold, qmac_diag_fold: the same values (golden qmac_diag_fold is qmac_diag; "
+                "tb/qmac_diag and tb/qmac_diag_fold check each bit-exact), the same latency (LAT_QMAC_DIAG = "
+                "LAT_QMAC_DIAG_FOLD = 3, rtl/tex_latency.vh), and a one-clock datapath takes a vector every other "
+                "clock as well: only the multipliers double. An affine quadric cannot have two clocks (g_bad_clocks; "
+                "model/hw/config.py: quadric_clocks = 2 needs a diagonal quadric)",
     "10ba35ae": "at f = lo_thr = -(guard >> n_log2) the unclamped u = f N is -guard exactly (guard = 2^GUARD, "
                 "GUARD = W_CAP_LOG2 + F_FRAC - 1 > n_log2 since w_cap_log2 >= n_log2_max), the clamp's own value",
     "1ee186ff": "NG = 0 with CX_N > 0 takes g_cx instead of g_c0: the sign extension of ag, and ag (noise_term's "
@@ -116,10 +120,6 @@ EQUIVALENT: dict[str, str] = {
 
 # Survivors neither killed nor shown equivalent, with what was found (listed as open in the report).
 OPEN: dict[str, str] = {
-    "25d2fe6d": "q's sign extension into f (FX_Q = F_W - QF_W > 0) is reached by no named configuration and by no "
-                "random one (seeds 0..399): F_W > QF_W needs narrow s and q. full with q_w = s_w = 12 reaches it "
-                "(F_W 21, QF_W 20), but there tb/noise_leaves fails on the unmutated RTL too (819 of 2020 vectors "
-                "differ, in the noise leaves, not in q's leaf): to be looked into before a test can kill this mutant",
 }
 
 
@@ -452,6 +452,15 @@ def _run(cmd, env, timeout, log: Path) -> tuple[str, int, str]:
     return ("ok" if r.returncode == 0 else "fail"), r.returncode, out
 
 
+def testbenches(module: str) -> list[Path]:
+    """tb/<module>/, or, for a module without one, the testbenches that build it (a test file of
+    tb/ whose sources name "<module>.v"); [] when none does (the frames alone test it)."""
+    own = ROOT / "tb" / module
+    if own.is_dir():
+        return [own]
+    return sorted({p.parent for p in (ROOT / "tb").glob("*/test_*.py") if f'"{module}.v"' in p.read_text()})
+
+
 def run_mutant(m: Mutant, opts: Opts, work: Path, tb_passed: bool = False) -> dict:
     """Screen, then test one mutant; its result record. tb_passed: the block's testbench is known
     to pass on it (a survivor cached under the same sources): only the frames run."""
@@ -490,11 +499,11 @@ def run_mutant(m: Mutant, opts: Opts, work: Path, tb_passed: bool = False) -> di
     env = dict(os.environ, RTL_DIR=str(rtl), SIM="icarus", SEED=str(opts.seed), PYTHONPATH=str(ROOT))
     for k in ("CONFIG", "VECTORS", "WAVES", "RANDOM_CONFIGS", "RANDOM_SEED"):
         env.pop(k, None)
-    tb = ROOT / "tb" / m.module
-    rec["tb"] = "passed" if tb.is_dir() else "none"
-    if tb.is_dir() and not tb_passed:
+    tbs = testbenches(m.module)
+    rec["tb"] = "passed" if tbs else "none"
+    if tbs and not tb_passed:
         st, rc, out = _run([sys.executable, "-m", "pytest", "-q", "-x", "-p", "no:cacheprovider", "-p", "no:randomly",
-                            str(tb.relative_to(ROOT))], env, opts.timeout, wdir / "tb.log")
+                            *(str(tb.relative_to(ROOT)) for tb in tbs)], env, opts.timeout, wdir / "tb.log")
         if st != "ok" and rc != 5:
             failed = re.findall(r"^FAILED (\S+)", out, re.M)
             by = failed[0] if failed else (f"tb/{m.module} (timeout)" if st == "timeout" else
@@ -546,8 +555,7 @@ def prepare(work: Path, opts: Opts) -> None:
 def cache_file(m: Mutant, cache: Path) -> Path:
     """The mutant's record under the sources its verdict depends on."""
     deps = [RTL / m.file, *sorted(RTL.glob("*.vh")), ROOT / "tb" / "pipe.py", ROOT / "sim"]
-    if (ROOT / "tb" / m.module).is_dir():
-        deps.append(ROOT / "tb" / m.module)
+    deps += testbenches(m.module)
     return cache / f"{m.id}-{source_hash(*deps)}.json"
 
 
@@ -635,6 +643,9 @@ def _cell(s: str) -> str:
 def section(recs: list[dict], s: dict, args: dict, seconds: float) -> str:
     """The "## Mutants" section of docs/verification.md."""
     cmd = f"make mutants N={args['n']} SEED={args['seed']}"
+    borrowed = "; ".join(f"{p.stem}, {', '.join(str(tb.relative_to(ROOT)) for tb in testbenches(p.stem))}"
+                         for p in sorted(RTL.glob("*.v"))
+                         if not (ROOT / "tb" / p.stem).is_dir() and testbenches(p.stem)) or "none"
     L = ["## Mutants", "",
          f"Written by `{cmd}` (verify/mutants.py; JOBS={args['jobs']}, {seconds / 60:.1f} min on this machine's "
          f"2 cores, {sum(bool(r.get('cached')) for r in recs)} of the {len(recs)} drawn mutants' verdicts from the cache "
@@ -643,7 +654,8 @@ def section(recs: list[dict], s: dict, args: dict, seconds: float) -> str:
          f"{s['mutants']} seeded single mutations of rtl/ (kinds: an operator swapped, a constant bit flipped, "
          "a comparison loosened or tightened, a register stage skipped, a shift amount off by one; only live lines: "
          "no comments, `ifdef FORMAL` blocks, declarations or latency checks), each in a scratch copy of rtl/, run "
-         f"against the mutated block's testbench (tb/<module>/, every Icarus case, stopping at the first failure) "
+         f"against the mutated block's testbench (tb/<module>/, every Icarus case, stopping at the first failure; "
+         f"a module without one against the testbenches that build it: {borrowed}) "
          f"and then, if it passed, small frames ({', '.join(args['scenes'])} at {args['size']}x{args['size']}, Icarus, "
          "every pixel against the golden model) on each configuration whose compiled design the mutation changes "
          "(full, compact, reduced, full_fc and the variants compact on two noise units, full with filter mip and "
