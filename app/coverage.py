@@ -136,21 +136,31 @@ def meets_goal(m: dict) -> bool:
 def load_reasons(path: Path = REASONS) -> list[dict]:
     """app/coverage_reasons.toml's [[uncovered]] entries: module, text (found in the point's first
     source line), optional point (Verilator's comment: block, if, else, cond_then, ...), reason."""
+    return _load(path)["uncovered"]
+
+
+def load_toggle_notes(path: Path = REASONS) -> dict[str, str]:
+    """app/coverage_reasons.toml's [[toggles]] entries: {module: why its bits do not all toggle}."""
+    return {e["module"]: e["reason"] for e in _load(path)["toggles"]}
+
+
+def _load(path: Path) -> dict[str, list[dict]]:
     if not path.exists():
-        return []
+        return {"uncovered": [], "toggles": []}
     try:
         data = tomllib.loads(path.read_text())
     except tomllib.TOMLDecodeError as e:
         raise UserError(f"{path.name}: {e}") from None
-    out = []
-    for i, e in enumerate(data.get("uncovered", [])):
-        miss = [k for k in ("module", "text", "reason") if not isinstance(e.get(k), str) or not e[k]]
-        if miss:
-            raise UserError(f"{path.name}: entry {i + 1}: missing {', '.join(miss)}")
-        if e["reason"].split(":")[0] not in CATEGORIES:
-            raise UserError(f"{path.name}: entry {i + 1}: the reason must start with one of "
-                            + ", ".join(f"'{c}:'" for c in CATEGORIES))
-        out.append(e)
+    out = {}
+    for table, keys in (("uncovered", ("module", "text", "reason")), ("toggles", ("module", "reason"))):
+        out[table] = data.get(table, [])
+        for i, e in enumerate(out[table]):
+            miss = [k for k in keys if not isinstance(e.get(k), str) or not e[k]]
+            if miss:
+                raise UserError(f"{path.name}: [[{table}]] entry {i + 1}: missing {', '.join(miss)}")
+            if table == "uncovered" and e["reason"].split(":")[0] not in CATEGORIES:
+                raise UserError(f"{path.name}: [[{table}]] entry {i + 1}: the reason must start with one of "
+                                + ", ".join(f"'{c}:'" for c in CATEGORIES))
     return out
 
 
@@ -203,9 +213,10 @@ def _cell(text: str, limit: int = 70) -> str:
     return "`" + text.replace("|", "\\|").replace("`", "'") + "`"
 
 
-def doc_body(summ: dict, reasons: list[dict] | None = None) -> str:
+def doc_body(summ: dict, reasons: list[dict] | None = None, toggle_notes: dict | None = None) -> str:
     mods = summ["modules"]
     reasons = load_reasons() if reasons is None else reasons
+    toggle_notes = load_toggle_notes() if toggle_notes is None else toggle_notes
     pct = lambda v: "-" if v is None else f"{v:.1f}"  # noqa: E731
     tot = totals(mods)
     short = [m for m, v in mods.items() if not meets_goal(v)]
@@ -233,10 +244,11 @@ def doc_body(summ: dict, reasons: list[dict] | None = None) -> str:
     low = [(m, v) for m, v in mods.items() if v["toggles_pct"] is not None and v["toggles_pct"] < GOAL["toggles"]]
     if low:
         L += ["", "Below the toggle goal, the signals with the most points never toggled (points: a bit, "
-              "one direction):", ""]
+              "one direction) and why (app/coverage_reasons.toml's [[toggles]]):", ""]
         for mod, v in low:
             top = list(v["untoggled"].items())[:5]
-            L.append(f"- {mod}: " + ", ".join(f"`{sig}` {n}" for sig, n in top))
+            note = toggle_notes.get(mod)
+            L.append(f"- {mod}: " + ", ".join(f"`{sig}` {n}" for sig, n in top) + (f". {note}" if note else ""))
     rows, count = [], dict.fromkeys((*CATEGORIES, NOT_ANALYSED), 0)
     for mod, m in mods.items():
         for u in m["uncovered"]:
@@ -273,7 +285,7 @@ def main(argv=None) -> int:
             if not (ROOT / t.split("::")[0]).exists():
                 raise UserError(f"--tests {t}: no such file or directory")
         tool()
-        load_reasons()  # a malformed reasons file fails before the run, not after it
+        _load(REASONS)  # a malformed reasons file fails before the run, not after it
         out = Path(a.out) if a.out else ROOT / "out" / "coverage"
         dat_dir = out / "dat"
         if a.reuse:

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 import app.coverage as cov
-from app.coverage import CATEGORIES, doc_body, load_reasons, parse_dat, summarize, totals
+from app.coverage import CATEGORIES, doc_body, load_reasons, load_toggle_notes, parse_dat, summarize, totals
 from model.cli import UserError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -55,7 +55,7 @@ def test_parse_summarize_and_doc(tmp_path, monkeypatch):
     reasons = [{"module": "foo", "text": "if (q)", "reason": "unreachable: q is 0 when P = 0"},
                {"module": "foo", "text": "a | b", "point": "block", "reason": "reachable, not tested: wrong point"}]
     body = doc_body({"tests": ["tb/x"], "runs": 1, "seconds": 1.0, "pytest_status": 0, "modules": s,
-                     "command": "make coverage JOBS=1"}, reasons)
+                     "command": "make coverage JOBS=1"}, reasons, {"foo": "b is a constant when P = 0."})
     assert "Written by `make coverage JOBS=1`" in body
     assert "| foo | 2/4 | 50.0 | 1/4 | 25.0 | no |" in body and "| **total** | 2/4 | 50.0 | 1/4 | 25.0 | 0 of 1 modules |" in body
     assert "| foo | 14 | if | `if (q) z <= 0;  // 14` | unreachable: q is 0 when P = 0 |" in body
@@ -63,7 +63,7 @@ def test_parse_summarize_and_doc(tmp_path, monkeypatch):
     assert "| foo | 13 | cond_then | `y <= a \\| b;  // 13` | not analysed yet |" in body
     assert "Line points no test reached: 2 (unreachable: 1, elaboration only: 0, reachable, not tested: 0, " \
            "not analysed yet: 1)" in body
-    assert "Modules below the goal: foo." in body and "- foo: `g[*].b` 2, `a` 1" in body
+    assert "Modules below the goal: foo." in body and "- foo: `g[*].b` 2, `a` 1. b is a constant when P = 0." in body
     assert body.rstrip().splitlines()[-1].startswith("<!-- measured on:")
 
 
@@ -71,6 +71,8 @@ def test_reasons_name_lines_in_rtl():
     """Each entry of app/coverage_reasons.toml is in a known category and its text is in its module's
     source (an entry whose line was edited away is stale: update it with the RTL)."""
     reasons = load_reasons()
+    for mod in load_toggle_notes():
+        assert (ROOT / "rtl" / f"{mod}.v").is_file(), f"coverage toggle note for no module: {mod}"
     for e in reasons:
         assert e["reason"].split(":")[0] in CATEGORIES, e
         src = ROOT / "rtl" / f"{e['module']}.v"
@@ -83,8 +85,11 @@ def test_bad_reasons_file(tmp_path):
     with pytest.raises(UserError, match="must start with one of"):
         load_reasons(p)
     p.write_text('[[uncovered]]\nmodule = "foo"\nreason = "unreachable: P = 0"\n')
-    with pytest.raises(UserError, match="entry 1: missing text"):
+    with pytest.raises(UserError, match=r"\[\[uncovered\]\] entry 1: missing text"):
         load_reasons(p)
+    p.write_text('[[toggles]]\nmodule = "foo"\n')
+    with pytest.raises(UserError, match=r"\[\[toggles\]\] entry 1: missing reason"):
+        load_toggle_notes(p)
 
 
 def test_tiny_coverage_run(tmp_path):
