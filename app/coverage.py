@@ -19,7 +19,8 @@ coverage_file; the frame harness's C++ main writes them too), then
     python -m app.coverage [--tests tb] [--jobs 2] [--out out/coverage] [--no-doc] [--reuse]
 
 --reuse: no test run; merge, annotate and summarize the coverage files of the run already in
---out (its dat/ and the run facts in its summary.json), e.g. after a reason was added.
+--out (its dat/ and the run facts in its summary.json), e.g. after a reason was added (or after
+the points of a test added since were copied into its dat/: the runs are counted again).
 
 Exit status 1 when a test failed (the figures are still written, from the runs that completed).
 """
@@ -295,6 +296,7 @@ def main(argv=None) -> int:
                 raise UserError(f"--reuse: no run to reuse in {out} ({e})") from None
             run = {k: run[k] for k in ("tests", "pytest_status", "runs", "seconds", "command") if k in run}
             run.setdefault("command", f"make coverage JOBS={a.jobs}")  # a run from before the key was kept
+            run["runs"] = len(list(dat_dir.glob("*.dat")))  # a run's points added to dat/ since count
         else:
             setup_verilator_env()
             shutil.rmtree(dat_dir, ignore_errors=True)

@@ -38,8 +38,9 @@ def _sets():
     return out
 
 
-test_cm_align_rtl = pipe.block_test("cm_align", _sets(), ("full_fc", "small_fwait", "full_fwait"), __file__,
-                                    sources=["cm_align.v", "delay_line.v"])
+# under Verilator: each kind of wait (full_wwait: w waits, out_valid from w's path; make coverage)
+test_cm_align_rtl = pipe.block_test("cm_align", _sets(), ("full_fc", "small_fwait", "full_fwait", "full_wwait"),
+                                    __file__, sources=["cm_align.v", "delay_line.v"])
 
 
 @cocotb.test()
