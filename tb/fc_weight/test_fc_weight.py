@@ -6,7 +6,8 @@ pipeline drained between them; each pass streams pixels with stalls and gaps.
 
 Passes: the named configurations' own kinds of T and a (pow2 diagonal, affine), and the hard
 cases: T = 0 and a = 0 terms, the most negative T entry and a, k_used from 0 to K, filter_en
-0, n_log2 0 and n_log2_max. Pixels: J = 0, je at its min and max, the most negative
+0, n_log2 0 and n_log2_max, and a pass whose wv reaches its cap 2^(w_cap_log2 + f_frac) where
+the configuration allows it (every a the most negative, n_log2_max: reduced, compact). Pixels: J = 0, je at its min and max, the most negative
 mantissa, normalised mantissas over a range of je that sweeps the fade from alpha = 1 to 0
 (the interesting region), and uniform random ones.
 
@@ -102,8 +103,11 @@ def make_pass(cfg, r, kind: str):
         T[min(2, K - 1), :, 2] = 0  # a zero column: that axis does not count
         a[min(1, K - 1)] = 0
         a[-1] = alo
+    if kind == "cap":  # every a the most negative, n_log2 the largest: a faded term's wv can reach the cap
+        a[:] = alo
     return SimpleNamespace(a=a, T=T, te=np.zeros(K, dtype=np.int64), ae=np.zeros(K, dtype=np.int64), k_used=int(r.integers(0, K + 1)) if kind == "k_used" else K,
-                           filter=kind != "filter_off", n_log2=int(r.integers(0, cfg.n_log2_max + 1)))
+                           filter=kind != "filter_off",
+                           n_log2=cfg.n_log2_max if kind == "cap" else int(r.integers(0, cfg.n_log2_max + 1)))
 
 
 def make_pixels(cfg, r, tex, n: int):
@@ -146,7 +150,7 @@ async def passes_bit_exact(dut):
     await pipe.start(dut)
     K, af = cfg.noise_terms, cfg.fc_af
     lat = latency("fc_weight")
-    kinds = ["config", "config", "hard", "k_used", "filter_off", "pow2"]
+    kinds = ["config", "config", "hard", "k_used", "filter_off", "pow2", "cap"]
     n = max(64, pipe.n_vectors() // len(kinds))
     total = 0
     for pi, kind in enumerate(kinds):
