@@ -21,11 +21,15 @@
  *   r_out  {r2, r1, r0}, each s{S_W+V_W}.{S_FRAC+q_frac}
  *
  * Pipeline: 1 (the vector's first clock) the products Q_kk s_k | 2 (its second clock) v_k and
- * the products s_k x_k | 3 registered again (beside v_k and J).
+ * the products s_k x_k, into registers that load only in a vector's second clock | 3 those
+ * registers hold (J beside them). No register copies stage 2 into stage 3: the next vector's
+ * second clock comes two enabled clocks later at the earliest (the contract), so stage 2's
+ * registers still hold this vector in the clock quadric_mac's stage 4 reads them (out_valid).
  * Latency `LAT_QMAC_DIAG_FOLD (3) register stages; throughput one vector every other enabled
  * clock at most. CONTRACT: in_valid is never high in two consecutive enabled clocks
  * (texture_pipeline's CLOCKS-cycle issue), and q_coef is stable from the first vector's entry
- * until the last vector's exit. ce = 0 holds every register. rst (synchronous) clears the
+ * until the last vector's exit. r_out and v_out hold a vector while out_valid is high (and until
+ * the next vector's second clock). ce = 0 holds every register. rst (synchronous) clears the
  * valid chain only.
  *
  * Written for event-driven simulation speed: combinational logic in one always @*, one
@@ -144,25 +148,25 @@ always @* begin
     y2 = ma2 * mb2;
 end
 
-reg signed [P2_W-1:0] r0_reg, r1_reg, r2_reg;
-reg signed [V_W-1:0]  v0_3_reg, v1_3_reg, v2_3_reg, v3_3_reg;
+reg signed [V_W-1:0]  v3_3_reg;
 
 always @(posedge clk) begin
     if (ce) begin
         // stage 1 (the vector's first clock)
         p00_reg <= y0[P1_W-1:0];  p11_reg <= y1[P1_W-1:0];  p22_reg <= y2[P1_W-1:0];
         s0_1_reg <= s0;  s1_1_reg <= s1;  s2_1_reg <= s2;
-        // stage 2 (its second clock): v_k and the products s_k x_k
-        v0_reg <= v0;  v1_reg <= v1;  v2_reg <= v2;
-        r0_2_reg <= y0[P2_W-1:0];  r1_2_reg <= y1[P2_W-1:0];  r2_2_reg <= y2[P2_W-1:0];
-        // stage 3; J stands in for v3
-        r0_reg <= r0_2_reg;  r1_reg <= r1_2_reg;  r2_reg <= r2_2_reg;
-        v0_3_reg <= v0_reg;  v1_3_reg <= v1_reg;  v2_3_reg <= v2_reg;  v3_3_reg <= q33_x;
+        // stage 2 (its second clock): v_k and the products s_k x_k, held through stage 3
+        if (second) begin
+            v0_reg <= v0;  v1_reg <= v1;  v2_reg <= v2;
+            r0_2_reg <= y0[P2_W-1:0];  r1_2_reg <= y1[P2_W-1:0];  r2_2_reg <= y2[P2_W-1:0];
+        end
+        // stage 3: J stands in for v3
+        v3_3_reg <= q33_x;
     end
 end
 
-assign r_out = {r2_reg, r1_reg, r0_reg};
-assign v_out = {v3_3_reg, v2_3_reg, v1_3_reg, v0_3_reg};
+assign r_out = {r2_2_reg, r1_2_reg, r0_2_reg};
+assign v_out = {v3_3_reg, v2_reg, v1_reg, v0_reg};
 
 endmodule
 
