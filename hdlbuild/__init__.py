@@ -147,9 +147,17 @@ def gen_dir(config) -> Path:
     cfg = config_of(config)
     out = ROOT / "build" / "gen" / cfg.name
     write_if_changed(out / "texture_unit.v", texture_unit_source(cfg))
-    if not _is_file_config(cfg):
-        write_if_changed(out / "config.toml", config_toml(cfg))
+    _config_file(cfg)
     return out
+
+
+def _config_file(cfg: Config) -> Path | None:
+    """build/gen/<name>/config.toml for a configuration that is not one of config/*.toml (None
+    for one that is): what a simulator's Python side loads. Written without the top's wrapper,
+    so a block of a configuration the top does not take yet (per-term exponents) has it too."""
+    if _is_file_config(cfg):
+        return None
+    return write_if_changed(ROOT / "build" / "gen" / cfg.name / "config.toml", config_toml(cfg))
 
 
 def netlist_wrapper(config) -> Path:
@@ -168,7 +176,8 @@ def config_ref(config) -> str:
     """What a simulator's Python side passes to load_config: the name of a configuration file
     of config/, else the path of its generated config.toml."""
     cfg = config_of(config)
-    return cfg.name if _is_file_config(cfg) else str(gen_dir(cfg) / "config.toml")
+    path = _config_file(cfg)
+    return cfg.name if path is None else str(path)
 
 
 def sim_params():

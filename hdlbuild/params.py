@@ -58,13 +58,27 @@ def perm_literal(cfg: Config) -> str:
     return f"{bits}'h{word:0{(bits + 3) // 4}x}"
 
 
-def rtl_supported(cfg: Config) -> None:
+# the blocks that take the per-term exponents (formats.t_exp_w, a_exp_w) as parameters: their
+# own testbenches build them with exponents; everything above them (noise_leaves, noise_fold,
+# tex_regs, texture_pipeline) has no exponent yet
+EXPONENT_BLOCKS = ("noise_term",)
+
+
+def exponent_params(cfg: Config) -> dict:
+    """T_EXP_W and A_EXP_W for a block that takes them, only where nonzero (a fixed-point
+    configuration's parameter sets, and so its build and synthesis caches, stay as they were)."""
+    return {k.upper(): value(cfg, k) for k in ("t_exp_w", "a_exp_w") if getattr(cfg, k)}
+
+
+def rtl_supported(cfg: Config, module: str | None = None) -> None:
     """ConfigError when cfg uses what the golden model has and the RTL has not: per-term
-    exponents of T_i and a_i (formats.t_exp_w, a_exp_w > 0; issue 26, docs/numerics.md)."""
-    if cfg.t_exp_w or cfg.a_exp_w:
+    exponents of T_i and a_i (formats.t_exp_w, a_exp_w > 0; issue 26, docs/numerics.md), except
+    in `module` when it is one of EXPONENT_BLOCKS."""
+    if (cfg.t_exp_w or cfg.a_exp_w) and module not in EXPONENT_BLOCKS:
+        where = f" for {module}" if module else ""
         raise ConfigError(f"{rel_path(cfg.path) if cfg.path else cfg.name}: formats.t_exp_w = {cfg.t_exp_w}, "
-                          f"a_exp_w = {cfg.a_exp_w}: per-term exponents are in the golden model only, "
-                          "not in the RTL yet (issue 26)")
+                          f"a_exp_w = {cfg.a_exp_w}: per-term exponents are in the golden model and noise_term, "
+                          f"not in the RTL yet{where} (issue 26)")
 
 
 def top_params(cfg: Config) -> dict:
@@ -84,7 +98,7 @@ def _pick(cfg: Config, *keys) -> dict:
 def block_params(cfg: Config, module: str) -> dict:
     """The parameters texture_pipeline gives `module` under `cfg` (its own testbench and gate
     count use the same)."""
-    rtl_supported(cfg)
+    rtl_supported(cfg, module)
     if module == "texture_pipeline":
         return top_params(cfg)
     if module == "quadric_mac":
@@ -95,7 +109,7 @@ def block_params(cfg: Config, module: str) -> dict:
         return {**_pick(cfg, "s_w", "s_frac", "t_w", "t_frac", "a_w", "a_frac", "p_frac", "hash_bits", "n_frac",
                         "f_frac", "c_frac", "transform", "blend", "amplitude", "noise_gradient", "fpga_regs"),
                 "PARAM_PIPE": 1 if folded(cfg) else 0,  # noise_fold's units take a term a clock
-                "PERM": perm_literal(cfg)}
+                **exponent_params(cfg), "PERM": perm_literal(cfg)}
     if module == "noise_hash":
         return {"H": cfg.hash_bits, "N_FRAC": cfg.n_frac, "N_W": cfg.n_w, "PERM": perm_literal(cfg)}
     if module == "filter_width":

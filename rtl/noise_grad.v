@@ -2,10 +2,19 @@
 // value path (stages 4..8 of noise_term), from the value path's own intermediate values:
 //   dx_jk = v1jk - v0jk,  g_x = (lerp(lerp(dx00, dx10, wy), lerp(dx01, dx11, wy), wz) dw_x) >> P_FRAC
 //   g_y   = (lerp(e10 - e00, e11 - e01, wz) dw_y) >> P_FRAC,  g_z = ((fz1 - fz0) dw_z) >> P_FRAC
-//   h_k   = (sum_j g_j T_jk) >> H_SHIFT,  ag_k = (a h_k) >> A_FRAC
+//   h_k   = (sum_j g_j T_jk) >> (H_SHIFT - te),  ag_k = (a h_k) >> (A_FRAC - ae)
 // (">>" a floor; a negative shift count a left shift; BLEND linear: dw = 1, g_j is the lerped
 // difference). Stages 6, 7 and 8 are written once for the three axes (g_axis). The bit-exact
-// twin is model/hw/golden.py noise_grad(cfg, a, T, v, e, fz, wy, wz, dw).
+// twin is model/hw/golden.py noise_grad(cfg, a, T, v, e, fz, wy, wz, dw, te, ae).
+//
+// Block floating point ([t_exp_w] T_EXP_W, [a_exp_w] A_EXP_W > 0; docs/numerics.md "Block
+// floating point"): t_in and a_in are the term's mantissas (T = M 2^(te - T_FRAC), a = A
+// 2^(ae - A_FRAC)) and te, ae its exponents: h_k = ((sum_j g_j M_jk) << te) >> H_SHIFT and
+// ag_k = ((A h_k) << ae) >> A_FRAC, floor shifts right by H_SHIFT - te >= 0 and A_FRAC - ae >=
+// 0 (model/hw/config.py checks H_SHIFT >= 2^T_EXP_W - 1 and A_FRAC >= 2^A_EXP_W - 1, and so
+// does the elaboration below); the products keep their T_W and A_W bit mantissas, the
+// shifted words TE_MAX (AE_MAX) bits more. At 0 (no exponent: te, ae one bit each, not read)
+// the block is as it was.
 //
 // Formats (derived widths from rtl/tex_widths.vh, as noise_term's):
 //   v      8 x s{N_W}.{N_FRAC}, corner (i, j, k) at element 4*i + 2*j + k (the lattice values)
@@ -15,11 +24,13 @@
 //          pow2 3 x {zero, e} of T_jj (E_W + 1 bits, entry j at element j): g_k T_kk = g_k << e
 //   a_in   a as noise_term decodes it: any s{A_W}.{A_FRAC}; pow2 {zero, neg, e} (noise_term's
 //          header: sign(a) h_k << e, exact)
+//   te     u{T_EXP_W}, ae u{A_EXP_W} (one bit each, ignored, when 0)
 //   ag_out 3 x s{AG_W}.{C_FRAC}, component k at element k
-//   Internal: differences s{N_W+1}.{N_FRAC}, g s{GN_W}.{N_FRAC}, h s{H_W}.{C_FRAC + A_FRAC}.
+//   Internal: differences s{N_W+1}.{N_FRAC}, g s{GN_W}.{N_FRAC}, h s{H_W}.{C_FRAC + A_FRAC}
+//   (H_W and AG_W for the largest exponents, rtl/tex_widths.vh tw_h_w_e, tw_ag_w_e).
 // Timing: the inputs of one vector arrive at the stages that read them, counted in enabled
 // clocks after v, wy, dw (noise_term's stage 3 registers): e, wz 1 + LP later, fz 2 + 2 LP,
-// t_in 3 + 3 LP, a_in and load 4 + 3 LP (LP = 2 with FPGA_REGS, else 0: each lerp's extra
+// t_in and te 3 + 3 LP, a_in, ae and load 4 + 3 LP (LP = 2 with FPGA_REGS, else 0: each lerp's extra
 // registers). ag_out holds the vector LATENCY = `LAT_NOISE_GRAD (FPGA_REGS:
 // `LAT_NOISE_GRAD_FPGA = `LAT_NOISE_GRAD + 3 LP) enabled clocks after its v: stages 4 (the
 // x differences' y lerps), 5 (z lerps), 6 (g; FPGA_REGS: LP more beside the z lerp), 7 (h),
@@ -43,8 +54,10 @@ module noise_grad #(
     parameter TRANSFORM = 0,   // [transform] 0 affine, 1 pow2 (diagonal 0 / 2^k: shifts)
     parameter BLEND     = 1,   // [blend] 0 linear (dw = 1), 1 cubic
     parameter AMPLITUDE = 0,   // [amplitude] 0 any, 1 pow2 (0 / +-2^k: shifts)
-    parameter FPGA_REGS = 0    // [fpga_regs] 1: each lerp in three stages (LP = 2)
-) (clk, rst, ce, v, wy, dw, e, wz, fz, t_in, a_in, load, ag_out);
+    parameter FPGA_REGS = 0,   // [fpga_regs] 1: each lerp in three stages (LP = 2)
+    parameter T_EXP_W   = 0,   // [t_exp_w] T's per-term exponent te (0: none; affine only)
+    parameter A_EXP_W   = 0    // [a_exp_w] a's per-term exponent ae (0: none; amplitude any only)
+) (clk, rst, ce, v, wy, dw, e, wz, fz, t_in, te, a_in, ae, load, ag_out);
 
 // (Verilator inlines this block into noise_term, whose copy of these functions it then reports
 // as hidden: the same functions, not a conflict)
@@ -62,17 +75,21 @@ localparam N_W      = tw_bits_signed(64'd1 << N_FRAC);        // n in [-1, 1]
 localparam D_W      = N_W + 1;                                // difference of two lattice-range values
 localparam GN_W     = tw_bits_signed(3 * (64'd1 << N_FRAC));  // |dn/dp| <= 2 * 1.5
 localparam BW       = P_FRAC + 2;                             // blend weight / slope, [0, 1.5]
-localparam H_W      = tw_h_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC);
-localparam AG_W     = tw_ag_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC);
+localparam TE_MAX   = (1 << T_EXP_W) - 1;                    // the largest exponents
+localparam AE_MAX   = (1 << A_EXP_W) - 1;
+localparam TE_W     = (T_EXP_W > 0) ? T_EXP_W : 1;            // te, ae (not read when 0)
+localparam AE_W     = (A_EXP_W > 0) ? A_EXP_W : 1;
+localparam H_W      = tw_h_w_e(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, TE_MAX);
+localparam AG_W     = tw_ag_w_e(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC, TE_MAX, AE_MAX);
 localparam H_SHIFT  = N_FRAC + T_FRAC - C_FRAC;
 localparam H_R      = (H_SHIFT > 0) ? H_SHIFT : 0;            // h: floor shift right by H_SHIFT,
 localparam H_L      = (H_SHIFT < 0) ? -H_SHIFT : 0;           //    or left by -H_SHIFT
-localparam HX_W     = GN_W + T_W + 2 + H_L;                   // h before its shift
+localparam HX_W     = GN_W + T_W + 2 + H_L + TE_MAX;          // h before its shift (<< te)
 localparam E_W      = $clog2(T_W - 1);                        // pow2 T shift amount 0..T_W-2
 localparam TC_W     = AFFINE ? 9*T_W : 3*(E_W + 1);           // t_in
 localparam EA_W     = $clog2(A_W);                            // pow2 amplitude shift 0..A_W-1
 localparam AC_W     = AMP_POW2 ? EA_W + 2 : A_W;              // a_in
-localparam AGP_W    = A_W + H_W;                              // a h
+localparam AGP_W    = A_W + H_W + AE_MAX;                     // a h (<< ae)
 
 input  wire               clk;
 input  wire               rst;
@@ -87,6 +104,10 @@ input  wire [BW-1:0]      wz;
 input  wire [2*N_W-1:0]   fz;
 input  wire [TC_W-1:0]    t_in;
 input  wire [AC_W-1:0]    a_in;
+/* verilator lint_off UNUSEDSIGNAL */  // T_EXP_W, A_EXP_W = 0: no exponents, not read
+input  wire [TE_W-1:0]    te;
+input  wire [AE_W-1:0]    ae;
+/* verilator lint_on UNUSEDSIGNAL */
 input  wire               load;
 output wire [3*AG_W-1:0]  ag_out;
 
@@ -95,7 +116,18 @@ generate
         // elaboration error on purpose: rtl/tex_latency.vh and this block disagree
         noise_grad_latency_mismatch_see_tex_latency_vh u_error ();
     end
+    if (T_EXP_W < 0 || A_EXP_W < 0 || (T_EXP_W > 0 && (!AFFINE || H_SHIFT < TE_MAX))
+        || (A_EXP_W > 0 && (AMP_POW2 || A_FRAC < AE_MAX))) begin : g_bad_params
+        // elaboration error on purpose: an exponent needs its multiplier and a right shift
+        noise_grad_exponents_need_affine_any_and_right_shifts u_error ();
+    end
 endgenerate
+
+// the exponents as stages 7 and 8 read them: 0 without (the shifts by them vanish)
+/* verilator lint_off UNUSEDSIGNAL */  // pow2 T (a): shifts, no exponent
+wire [TE_W-1:0] te_h = (T_EXP_W > 0) ? te : {TE_W{1'b0}};
+wire [AE_W-1:0] ae_h = (A_EXP_W > 0) ? ae : {AE_W{1'b0}};
+/* verilator lint_on UNUSEDSIGNAL */
 
 // stage 4: dx[j][k] = v1jk - v0jk (operands sign-extended to D_W bits: exact);
 // dxy[k] = lerp(dx0k, dx1k, wy)
@@ -186,17 +218,18 @@ generate
         wire [GN_W-1:0] g_p;
         delay_line #(.W(GN_W), .N(LP)) u_dly_g (.clk(clk), .rst(rst), .ce(ce), .d_in(g_next), .d_out(g_p));
 
-        // stage 7: h_k = (sum_j g_j T_jk) >> H_SHIFT (pow2: g_k T_kk = g_k << e_k, or 0); h fits
-        // H_W bits (model/hw/config.py bound), the rest of the word are sign copies
+        // stage 7: h_k = (sum_j g_j T_jk) >> (H_SHIFT - te) (pow2: g_k T_kk = g_k << e_k, or 0);
+        // h fits H_W bits (model/hw/config.py bound), the rest of the word are sign copies
         reg [H_W-1:0]         h_next;
         /* verilator lint_off UNUSEDSIGNAL */
         reg signed [HX_W-1:0] hsum;
         /* verilator lint_on UNUSEDSIGNAL */
         if (AFFINE) begin : g_h_affine
+            // with an exponent (sum << te) >> H_SHIFT: H_SHIFT >= TE_MAX, so H_L = 0
             always @* begin
-                hsum = ((g0_reg * $signed(t_in[(0+gk)*T_W +: T_W])
-                       + g1_reg * $signed(t_in[(3+gk)*T_W +: T_W])
-                       + g2_reg * $signed(t_in[(6+gk)*T_W +: T_W])) <<< H_L) >>> H_R;
+                hsum = (((g0_reg * $signed(t_in[(0+gk)*T_W +: T_W])
+                        + g1_reg * $signed(t_in[(3+gk)*T_W +: T_W])
+                        + g2_reg * $signed(t_in[(6+gk)*T_W +: T_W])) <<< te_h) <<< H_L) >>> H_R;
                 h_next = hsum[H_W-1:0];
             end
         end else begin : g_h_pow2
@@ -210,8 +243,8 @@ generate
             end
         end
 
-        // stage 8: ag_k = (a h_k) >> A_FRAC; ag fits AG_W bits (model/hw/config.py bound), the
-        // rest of the product are sign copies
+        // stage 8: ag_k = (a h_k) >> (A_FRAC - ae); ag fits AG_W bits (model/hw/config.py
+        // bound), the rest of the product are sign copies
         reg signed [H_W-1:0]    h_k;
         reg [AG_W-1:0]          ag_next;
         /* verilator lint_off UNUSEDSIGNAL */
@@ -229,9 +262,10 @@ generate
                 ag_next = agp[AG_W-1:0];
             end
         end else begin : g_ag_any
+            // with an exponent (a h_k << ae) >> A_FRAC: A_FRAC >= AE_MAX
             always @* begin
                 h_k     = (gk == 0) ? h0_reg : (gk == 1) ? h1_reg : h2_reg;
-                agp     = ($signed(a_in) * h_k) >>> A_FRAC;
+                agp     = (($signed(a_in) * h_k) <<< ae_h) >>> A_FRAC;
                 ag_next = agp[AG_W-1:0];
             end
         end

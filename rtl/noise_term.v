@@ -1,23 +1,35 @@
 // noise_term: one noise term a n(T s + o) and its texture-space gradient a (dn/dp) T.
 //
-// The bit-exact twin of model/hw/golden.py noise_term(cfg, a, T, o, s) (with noise_hash,
-// noise_blend and lerp), for one vector per enabled clock:
-//   p_j  = ((sum_k T_jk s_k) >> TS_SHIFT) + o_j  mod 2^P_W     (lattice cell . fraction)
+// The bit-exact twin of model/hw/golden.py noise_term(cfg, a, T, o, s, te, ae) (with
+// noise_hash, noise_blend and lerp), for one vector per enabled clock:
+//   p_j  = ((sum_k T_jk s_k) >> (TS_SHIFT - te)) + o_j  mod 2^P_W     (lattice cell . fraction)
 //   v    = lattice values at the 8 cell corners (noise_hash), w/dw = blend weights (noise_blend)
 //   n    = trilinear blend of v with the weights, x first, then y, then z (lerp)
-//   an   = (a n) >> AN_SHIFT
+//   an   = (a n) >> (AN_SHIFT - ae)
 //   g_x  = (lerp(lerp(dx00, dx10, wy), lerp(dx01, dx11, wy), wz) dw_x) >> P_FRAC, dx = v1jk - v0jk
 //   g_y  = (lerp(e10 - e00, e11 - e01, wz) dw_y) >> P_FRAC, g_z = ((fz1 - fz0) dw_z) >> P_FRAC
-//   h_k  = (sum_j g_j T_jk) >> H_SHIFT,   ag_k = (a h_k) >> A_FRAC
+//   h_k  = (sum_j g_j T_jk) >> (H_SHIFT - te),   ag_k = (a h_k) >> (A_FRAC - ae)
 // Every ">>" is a floor (arithmetic shift right of a signed word); a negative shift
-// count is a left shift.
+// count is a left shift. te = ae = 0 without exponents (T_EXP_W = A_EXP_W = 0).
+//
+// Block floating point ([t_exp_w] T_EXP_W, [a_exp_w] A_EXP_W > 0; docs/numerics.md "Block
+// floating point"): T and a are the term's mantissas M, A with one exponent each, T = M
+// 2^(te - T_FRAC), a = A 2^(ae - A_FRAC); te rides in t_in above the nine entries and ae in
+// a_in above the mantissa (so the ports are as they were at 0). Only the floor shifts move:
+// noise_xform's TS_SHIFT - te (stage 2), noise_grad's H_SHIFT - te (stage 7) and A_FRAC - ae
+// (stage 8), and a n's AN_SHIFT - ae here (stage 8), each a right shift (model/hw/config.py
+// checks TS_SHIFT, H_SHIFT >= 2^T_EXP_W - 1 and AN_SHIFT, A_FRAC >= 2^A_EXP_W - 1; the
+// elaboration too); the multipliers keep their T_W and A_W bit words. te needs an affine T
+// and ae amplitude any.
 //
 // Formats (the parameters below; derived widths from rtl/tex_widths.vh):
 //   s_in   3 x s{S_W}.{S_FRAC}, {r, t, s} (s at the LSBs)
-//   a_in   s{A_W}.{A_FRAC}
-//   t_in   9 x s{T_W}.{T_FRAC}, T[j][k] at element 3*j + k
+//   a_in   s{A_W}.{A_FRAC}; A_EXP_W > 0: {ae u{A_EXP_W}, A s{A_W}} (A_W + A_EXP_W bits)
+//   t_in   9 x s{T_W}.{T_FRAC}, T[j][k] at element 3*j + k; T_EXP_W > 0: {te u{T_EXP_W}, the
+//          nine mantissas} (9 T_W + T_EXP_W bits)
 //   o_in   3 x u{O_W}.{P_FRAC} (O_W = P_W = HASH_BITS + P_FRAC: a phase mod the lattice period)
-//   an_out s{AN_W}.{F_FRAC};  ag_out 3 x s{AG_W}.{C_FRAC} (all 0 when NOISE_GRADIENT = 0)
+//   an_out s{AN_W}.{F_FRAC};  ag_out 3 x s{AG_W}.{C_FRAC} (all 0 when NOISE_GRADIENT = 0);
+//          AN_W, AG_W (and H_W) for the largest exponents (rtl/tex_widths.vh tw_*_w_e)
 // Internal: p u{P_W}.{P_FRAC}; v, e, fz, n s{N_W}.{N_FRAC}; differences s{N_W+1}.{N_FRAC};
 //   w, dw s{BLEND_W}.{P_FRAC} in [0, 1.5]; g s{GN_W}.{N_FRAC}; h s{H_W}.{C_FRAC + A_FRAC}.
 // Blocks: p_j is noise_xform, once per axis (stages 1, 2); the gradient (g, h, ag) is
@@ -50,6 +62,7 @@
 //   6  z lerp -> n; noise_grad: g = (. dw) >> P_FRAC (cubic; linear: dw = 1, a wire)
 //   7  n delayed; noise_grad: h = (g T) >> H_SHIFT (pow2: shifts)
 //   8  an = (a n) >> AN_SHIFT, noise_grad: ag = (a h) >> A_FRAC (pow2: shifts; output registers)
+//      (with exponents: >> (AN_SHIFT - ae), >> (A_FRAC - ae); stages 2 and 7 >> (. - te))
 // FPGA_REGS = 1 ([fpga_regs]; `LAT_NOISE_TERM_FPGA = 16 stages): eight more: stage 3 in
 // three (P = 2: noise_hash one ROM level a clock, beside it noise_blend's f2 and f3 registered
 // after its multipliers), and in stages 4, 5, 6 every lerp in three (LP = 2: b - a registered
@@ -59,13 +72,14 @@
 // Parameters (PARAM_PIPE = 0): a_in, t_in, o_in are per-pass parameters, not per-vector
 // data. No register carries them down the pipeline: each is read directly by the stage that
 // needs it (t_in by stages 1 and 7, o_in by stage 2, a_in by stage 8; pow2 T and a
-// through their combinational decoders, tc_in and ac_in).
+// through their combinational decoders, tc_in and ac_in; te by stages 2 and 7, ae by 8).
 // CONTRACT: a_in, t_in, o_in must be stable from the first vector's entry until the
 // last vector's exit; texture_pipeline guarantees it: parameters are written only
 // when the pipeline is empty (between passes). Changing them with vectors in flight
 // gives those vectors a mixture of old and new parameters. PARAM_PIPE = 1 (noise_fold): the
 // parameters are per-vector data, taken with in_valid and carried down beside the vector
-// (o for 1 stage, T for 6, a for 7; in pow2 modes the decoded shifts, a few bits each).
+// (o for 1 stage, T for 6, a for 7; in pow2 modes the decoded shifts, a few bits each; te
+// with T: 1 stage to noise_xform's stage 2 beside o, 6 to noise_grad's stage 7; ae with a, 7).
 // ce = 0 holds every register. rst clears the valid chain and the output registers
 // (the output registers load only with a valid vector, so no X reaches the outputs).
 //
@@ -104,6 +118,8 @@ module noise_term #(
     // in_valid and travel down the pipeline with it (noise_fold: another term every clock)
     parameter PARAM_PIPE     = 0,
     parameter FPGA_REGS      = 0,   // [fpga_regs] 1: the eight extra register stages above
+    parameter T_EXP_W        = 0,   // [t_exp_w] T's per-term exponent te in t_in (0: none; affine only)
+    parameter A_EXP_W        = 0,   // [a_exp_w] a's per-term exponent ae in a_in (0: none; amplitude any only)
     // the lattice permutation, entry i at [i*HASH_BITS +: HASH_BITS] (noise_hash)
     parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}
 ) (clk, rst, ce, in_valid, s_in, a_in, t_in, o_in, out_valid, an_out, ag_out);
@@ -128,15 +144,21 @@ localparam P_W      = HASH_BITS + P_FRAC;                     // p: cell . fract
 localparam O_W      = P_W;                                    // offset o: a phase of p
 localparam N_W      = tw_bits_signed(64'd1 << N_FRAC);        // n in [-1, 1]
 localparam BW       = P_FRAC + 2;                             // blend weight / slope, [0, 1.5]
-localparam AN_W     = tw_an_w(A_W, A_FRAC, N_FRAC, F_FRAC);
-localparam AG_W     = tw_ag_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC);
+localparam TE_MAX   = (1 << T_EXP_W) - 1;                    // the largest exponents (0: none)
+localparam AE_MAX   = (1 << A_EXP_W) - 1;
+localparam TE_W     = (T_EXP_W > 0) ? T_EXP_W : 1;            // te, ae as the children take them
+localparam AE_W     = (A_EXP_W > 0) ? A_EXP_W : 1;
+localparam TIN_W    = 9*T_W + T_EXP_W;                        // t_in: {te, T}
+localparam AIN_W    = A_W + A_EXP_W;                          // a_in: {ae, a}
+localparam AN_W     = tw_an_w_e(A_W, A_FRAC, N_FRAC, F_FRAC, AE_MAX);
+localparam AG_W     = tw_ag_w_e(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC, TE_MAX, AE_MAX);
 localparam AN_SHIFT = A_FRAC + N_FRAC - F_FRAC;
 // the blocks' own derivations, restated for tb/test_widths.py (which reads them here, where
 // every configuration has them): noise_xform's TS_SHIFT, noise_grad's GN_W, H_W, H_SHIFT
 /* verilator lint_off UNUSEDPARAM */
 localparam TS_SHIFT = S_FRAC + T_FRAC - P_FRAC;
 localparam GN_W     = tw_bits_signed(3 * (64'd1 << N_FRAC));
-localparam H_W      = tw_h_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC);
+localparam H_W      = tw_h_w_e(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, TE_MAX);
 localparam H_SHIFT  = N_FRAC + T_FRAC - C_FRAC;
 /* verilator lint_on UNUSEDPARAM */
 
@@ -145,8 +167,8 @@ input  wire                      rst;
 input  wire                      ce;
 input  wire                      in_valid;
 input  wire [3*S_W-1:0]          s_in;
-input  wire [A_W-1:0]            a_in;
-input  wire [9*T_W-1:0]          t_in;
+input  wire [AIN_W-1:0]          a_in;
+input  wire [TIN_W-1:0]          t_in;
 input  wire [3*O_W-1:0]          o_in;
 output wire                      out_valid;
 output wire [AN_W-1:0]           an_out;
@@ -156,7 +178,7 @@ localparam E_W      = $clog2(T_W - 1);      // pow2 shift amount 0..T_W-2
 localparam TC_W     = AFFINE ? 9*T_W : 3*(E_W + 1);  // T as stages 1 and 7 read it
 localparam TR_W     = AFFINE ? 3*T_W : E_W + 1;      // one row of it (noise_xform)
 localparam ANP_W    = A_W + N_W;
-localparam ANX_W    = ANP_W + ((AN_SHIFT < 0) ? -AN_SHIFT : 0);
+localparam ANX_W    = ANP_W + ((AN_SHIFT < 0) ? -AN_SHIFT : 0) + AE_MAX;  // a n (<< ae)
 localparam AN_R     = (AN_SHIFT > 0) ? AN_SHIFT : 0;   // an: floor shift right by AN_SHIFT,
 localparam AN_L     = (AN_SHIFT < 0) ? -AN_SHIFT : 0;  //     or left by -AN_SHIFT
 localparam EA_W     = $clog2(A_W);          // pow2 amplitude shift 0..A_W-1
@@ -167,12 +189,36 @@ generate
         // elaboration error on purpose: rtl/tex_latency.vh and this block disagree
         noise_term_latency_mismatch_see_tex_latency_vh u_error ();
     end
+    if (A_EXP_W < 0 || (A_EXP_W > 0 && (AMP_POW2 || AN_SHIFT < AE_MAX))) begin : g_bad_params
+        // elaboration error on purpose: ae needs a's multiplier and a right shift of a n
+        noise_term_a_exponent_needs_amplitude_any_and_an_shift u_error ();
+    end
 endgenerate
 
 // ---------------------------------------------------------------------------
 // Parameters, stable for the whole pass (see the contract in the header): read
 // directly where needed, not pipelined. The decoders below change only when the
 // parameters do (between passes).
+
+// the mantissas and the exponents (0 when there are none: not read then)
+wire [A_W-1:0]   a_m = a_in[A_W-1:0];
+wire [9*T_W-1:0] t_m = t_in[9*T_W-1:0];
+/* verilator lint_off UNUSEDSIGNAL */  // PARAM_PIPE = 1 without exponents: not read
+wire [TE_W-1:0]  te_in;
+wire [AE_W-1:0]  ae_in;
+/* verilator lint_on UNUSEDSIGNAL */
+generate
+    if (T_EXP_W > 0) begin : g_te
+        assign te_in = t_in[9*T_W +: TE_W];
+    end else begin : g_no_te
+        assign te_in = {TE_W{1'b0}};
+    end
+    if (A_EXP_W > 0) begin : g_ae
+        assign ae_in = a_in[A_W +: AE_W];
+    end else begin : g_no_ae
+        assign ae_in = {AE_W{1'b0}};
+    end
+endgenerate
 
 wire [AC_W-1:0] ac_in;              // a as stage 8 needs it (any: a; pow2: {zero, neg, e})
 // T as stages 1 and 7 need it (affine: T; pow2: {zero, e} per diagonal entry, entry j
@@ -190,17 +236,17 @@ generate
             // priority encoder: the lowest set bit of a (0 when a = 0)
             e = {EA_W{1'b0}};
             for (i = A_W - 1; i >= 0; i = i - 1) begin
-                if (a_in[i]) e = i[EA_W-1:0];
+                if (a_m[i]) e = i[EA_W-1:0];
             end
-            ac = {a_in == {A_W{1'b0}}, a_in[A_W-1], e};
+            ac = {a_m == {A_W{1'b0}}, a_m[A_W-1], e};
         end
         assign ac_in = ac;
     end else begin : g_a_any
-        assign ac_in = a_in;
+        assign ac_in = a_m;
     end
 
     if (AFFINE) begin : g_t_affine
-        assign tc_in = t_in;
+        assign tc_in = t_m;
     end else begin : g_t_pow2
         // T_jj = 2^e: e is the highest set bit of T_jj below the sign (0 when T_jj = 0)
         reg [TC_W-1:0]        tc;
@@ -210,7 +256,7 @@ generate
         always @* begin
             tc = {TC_W{1'b0}};
             for (j = 0; j < 3; j = j + 1) begin
-                t_jj = t_in[(4*j)*T_W +: T_W];
+                t_jj = t_m[(4*j)*T_W +: T_W];
                 e    = {E_W{1'b0}};
                 for (i = 0; i < T_W - 1; i = i + 1) begin
                     if (t_jj[i]) e = i[E_W-1:0];
@@ -221,22 +267,28 @@ generate
         assign tc_in = tc;
         // the quantizer guarantees a diagonal T: the off-diagonal entries are not read
         /* verilator lint_off UNUSEDSIGNAL */
-        wire [6*T_W-1:0] t_offdiag = {t_in[5*T_W +: 3*T_W], t_in[1*T_W +: 3*T_W]};
+        wire [6*T_W-1:0] t_offdiag = {t_m[5*T_W +: 3*T_W], t_m[1*T_W +: 3*T_W]};
         /* verilator lint_on UNUSEDSIGNAL */
     end
 endgenerate
 
 // ---------------------------------------------------------------------------
 // The parameters as each stage sees them: stage 1 reads tc_in itself; stage 2 reads
-// o_s2, stage 7 tc_s7 and stage 8 ac_s8. PARAM_PIPE = 0: the ports themselves (stable);
-// PARAM_PIPE = 1: delayed with the vector (1, 6 and 7 enabled clocks), so that every stage
-// works with its own vector's term.
+// o_s2 and te_s2, stage 7 tc_s7 and te_s7, stage 8 ac_s8 and ae_s8. PARAM_PIPE = 0: the
+// ports themselves (stable); PARAM_PIPE = 1: delayed with the vector (1, 6 and 7 enabled
+// clocks), so that every stage works with its own vector's term (te with T, ae with a;
+// without exponents they are constant 0 and no register carries them).
 
 wire [3*O_W-1:0] o_s2;
-/* verilator lint_off UNUSEDSIGNAL */  // without the gradient, stage 7 reads no T
+/* verilator lint_off UNUSEDSIGNAL */  // without the gradient, stage 7 reads no T (nor te)
 wire [TC_W-1:0]  tc_s7;
+wire [TE_W-1:0]  te_s7;
 /* verilator lint_on UNUSEDSIGNAL */
+wire [TE_W-1:0]  te_s2;
 wire [AC_W-1:0]  ac_s8;
+/* verilator lint_off UNUSEDSIGNAL */  // pow2 amplitude without the gradient: no exponent read
+wire [AE_W-1:0]  ae_s8;
+/* verilator lint_on UNUSEDSIGNAL */
 
 generate
     if (PARAM_PIPE != 0) begin : g_param_pipe
@@ -247,10 +299,30 @@ generate
         end else begin : g_no_t
             assign tc_s7 = {TC_W{1'b0}};
         end
+        if (T_EXP_W > 0) begin : g_te_pipe
+            delay_line #(.W(TE_W), .N(1)) u_dly_te2 (.clk(clk), .rst(rst), .ce(ce), .d_in(te_in), .d_out(te_s2));
+            if (GRAD) begin : g_te7
+                delay_line #(.W(TE_W), .N(5 + P + 3*LP)) u_dly_te7 (.clk(clk), .rst(rst), .ce(ce), .d_in(te_s2),
+                                                                    .d_out(te_s7));
+            end else begin : g_no_te7
+                assign te_s7 = {TE_W{1'b0}};
+            end
+        end else begin : g_te_none
+            assign te_s2 = {TE_W{1'b0}};
+            assign te_s7 = {TE_W{1'b0}};
+        end
+        if (A_EXP_W > 0) begin : g_ae_pipe
+            delay_line #(.W(AE_W), .N(7 + P + 3*LP)) u_dly_ae (.clk(clk), .rst(rst), .ce(ce), .d_in(ae_in), .d_out(ae_s8));
+        end else begin : g_ae_none
+            assign ae_s8 = {AE_W{1'b0}};
+        end
     end else begin : g_param_static
         assign o_s2  = o_in;
         assign tc_s7 = tc_in;
         assign ac_s8 = ac_in;
+        assign te_s2 = te_in;
+        assign te_s7 = te_in;
+        assign ae_s8 = ae_in;
     end
 endgenerate
 
@@ -286,10 +358,10 @@ generate
         wire [HB-1:0]     ip_j;      // cell of axis j (stage 2 registers)
         noise_xform #(
             .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .P_FRAC(P_FRAC), .HASH_BITS(HB),
-            .TRANSFORM(TRANSFORM), .AXIS(gj)
+            .TRANSFORM(TRANSFORM), .AXIS(gj), .T_EXP_W(T_EXP_W)
         ) u_xform (
             .clk(clk), .ce(ce), .s_in(s_in), .t_row(tc_in[gj*TR_W +: TR_W]), .o_in(o_s2[gj*O_W +: O_W]),
-            .ip(ip_j), .fp(fp)
+            .te(te_s2), .ip(ip_j), .fp(fp)
         );
         // stage 3: w, dw of axis j (the slopes only feed the gradient)
         wire signed [BW-1:0] w_j;
@@ -354,7 +426,7 @@ lerp #(.W(N_W), .TW(BW), .P_FRAC(P_FRAC), .PIPE(LP)) u_lerp_z (
 );
 
 // ---------------------------------------------------------------------------
-// Stage 8: an = (a n) >> AN_SHIFT (output register)
+// Stage 8: an = (a n) >> (AN_SHIFT - ae) (output register)
 
 reg [AN_W-1:0] an_next;
 
@@ -373,11 +445,13 @@ generate
             an_next = an_w[AN_W-1:0];
         end
     end else begin : g_an_any
+        // with an exponent ((a n) << ae) >> AN_SHIFT: AN_SHIFT >= AE_MAX, so AN_L = 0 (without,
+        // ae_s8 is a constant 0)
         /* verilator lint_off UNUSEDSIGNAL */
         reg signed [ANX_W-1:0]  an_w;
         /* verilator lint_on UNUSEDSIGNAL */
         always @* begin
-            an_w  = (($signed(ac_s8) * n7_reg) <<< AN_L) >>> AN_R;
+            an_w  = ((($signed(ac_s8) * n7_reg) <<< ae_s8) <<< AN_L) >>> AN_R;
             an_next = an_w[AN_W-1:0];
         end
     end
@@ -422,11 +496,12 @@ generate
         end
         noise_grad #(
             .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC), .P_FRAC(P_FRAC), .N_FRAC(N_FRAC),
-            .C_FRAC(C_FRAC), .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .FPGA_REGS(FPGA_REGS)
+            .C_FRAC(C_FRAC), .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .FPGA_REGS(FPGA_REGS),
+            .T_EXP_W(T_EXP_W), .A_EXP_W(A_EXP_W)
         ) u_grad (
             .clk(clk), .rst(rst), .ce(ce),
             .v(v_reg), .wy(wy_reg), .dw(dw_reg), .e(e_reg), .wz(wz4_reg), .fz(fz_reg),
-            .t_in(tc_s7), .a_in(ac_s8), .load(valid_reg[STAGES-2]),
+            .t_in(tc_s7), .te(te_s7), .a_in(ac_s8), .ae(ae_s8), .load(valid_reg[STAGES-2]),
             .ag_out(ag_out)
         );
     end else begin : g_no_grad

@@ -160,52 +160,100 @@ endfunction
 // ---------------------------------------------------------------------------
 // noise term: n in [-1, 1) with n_frac fraction bits, a n, a grad n
 
+// Block floating point (formats.t_exp_w, a_exp_w; docs/numerics.md): T_i = M_i 2^(te_i -
+// t_frac), a_i = A_i 2^(ae_i - a_frac); the bounds take the largest exponents te_max = 2^t_exp_w
+// - 1 and ae_max = 2^a_exp_w - 1 (the *_e functions; the others are the same at te_max =
+// ae_max = 0, fixed point)
+
 // |a n| bound with f_frac fraction bits, and its word
+function [63:0] tw_an_max_e;
+    input integer a_w, a_frac, n_frac, f_frac, ae_max;
+    begin
+        tw_an_max_e = tw_shift_bound(tw_pow2m1(a_w) * (64'd1 << n_frac), ae_max - (a_frac + n_frac - f_frac));
+    end
+endfunction
+
 function [63:0] tw_an_max;
     input integer a_w, a_frac, n_frac, f_frac;
     begin
-        tw_an_max = tw_shift_bound(tw_pow2m1(a_w) * (64'd1 << n_frac), -(a_frac + n_frac - f_frac));
+        tw_an_max = tw_an_max_e(a_w, a_frac, n_frac, f_frac, 0);
+    end
+endfunction
+
+function integer tw_an_w_e;
+    input integer a_w, a_frac, n_frac, f_frac, ae_max;
+    begin
+        tw_an_w_e = tw_bits_signed(tw_an_max_e(a_w, a_frac, n_frac, f_frac, ae_max));
     end
 endfunction
 
 function integer tw_an_w;
     input integer a_w, a_frac, n_frac, f_frac;
     begin
-        tw_an_w = tw_bits_signed(tw_an_max(a_w, a_frac, n_frac, f_frac));
+        tw_an_w = tw_an_w_e(a_w, a_frac, n_frac, f_frac, 0);
     end
 endfunction
 
 // |h_k| = |(g T)_k| bound (fraction c_frac + a_frac): |g_j| <= 3 2^n_frac (cubic slope 1.5)
 // or 2 2^n_frac (linear); pow2 T: one product per h_k, T_kk <= 2^(t_w - 2)
-function [63:0] tw_h_max;
-    input integer cubic, pow2, t_w, t_frac, n_frac, c_frac;
+function [63:0] tw_h_max_e;
+    input integer cubic, pow2, t_w, t_frac, n_frac, c_frac, te_max;
     reg [63:0] g, hs;
     begin
         g  = (cubic != 0) ? 3 * (64'd1 << n_frac) : 2 * (64'd1 << n_frac);
         hs = (pow2 != 0) ? (g << (t_w - 2)) : 3 * g * tw_pow2m1(t_w);
-        tw_h_max = tw_shift_bound(hs, -(n_frac + t_frac - c_frac));
+        tw_h_max_e = tw_shift_bound(hs, te_max - (n_frac + t_frac - c_frac));
+    end
+endfunction
+
+function [63:0] tw_h_max;
+    input integer cubic, pow2, t_w, t_frac, n_frac, c_frac;
+    begin
+        tw_h_max = tw_h_max_e(cubic, pow2, t_w, t_frac, n_frac, c_frac, 0);
+    end
+endfunction
+
+function integer tw_h_w_e;
+    input integer cubic, pow2, t_w, t_frac, n_frac, c_frac, te_max;
+    begin
+        tw_h_w_e = tw_bits_signed(tw_h_max_e(cubic, pow2, t_w, t_frac, n_frac, c_frac, te_max));
     end
 endfunction
 
 function integer tw_h_w;
     input integer cubic, pow2, t_w, t_frac, n_frac, c_frac;
     begin
-        tw_h_w = tw_bits_signed(tw_h_max(cubic, pow2, t_w, t_frac, n_frac, c_frac));
+        tw_h_w = tw_h_w_e(cubic, pow2, t_w, t_frac, n_frac, c_frac, 0);
     end
 endfunction
 
 // |a h_k| bound (fraction c_frac), and its word
+function [63:0] tw_ag_max_e;
+    input integer cubic, pow2, t_w, t_frac, n_frac, c_frac, a_w, a_frac, te_max, ae_max;
+    begin
+        tw_ag_max_e = tw_shift_bound(tw_pow2m1(a_w) * tw_h_max_e(cubic, pow2, t_w, t_frac, n_frac, c_frac, te_max),
+                                     ae_max - a_frac);
+    end
+endfunction
+
 function [63:0] tw_ag_max;
     input integer cubic, pow2, t_w, t_frac, n_frac, c_frac, a_w, a_frac;
     begin
-        tw_ag_max = tw_shift_bound(tw_pow2m1(a_w) * tw_h_max(cubic, pow2, t_w, t_frac, n_frac, c_frac), -a_frac);
+        tw_ag_max = tw_ag_max_e(cubic, pow2, t_w, t_frac, n_frac, c_frac, a_w, a_frac, 0, 0);
+    end
+endfunction
+
+function integer tw_ag_w_e;
+    input integer cubic, pow2, t_w, t_frac, n_frac, c_frac, a_w, a_frac, te_max, ae_max;
+    begin
+        tw_ag_w_e = tw_bits_signed(tw_ag_max_e(cubic, pow2, t_w, t_frac, n_frac, c_frac, a_w, a_frac, te_max, ae_max));
     end
 endfunction
 
 function integer tw_ag_w;
     input integer cubic, pow2, t_w, t_frac, n_frac, c_frac, a_w, a_frac;
     begin
-        tw_ag_w = tw_bits_signed(tw_ag_max(cubic, pow2, t_w, t_frac, n_frac, c_frac, a_w, a_frac));
+        tw_ag_w = tw_ag_w_e(cubic, pow2, t_w, t_frac, n_frac, c_frac, a_w, a_frac, 0, 0);
     end
 endfunction
 

@@ -140,6 +140,37 @@ def configs(*seeds, colour_edges: bool = False):
     return out
 
 
+def exponent_configs(*seeds):
+    """[(name, Config)] with per-term exponents (formats.t_exp_w, a_exp_w; docs/numerics.md "Block
+    floating point"), for the blocks that take them: full_bfp (config/candidates/full_bfp.toml),
+    "full_exp" (full with t_exp_w = 1 and a_exp_w = 2: the exponents as wide as its shifts allow,
+    te_max = TS_SHIFT and ae_max = AN_SHIFT, so the largest exponent leaves a shift of 0), and per
+    seed "exp<seed>": random_config(seed) (redrawn with seed + 1000 k until both exponents fit) made
+    affine with amplitude any, with the widest exponents (at most 3 bits) its shifts allow."""
+    from model.hw.config import ROOT, ConfigError, random_config, variant
+
+    def widest(limit: int) -> int:
+        return max((e for e in range(4) if (1 << e) - 1 <= limit), default=0)
+
+    out = [("full_bfp", load_config(str(ROOT / "config" / "candidates" / "full_bfp.toml"))),
+           ("full_exp", variant(load_config("full"), "full_exp", t_exp_w=1, a_exp_w=2))]
+    for seed in seeds:
+        for k in range(100):
+            c = random_config(seed + 1000 * k)
+            te = widest(min(c.s_frac + c.t_frac - c.p_frac, c.n_frac + c.t_frac - c.c_frac))
+            ae = widest(min(c.a_frac + c.n_frac - c.f_frac, c.a_frac))
+            if te and ae:
+                try:
+                    out.append((f"exp{seed}", variant(c, f"exp{seed}", transform="affine", amplitude="any",
+                                                      t_exp_w=te, a_exp_w=ae)))
+                    break
+                except ConfigError:
+                    continue
+        else:
+            raise ConfigError(f"exponent_configs: no configuration with exponents from seed {seed}")
+    return out
+
+
 def block_params() -> dict:
     """The HDL parameters the block under test was built with (run_block)."""
     return json.loads(os.environ["BLOCK_PARAMS"])

@@ -8,6 +8,9 @@ gives it under Icarus, reads every derived width back from the elaborated instan
 (hierarchical references to their localparams, printed by $display), and compares each
 with the Python value. A differing width is a derivation written twice that drifted apart.
 
+Configurations with per-term exponents (formats.t_exp_w, a_exp_w > 0: tb.pipe.exponent_configs),
+which only noise_term takes yet (hdlbuild refuses them for the top): the noise_term widths alone.
+
 Environment: RANDOM_WIDTH_CONFIGS (default 10) random configurations, RANDOM_SEED picks
 another set.
 """
@@ -22,6 +25,7 @@ import pytest
 
 import hdlbuild
 from hdlbuild.params import block_params
+from tb import pipe
 
 # Python key -> elaborated name: under the top (texture_unit.u_pipe), or the stand-alone
 # noise_term (nt) and cmap_sat (cs), which exist for every configuration (also without noise
@@ -31,7 +35,7 @@ WIDTHS = {
     "v_w": f"{TOP}.u_quadric_mac.V_W", "qv_w": f"{TOP}.u_quadric_mac.QV_W", "qf_w": f"{TOP}.u_quadric_mac.QF_W",
     "p_w": "nt.P_W", "o_w": "nt.O_W", "ts_shift": "nt.TS_SHIFT", "n_w": "nt.N_W", "gn_w": "nt.GN_W",
     "blend_w": "nt.BW", "an_shift": "nt.AN_SHIFT", "an_w": "nt.AN_W", "h_shift": "nt.H_SHIFT", "h_w": "nt.H_W",
-    "ag_w": "nt.AG_W",
+    "ag_w": "nt.AG_W", "te_max": "nt.TE_MAX", "ae_max": "nt.AE_MAX",
     "f_w": f"{TOP}.F_W", "c_w": f"{TOP}.C_W", "n_log2_w": f"{TOP}.NL_W",
     "g_w": f"{TOP}.u_filter_width.G_W", "gabs_w": f"{TOP}.u_filter_width.GABS_W",
     "l_w": f"{TOP}.u_filter_width.L_W", "r_w": f"{TOP}.u_filter_width.R_W", "sh_w": f"{TOP}.u_filter_width.SH_W",
@@ -55,31 +59,40 @@ def _configs():
     return list(hdlbuild.CONFIGS) + [f"random:{base + i}" for i in range(n)]
 
 
-def elaborated_widths(config) -> dict:
-    """{name: value} of every entry of WIDTHS and CROSS, read from the elaborated RTL."""
+def elaborated_widths(config, top: bool = True) -> dict:
+    """{name: value} of every entry of WIDTHS and CROSS, read from the elaborated RTL (top False:
+    the stand-alone noise_term's alone, "nt." of WIDTHS)."""
     if shutil.which("iverilog") is None:
         raise RuntimeError("iverilog: not found on PATH (run `make setup`)")
     cfg = hdlbuild.config_of(config)
-    gdir = hdlbuild.gen_dir(cfg)
     nt = block_params(cfg, "noise_term")
+    nt_probe = "noise_term #(" + ", ".join(f".{k}({v})" for k, v in nt.items()) + ") nt ();"
+    if not top:
+        names = {k: v for k, v in WIDTHS.items() if v.startswith("nt.")}
+        return _elaborate(cfg, ["module width_probe;", nt_probe], names, [])
+    gdir = hdlbuild.gen_dir(cfg)
     sat2 = cfg.d2_w <= 62
     names = {**WIDTHS, **(SAT2_WIDTHS if sat2 else {}), **{f"{k}@top": v for k, v in CROSS.items()}}
-    probe = ["module width_probe;", "texture_unit u ();",
-             "noise_term #(" + ", ".join(f".{k}({v})" for k, v in nt.items()) + ") nt ();",
+    probe = ["module width_probe;", "texture_unit u ();", nt_probe,
              f"cmap_sat #(.F_FRAC({cfg.f_frac}), .W_CAP_LOG2({cfg.w_cap_log2}), .N_LOG2_MAX({cfg.n_log2_max}), "
              f".DIV_BITS({cfg.div_bits}), .FPGA_REGS({int(cfg.fpga_regs)})) cs ();"]
     if sat2:
         probe.append(f"cmap_sat2 #(.F_FRAC({cfg.f_frac}), .W_CAP_LOG2({cfg.w_cap_log2}), "
                      f".N_LOG2_MAX({cfg.n_log2_max}), .DIV_BITS({cfg.div_bits})) c2 ();")
-    probe.append("initial begin")
+    return _elaborate(cfg, probe, names, [str(gdir / "texture_unit.v")])
+
+
+def _elaborate(cfg, probe: list, names: dict, gen: list) -> dict:
+    """Elaborate the probe module's instances (`probe`: its lines so far) with rtl/ and the
+    generated sources `gen` under Icarus, and read every entry of `names` back."""
+    probe = probe + ["initial begin"]
     probe += [f'    $display("{k} %0d", {v});' for k, v in names.items()]
     probe += ["end", "endmodule", ""]
     bdir = hdlbuild.ROOT / "build" / "widths" / cfg.name
     bdir.mkdir(parents=True, exist_ok=True)
     (bdir / "width_probe.v").write_text("\n".join(probe))
     vvp = bdir / "probe.vvp"
-    srcs = [str(bdir / "width_probe.v"), str(gdir / "texture_unit.v")] + sorted(
-        str(p) for p in hdlbuild.RTL_DIR.glob("*.v"))
+    srcs = [str(bdir / "width_probe.v"), *gen] + sorted(str(p) for p in hdlbuild.RTL_DIR.glob("*.v"))
     # unconnected ports: the probe only elaborates (-Wnone: no port warnings)
     r = subprocess.run(["iverilog", "-g2005", "-Wnone", "-o", str(vvp), "-s", "width_probe", f"-I{hdlbuild.RTL_DIR}",
                         *srcs], capture_output=True, text=True)
@@ -104,6 +117,16 @@ def test_rtl_widths_equal_python(config):
     assert not bad, f"{cfg.name}: derived widths differ:\n  " + "\n  ".join(bad)
 
 
+@pytest.mark.parametrize("name", [n for n, _ in pipe.exponent_configs(1361)])
+def test_noise_term_widths_with_exponents(name):
+    """With per-term exponents (which only noise_term takes yet): its widths equal the Python
+    derivation's (an_w, h_w, ag_w take the largest exponents)."""
+    cfg = dict(pipe.exponent_configs(1361))[name]
+    got = elaborated_widths(cfg, top=False)
+    bad = [f"{k}: RTL {got[k]}, Python {cfg.d[k]}" for k in got if got[k] != cfg.d[k]]
+    assert not bad, f"{cfg.name}: derived widths differ:\n  " + "\n  ".join(bad)
+
+
 # derived values the RTL has no word for: the model's own checks and bounds
 MODEL_ONLY = {
     "fc_ks": "a value, not a width: hdlbuild passes it to the RTL as FC_KS (top_params)",
@@ -112,8 +135,6 @@ MODEL_ONLY = {
     "je_min": "the range of je (the RTL's je is a JE_W-bit word)",
     "je_max": "the range of je",
     "i_w": "the integral I(x) is never formed whole: colour_map forms D = I(b) - I(a) mod 2^D_W",
-    "te_max": "the largest per-term T exponent (formats.t_exp_w): golden model only, hdlbuild refuses t_exp_w > 0",
-    "ae_max": "the largest per-term a exponent (formats.a_exp_w): golden model only, hdlbuild refuses a_exp_w > 0",
     "u_guard": "colour_map's clamp guard, a value (2^GUARD: W/2, sat2 W)",
 }
 

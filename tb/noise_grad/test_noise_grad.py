@@ -6,12 +6,15 @@ dw, each input at the stage that reads it, latency `LAT_NOISE_GRAD (FPGA_REGS:
 Parameter sets: noise_term's instances (texture_pipeline's parameters) under full (affine,
 cubic, any amplitude), compact (pow2 T and a, cubic), two random valid configurations with
 the gradient, the linear blend (full with blend linear, and compact's), and full and
-compact with fpga_regs (each lerp in three stages).
+compact with fpga_regs (each lerp in three stages); with per-term exponents (T_EXP_W,
+A_EXP_W > 0; pipe.exponent_configs with the gradient: full_bfp, full_exp, two random ones,
+one of them with fpga_regs).
 Vectors: each with its own a and T (noise_fold changes the term every clock) and random
 corner values over [-1, 1] (with the extremes -1, 1 - 2^-n_frac, the steepest differences),
 cell fractions over [0, 1) (the weights and slopes noise_blend gives them, with 0, 1/2 and
 just below 1), e and fz the golden lerps of v; T over its format (pow2: 0 / 2^e, every e),
-a over its format (pow2: 0, +-2^k, every k). Streamed with random ce stalls and gaps (load
+a over its format (pow2: 0, +-2^k, every k); with exponents te and ae, 0 and their largest in
+the first 64 vectors, uniform after. Streamed with random ce stalls and gaps (load
 = 0, the inputs random junk): a vector's later inputs follow it by the stage offsets of the
 header; every load must show that vector's ag.
 """
@@ -31,7 +34,8 @@ from model.hw import golden as G
 from model.hw.config import latency, variant
 from tb import pipe
 
-KEYS = ("T_W", "T_FRAC", "A_W", "A_FRAC", "P_FRAC", "N_FRAC", "C_FRAC", "TRANSFORM", "BLEND", "AMPLITUDE", "FPGA_REGS")
+KEYS = ("T_W", "T_FRAC", "A_W", "A_FRAC", "P_FRAC", "N_FRAC", "C_FRAC", "TRANSFORM", "BLEND", "AMPLITUDE", "FPGA_REGS",
+        "T_EXP_W", "A_EXP_W")  # (the exponents only where a configuration has them)
 
 
 def _sets():
@@ -43,21 +47,23 @@ def _sets():
             ("full_fpga", variant(full, "full_fpga", fpga_regs=True)),
             ("compact_fpga", variant(compact, "compact_fpga", fpga_regs=True))]
     cfgs += [(n, c) for n, c in pipe.configs(1331, 1332, 1333) if n.startswith("random") and c.noise_gradient]
+    cfgs += [(n, c) for n, c in pipe.exponent_configs(1341, 1342) if c.noise_gradient]
     out = {}
     for name, cfg in cfgs:
         p = block_params(cfg, "noise_term")
-        out[name] = {k: p[k] for k in KEYS}
+        out[name] = {k: p[k] for k in KEYS if k in p}
     return out
 
 
-# every set under Icarus; under Verilator (a build costs 5-20 s) full's and compact with fpga_regs
-test_noise_grad_rtl = pipe.block_test("noise_grad", _sets(), ("full", "compact_fpga"), __file__,
+# every set under Icarus; under Verilator (a build costs 5-20 s) full's, compact with fpga_regs and full_bfp's
+test_noise_grad_rtl = pipe.block_test("noise_grad", _sets(), ("full", "compact_fpga", "full_bfp"), __file__,
                                       sources=["noise_grad.v", "lerp.v", "delay_line.v"])
 
 
 def _stimulus(p, r, n):
-    """n vectors: (a, T [3, 3], v [2][2][2], wx, wy, wz, dw [3]) as Python ints."""
+    """n vectors: (a, T [3, 3], v [2][2][2], wx, wy, wz, dw [3], te, ae) as Python ints."""
     nf, pf, tw, aw = p["N_FRAC"], p["P_FRAC"], p["T_W"], p["A_W"]
+    te_max, ae_max = (1 << p.get("T_EXP_W", 0)) - 1, (1 << p.get("A_EXP_W", 0)) - 1
     blend = SimpleNamespace(blend="cubic" if p["BLEND"] else "linear", p_frac=pf)
     one = 1 << nf
     vext = [-one, one - 1, 0]
@@ -78,7 +84,8 @@ def _stimulus(p, r, n):
                 T[j, j] = 0 if r.random() < 0.1 else 1 << int(r.integers(0, tw - 1))
         else:
             lim = (1 << (tw - 1))
-            T = r.integers(-lim, lim, (3, 3)) if i % 2 or i < 64 else r.integers(-(4 << p["T_FRAC"]), (4 << p["T_FRAC"]) + 1, (3, 3))
+            big = min(4 << p["T_FRAC"], lim - 1)  # |T| <= 4, within the format (t_frac may exceed t_w: mantissas)
+            T = r.integers(-lim, lim, (3, 3)) if i % 2 or i < 64 else r.integers(-big, big + 1, (3, 3))
             if i < 64:
                 T = np.full((3, 3), -lim if i % 3 else lim - 1, dtype=np.int64)
         if p["AMPLITUDE"]:
@@ -86,7 +93,11 @@ def _stimulus(p, r, n):
             a = 0 if r.random() < 0.1 else (-(1 << k) if (k == aw - 1 or r.random() < 0.5) else 1 << k)
         else:
             a = int(r.integers(-(1 << (aw - 1)), 1 << (aw - 1))) if i >= 64 else [-(1 << (aw - 1)), (1 << (aw - 1)) - 1][i % 2]
-        out.append((a, np.asarray(T, dtype=np.int64), v, [int(x) for x in w], [int(x) for x in dw]))
+        # the exponents: 0 and the largest in alternation among the extremes, then uniform (fixed
+        # point: no draw, the stream as it was)
+        te = (te_max * ((i // 2) % 2) if i < 64 else int(r.integers(0, te_max + 1))) if te_max else 0
+        ae = (ae_max * ((i // 4) % 2) if i < 64 else int(r.integers(0, ae_max + 1))) if ae_max else 0
+        out.append((a, np.asarray(T, dtype=np.int64), v, [int(x) for x in w], [int(x) for x in dw], te, ae))
     return out
 
 
@@ -107,10 +118,10 @@ async def noise_grad_bit_exact(dut):
     ag_w = len(dut.ag_out.value) // 3
 
     words, exp = [], []
-    for a, T, v, w, dw in vec:
+    for a, T, v, w, dw, te, ae in vec:
         e = [[G.lerp(pf, v[0][j][k], v[1][j][k], w[0]) for k in range(2)] for j in range(2)]
         fz = [G.lerp(pf, e[0][k], e[1][k], w[1]) for k in range(2)]
-        exp.append(tuple(int(x) for x in G.noise_grad(cfg, a, T, v, e, fz, w[1], w[2], dw)))
+        exp.append(tuple(int(x) for x in G.noise_grad(cfg, a, T, v, e, fz, w[1], w[2], dw, te, ae)))
         if p["TRANSFORM"]:
             t_word = pipe.pack([(1 << ew) if T[j, j] == 0 else int(T[j, j]).bit_length() - 1 for j in range(3)], ew + 1)
         else:
@@ -122,11 +133,17 @@ async def noise_grad_bit_exact(dut):
         words.append({"v": pipe.pack([v[i][j][k] for i in range(2) for j in range(2) for k in range(2)], nw),
                       "wy": w[1], "dw": pipe.pack(dw, bw), "wz": w[2],
                       "e": pipe.pack([e[j][k] for j in range(2) for k in range(2)], nw),
-                      "fz": pipe.pack(fz, nw), "t_in": t_word, "a_in": a_word})
+                      "fz": pipe.pack(fz, nw), "t_in": t_word, "a_in": a_word, "te": te, "ae": ae})
     widths = {"v": 8 * nw, "wy": bw, "dw": 3 * bw, "wz": bw, "e": 4 * nw, "fz": 2 * nw,
-              "t_in": len(dut.t_in.value), "a_in": len(dut.a_in.value)}
+              "t_in": len(dut.t_in.value), "a_in": len(dut.a_in.value), "te": len(dut.te.value),
+              "ae": len(dut.ae.value)}
     port_off = {"v": 0, "wy": 0, "dw": 0, "e": off["e"], "wz": off["e"], "fz": off["fz"], "t_in": off["t"],
                 "a_in": off["a"]}
+    # the exponents beside T and a (without them the ports are not read: 0)
+    port_off.update({"te": off["t"]} if "T_EXP_W" in p else {})
+    port_off.update({"ae": off["a"]} if "A_EXP_W" in p else {})
+    dut.te.value = 0
+    dut.ae.value = 0
 
     await pipe.start(dut, valid=False)
     rr = random.Random(int(r.integers(1 << 30)))
@@ -155,5 +172,6 @@ async def noise_grad_bit_exact(dut):
         assert guard < 20 * (n + 20), "no progress"
         await Timer(1, unit="ns")
     assert idx == list(range(n)), "vectors out of order"
-    pipe.check_equal(dut, got, exp, lambda i: f"a={vec[i][0]} T={vec[i][1].tolist()} v={vec[i][2]} w={vec[i][3]}",
+    pipe.check_equal(dut, got, exp, lambda i: f"a={vec[i][0]} T={vec[i][1].tolist()} v={vec[i][2]} w={vec[i][3]} "
+                                              f"te={vec[i][5]} ae={vec[i][6]}",
                      f"noise_grad {p}")
