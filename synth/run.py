@@ -279,7 +279,24 @@ def write_doc() -> None:
           "not; the name of the datapath instance changes nothing (u_dp or u_datapath: 19,687.6 GE); and the "
           "new files alone move blocks whose RTL did not change (noise_term, compact, synthesized on 8ee46ea "
           "with the four qmac_*.v files beside it, unused: 23,123 -> 23,271 GE, +0.64%; the old quadric_mac "
-          "likewise: 19,250 -> 19,251). compact's 241-GE margin (0.24%) is inside that noise.", ""]
+          "likewise: 19,250 -> 19,251). compact's 241-GE margin (0.24%) is inside that noise.", "",
+          "The split's reports were not regenerated then. Measured on main 7e893f8 (`make synth CONFIG=compact`): "
+          "compact 100,210.0 GE (sequential 26,854.5), over its budget by 210; quadric 19,578.3. The split's logic is "
+          "not the cause: the quadric's flattened coarse netlist (Yosys `synth -flatten -run :fine`, `stat -width`, "
+          "quadric_mac with compact's parameters) has the same cells at the same widths on 8ee46ea's rtl/ and on "
+          "7e893f8's (the valid chain's one 4-bit register became a 1-bit and a 3-bit one), and the quadric "
+          "synthesized alone (`python synth/synth.py --top quadric_mac --files rtl/*.v --include rtl --param DIAG=1 "
+          "CLOCKS=2 S_W=18 S_FRAC=10 Q_W=17 Q_FRAC=10 F_FRAC=11 C_FRAC=5 C_W=21 FPGA_REGS=0`) has the same "
+          "flip-flops on both (3,145.0 GE sequential) and 19,250.3 -> 19,578.3 GE: ABC's mapping of the same logic.", "",
+          "qmac_diag_fold (compact) without its stage-3 copy: stage 3 registered stage 2's products s_k x_k and "
+          "v_k a second time (3 (s_w + v_w) + 3 v_w = 204 flip-flops at compact's widths, 18 and 25). Stage 2's "
+          "registers now load only in a vector's second clock and hold through stage 3, which the fold's contract "
+          "allows (the next vector's second clock comes two enabled clocks later at the earliest); the same latency, "
+          "the same values (tb/qmac_diag_fold, tb/quadric_mac, tb/frame compact, bit-exact). quadric (compact) "
+          "synthesized alone (the command above): 19,578.3 -> 18,333.3 GE, sequential 3,145.0 -> 2,482.0. The "
+          "reports above (synth/reports/*.json, the rtl hash in the stamp below) predate the quadric_mac split "
+          "and this change: `make synth` has not been rerun on them yet, so compact's total with both is not "
+          "measured here.", ""]
     L += ["## Reproduce", "", "    make setup", "    make synth          # every configuration, synth/reports/",
           "    make synth-check    # fails when a configuration is over budget",
           "    make synth-blocks   # GE of each block for every configuration", ""]
