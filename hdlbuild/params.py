@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, ConfigError, folded, rel_path
+from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, ConfigError, folded, rel_path, sum_tree_levels
 from model.hw.config import latency as config_latency
 from model.hw.regmap import REGMAP, pix_width
 
@@ -91,6 +91,11 @@ def top_params(cfg: Config) -> dict:
     return out
 
 
+def _fc(cfg: Config) -> bool:
+    """The terms are faded (sat_fc's frequency clamping: texture_pipeline FCL; unfolded terms only)."""
+    return cfg.filter == "sat_fc" and cfg.noise_terms > 0 and not folded(cfg)
+
+
 def _pick(cfg: Config, *keys) -> dict:
     return {k.upper(): value(cfg, k) for k in keys}
 
@@ -137,6 +142,9 @@ def block_params(cfg: Config, module: str) -> dict:
             sat = 1 if b <= 9 else 0
             return {"NUM_W": b + 8 + sat, "DEN_W": b, "Q_W": 8, "LANES": 4, "SAT": sat}
         return {"NUM_W": cfg.d_w - 1, "DEN_W": cfg.w_w, "Q_W": 8, "LANES": 4, "SAT": 0}
+    if module == "texture_sum":  # the top's keys but the filter's (FC: sat_fc's fades), and its latency
+        top = {k: v for k, v in top_params(cfg).items() if k not in ("FILTER", "NORM_BITS", "DIV_BITS")}
+        return {**top, "FC": int(_fc(cfg)), "LATENCY": texture_sum_latency(cfg)}
     if module == "tex_regs":
         return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "q_w", "a_w", "t_w", "hash_bits", "p_frac", "n_log2_max")}
     if module == "axis_skid":
@@ -144,6 +152,15 @@ def block_params(cfg: Config, module: str) -> dict:
     if module == "isqrt":
         return {"L_W": cfg.l_w, "R_W": cfg.r_w, "LATENCY": latency("filter_width") - 5}  # with or without fpga_regs
     raise KeyError(f"block_params: no parameter set for module '{module}'")
+
+
+def texture_sum_latency(cfg: Config) -> int:
+    """rtl/texture_sum.v's latency (f's, T_F in texture_pipeline): the quadric and the noise
+    leaves meet (the later of the two), then the adder tree's levels."""
+    terms = latency("noise_term", cfg) + (latency("noise_fold", cfg) if folded(cfg) else
+                                          latency("fc_scale") if _fc(cfg) else 0)
+    front = max(latency("quadric_mac", cfg), terms if cfg.noise_terms else 0)
+    return front + sum_tree_levels(1 + (1 if folded(cfg) else cfg.noise_terms))
 
 
 def latency(module: str, cfg: Config | None = None) -> int:

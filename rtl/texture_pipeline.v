@@ -28,26 +28,18 @@
 //   [PIX_W-1 : 3*S_W+6*J_W]           je
 //
 // Register map (cfg_wr_addr is a 32-bit-word address): decoded by tex_regs (rtl/tex_regs.v
-// documents it) from the constants of rtl/tex_regmap.vh, generated from the one table of the
-// register map, model/hw/regmap.py REGMAP_TABLE (python -m model.hw.regmap prints it; its
-// write_sequence is what a host writes). CTRL (mode, filter_en, n_log2), the quadric
-// coefficients, K noise terms (a_k, T_k, o_k), and the colour tables clut, csat (channels
-// 0..2 staged, channel 3 commits an entry; write csat in ascending order, the last entry
-// committed, N - 1, is the whole-table sum) and mip. Writes to unmapped addresses and past
-// the end of a table are ignored. Table writes reach colour_map's write port one clock
-// later. After rst every parameter register is 0 (the tables are not reset). Write the
-// parameters while no pixel is in flight; they are held, unchanged, during a pass.
+// documents it) from rtl/tex_regmap.vh, generated from model/hw/regmap.py REGMAP_TABLE (its
+// write_sequence is what a host writes). After rst every parameter register is 0 (the tables
+// are not reset). Write the parameters while no pixel is in flight; they are held during a pass.
 //
-// Pipeline: quadric_mac and K noise_term instances (noise_leaves, which also makes the adder
-// tree's leaves) in parallel on s, a registered adder tree (sum_tree) of arity 4 for f
-// (TREE_LEVELS = ceil(log4(K+1)) stages), filter_width, then colour_map.
-// With the noise gradient (NOISE_GRADIENT 1: grad f = grad q + sum a_i grad n_i), the
-// tree also sums the gradients and filter_width follows it; the quadric's input waits so that
-// its outputs meet the terms'. Without it (grad f = grad q), filter_width runs on the
-// quadric's gradient in parallel with the noise terms, and q waits for the terms instead.
-// f (in fewer bits) or w waits for the other before colour_map (cm_align); Jm, je and tlast
-// travel in delay lines (delay_line) beside the data. Every
-// register of the datapath shares one clock enable
+// Pipeline: the pixel at the front (the input, or the one noise_fold issues when the terms
+// are folded onto fewer units), then texture_sum (f and grad f: quadric_mac and the K
+// noise_terms in parallel on s, with sat_fc fc_weight's fades, summed in registered adder
+// trees, sum_tree, of arity 4: TREE_LEVELS = ceil(log4(K+1)) stages), filter_width on grad f
+// (with the noise gradient after the trees, without it on the quadric's gradient, in
+// parallel with the terms), then colour_map. f (in fewer bits) or w waits for the other
+// before colour_map (cm_align); Jm, je and tlast travel in delay lines (delay_line) beside
+// the data. Every register of the datapath shares one clock enable
 //   ce = rst | !cm_valid | skid_ready
 // (the colour_map output is the last pipeline stage; it may advance whenever it is empty or
 // the output skid buffer can take it). The output skid buffer (axis_skid: two registers, the
@@ -134,7 +126,6 @@ localparam DIAG   = QUADRIC;
 localparam CUBIC  = BLEND;
 localparam POW2T  = TRANSFORM;
 localparam O_W    = HASH_BITS + P_FRAC;                                        // noise offset word
-localparam QF_W   = tw_qf_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC);           // quadric value
 localparam F_W    = tw_f_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC, K, A_W, A_FRAC, N_FRAC); // f (exact sum)
 localparam C_W    = tw_c_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, C_FRAC, K, NOISE_GRADIENT, CUBIC, POW2T, T_W,
                            T_FRAC, N_FRAC, A_W, A_FRAC);                       // grad f (exact sum)
@@ -146,7 +137,6 @@ localparam PIX_W  = 3*S_W + 6*J_W + JE_W;                                      /
 localparam FCL    = (FILTER == 3) && (K > 0) && !FOLD;                         // frequency clamping
 localparam CM_FILTER = (FILTER == 3) ? 1 : (FILTER == 4) ? 3 : FILTER;       // colour_map: the box, sat2 its own
 localparam NW     = (FILTER == 4) ? 2 : 1;                                     // sat2: w = {b, a}
-localparam FC_AF  = FC_LOG_FRAC + FC_FADE_LOG2;                                // alpha u1.FC_AF
 
 input  wire             clk;
 input  wire             rst;
@@ -183,13 +173,9 @@ localparam LAT_NS      = FOLD ? LAT_NT + LAT_NF : LAT_NT + LAT_FCS;      // nois
 localparam LAT_FRONT   = (K > 0 && LAT_NS > LAT_QM) ? LAT_NS : LAT_QM;  // q and the terms meet here
 localparam TREE_LEVELS = tw_tree_levels(NLEAF + 1, `SUM_TREE_ARITY);     // adder tree (sum_tree) stages
 localparam T_F         = LAT_FRONT + TREE_LEVELS;                        // f (and c) out of the tree
-// With the noise gradient (NG), grad f = grad q + sum a_i grad n_i comes out of the tree with
-// f, and filter_width follows the tree: the quadric's input waits DLY_Q so that its outputs
-// meet the terms'. Without it, grad f = grad q: filter_width takes the quadric's gradient
-// straight away, in parallel with the noise terms, and only q waits (DLY_QO) for the terms.
+// With the noise gradient (NG) grad f comes out of the tree with f and filter_width follows
+// the tree; without it grad f = grad q, and filter_width takes it from the quadric at once.
 localparam NG          = NOISE_GRADIENT;
-localparam DLY_Q       = NG ? LAT_FRONT - LAT_QM : 0;                    // quadric input (s) delay
-localparam DLY_QO      = NG ? 0 : LAT_FRONT - LAT_QM;                    // quadric q output delay
 localparam DLY_J       = NG ? T_F : LAT_QM;                              // Jm, je to filter_width
 localparam T_FW        = DLY_J + LAT_FW;                                 // w out of filter_width
 localparam T_WD        = T_FW + (FCL ? `LAT_FC_WMAX : 0);                // sat_fc: then max(w, wv) (cm_align)
@@ -249,21 +235,13 @@ tex_regs #(
 );
 
 
-// What the blocks read of the parameters: with a diagonal quadric B, C, F are 0 (quantize
-// guarantees it) and quadric_mac does not read them; with pow2 transforms the off-diagonal
-// T entries are 0 and noise_term does not read them. Passing 0 makes that visible here, so
-// their registers go (they would in a flat synthesis anyway; the per-block gate count keeps
-// the blocks apart).
-reg [10*Q_W-1:0]    q_use;
+// What the blocks read of the transforms: with pow2 transforms the off-diagonal T entries are
+// 0 and noise_term does not read them. Passing 0 makes that visible here, so their registers
+// go (they would in a flat synthesis anyway; the per-block gate count keeps the blocks apart;
+// texture_sum does the same for a diagonal quadric's coefficients).
 reg [KV*9*T_W-1:0]  t_use;
 integer             ui, uj;
 always @* begin
-    q_use = q_coef;
-    if (DIAG != 0) begin
-        q_use[1*Q_W +: Q_W] = {Q_W{1'b0}};
-        q_use[2*Q_W +: Q_W] = {Q_W{1'b0}};
-        q_use[5*Q_W +: Q_W] = {Q_W{1'b0}};
-    end
     t_use = t_all_reg;
     if (POW2T != 0) begin
         for (ui = 0; ui < KV; ui = ui + 1)
@@ -328,128 +306,44 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------------------
-// sat_fc: the frequency-clamping weights of the pixel (fc_weight, LAT_FCW stages from the
-// front), alpha delayed to the terms' outputs (LAT_NT) and wv to filter_width's (T_FW)
-
-/* verilator lint_off UNUSEDSIGNAL */  // no sat_fc: constant, not read
-wire [KV*(FC_AF+1)-1:0] fc_alpha_d;
-wire [W_W-1:0]          fc_wv_d;
-/* verilator lint_on UNUSEDSIGNAL */
-generate
-    if (FCL) begin : g_fcw
-        if (LAT_FCW > LAT_NT || LAT_FCW > T_FW) begin : g_bad_fc_latency
-            fc_weight_latency_exceeds_the_noise_term_or_filter_width u_bad ();  // elaboration error
-        end
-        wire [K*(FC_AF+1)-1:0] alpha;
-        wire [W_W-1:0]         wv;
-        /* verilator lint_off UNUSEDSIGNAL */  // valid: the shared pipeline valid is used instead
-        wire                   fcw_valid;
-        /* verilator lint_on UNUSEDSIGNAL */
-        fc_weight #(
-            .NOISE_TERMS(K), .J_W(J_W), .JE_W(JE_W), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
-            .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .FC_LOG_FRAC(FC_LOG_FRAC),
-            .FC_KNEE(FC_KNEE), .FC_FADE_LOG2(FC_FADE_LOG2), .FC_KS(FC_KS), .FC_KSF(FC_KSF)
-        ) u_fc_weight (
-            .clk(clk), .rst(rst), .ce(ce),
-            .in_valid(px_valid), .jm_in(px_jm), .je_in(px_je),
-            .a_all(a_all_reg), .t_all(t_use), .k_used(k_used_reg), .filter_en(filter_en_reg), .n_log2(n_log2_reg),
-            .out_valid(fcw_valid), .alpha_out(alpha), .wv_out(wv)
-        );
-        delay_line #(.W(K*(FC_AF+1)), .N(LAT_NT - LAT_FCW)) u_dly_alpha (.clk(clk), .rst(rst), .ce(ce),
-                                                                         .d_in(alpha), .d_out(fc_alpha_d));
-        delay_line #(.W(W_W), .N(T_FW - LAT_FCW)) u_dly_wv (.clk(clk), .rst(rst), .ce(ce), .d_in(wv),
-                                                            .d_out(fc_wv_d));
-    end else begin : g_nofcw
-        assign fc_alpha_d = {KV*(FC_AF+1){1'b0}};
-        assign fc_wv_d    = {W_W{1'b0}};
-    end
-endgenerate
-
-// ---------------------------------------------------------------------------
-// Front: quadric_mac and K noise terms in parallel
-
-// NG: the quadric is the shorter block: its input (s and valid, narrower than its outputs)
-// waits DLY_Q stages so that its outputs meet the noise terms' at LAT_FRONT.
-wire [3*S_W-1:0] qs_s;
-wire             qs_valid;
-delay_line #(.W(3*S_W), .N(DLY_Q))           u_dly_qs (.clk(clk), .rst(rst), .ce(ce), .d_in(px_s), .d_out(qs_s));
-delay_line #(.W(1), .N(DLY_Q), .CLEAR(1))    u_dly_qv (.clk(clk), .rst(rst), .ce(ce), .d_in(px_valid), .d_out(qs_valid));
-
-wire [QF_W-1:0]  qm_q;
-wire [3*C_W-1:0] qm_cq;
-wire             qm_valid;
-
-quadric_mac #(
-    .DIAG(DIAG), .CLOCKS(QUADRIC_CLOCKS), .S_W(S_W), .S_FRAC(S_FRAC), .Q_W(Q_W), .Q_FRAC(Q_FRAC),
-    .F_FRAC(F_FRAC), .C_FRAC(C_FRAC), .C_W(C_W), .FPGA_REGS(FPGA_REGS)
-) u_quadric_mac (
-    .clk(clk), .rst(rst), .ce(ce),
-    .in_valid(qs_valid),
-    .s_in(qs_s),
-    .q_coef(q_use),
-    .out_valid(qm_valid),
-    .q_out(qm_q),
-    .cq_out(qm_cq)
-);
-
-// !NG: q (and its valid) wait DLY_QO stages for the terms; its gradient goes to filter_width
-wire [QF_W-1:0] qo_q;
-wire            qo_valid;
-delay_line #(.W(QF_W), .N(DLY_QO))        u_dly_qo (.clk(clk), .rst(rst), .ce(ce), .d_in(qm_q), .d_out(qo_q));
-delay_line #(.W(1), .N(DLY_QO), .CLEAR(1)) u_dly_qov (.clk(clk), .rst(rst), .ce(ce), .d_in(qm_valid),
-                                                       .d_out(qo_valid));
-// the leaves of the adder trees (noise_leaves: the K noise terms, faded with sat_fc, or
-// noise_fold's sum, and the quadric's, sign-extended): leaf i at [i*F_W +: F_W], [i*3*C_W +: 3*C_W]
-wire                       sum_in_valid;
-wire [(NLEAF+1)*F_W-1:0]   f_leaves;
-/* verilator lint_off UNUSEDSIGNAL */  // !NG: no gradient tree
-wire [(NLEAF+1)*3*C_W-1:0] c_leaves;
-/* verilator lint_on UNUSEDSIGNAL */
-noise_leaves #(
-    .QUADRIC(QUADRIC), .NOISE_TERMS(K), .NOISE_UNITS(U), .FC(FCL ? 1 : 0), .FC_LOG_FRAC(FC_LOG_FRAC),
-    .FC_FADE_LOG2(FC_FADE_LOG2), .LATENCY(LAT_FRONT), .S_W(S_W), .S_FRAC(S_FRAC), .Q_W(Q_W), .Q_FRAC(Q_FRAC),
-    .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC), .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS),
-    .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC), .TRANSFORM(TRANSFORM), .BLEND(BLEND),
-    .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT), .FPGA_REGS(FPGA_REGS), .PERM(PERM)
-) u_noise_leaves (
-    .clk(clk), .rst(rst), .ce(ce),
-    .in_valid(px_valid), .s_in(px_s),
-    .k_used(k_used_reg), .a_all(a_all_reg), .t_all(t_use), .o_all(o_all_reg), .alpha(fc_alpha_d),
-    .fold_valid(fold_valid), .fold_f(fold_f), .fold_c(fold_c),
-    .q_valid(qo_valid), .q_in(qo_q), .cq_in(qm_cq),
-    .out_valid(sum_in_valid), .f_leaves(f_leaves), .c_leaves(c_leaves)
-);
-
-// ---------------------------------------------------------------------------
-// Adder trees (sum_tree, TREE_LEVELS register levels): f = q + sum a_i n_i over the leaves,
-// and with NG c = dq/ds + sum a_i grad n_i, three lanes; sums modulo 2^F_W / 2^C_W of
-// sign-extended operands, i.e. exact (F_W and C_W bound the whole sums, model/hw/config.py
-// f_w, c_w). !NG: the tree carries no gradient (the quadric's goes to filter_width).
-
+// f and grad f (texture_sum: the quadric and the K noise terms, faded with sat_fc, summed in
+// the adder trees): f at T_F; c with f (NG) or the quadric's at LAT_QM (!NG); sat_fc's wv
+// LAT_FCW after the front, delayed here to filter_width's output (T_FW)
 wire [F_W-1:0]   f_sum;
 wire             sum_valid;
-/* verilator lint_off UNUSEDSIGNAL */  // !NG: c is constant 0 and not read
-wire [3*C_W-1:0] c_sum;
+wire [3*C_W-1:0] c_fw;
+wire             c_fw_valid;
+/* verilator lint_off UNUSEDSIGNAL */  // no sat_fc: constant, not read
+wire [W_W-1:0]   fc_wv;
+wire [W_W-1:0]   fc_wv_d;
 /* verilator lint_on UNUSEDSIGNAL */
 
-sum_tree #(.N(NLEAF + 1), .W(F_W), .LANES(1), .LATENCY(TREE_LEVELS)) u_f_tree (
+texture_sum #(
+    .QUADRIC(QUADRIC), .QUADRIC_CLOCKS(QUADRIC_CLOCKS), .NOISE_TERMS(K), .NOISE_UNITS(U), .BLEND(BLEND),
+    .TRANSFORM(TRANSFORM), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT), .FC(FCL ? 1 : 0),
+    .FPGA_REGS(FPGA_REGS), .LATENCY(T_F), .S_W(S_W), .S_FRAC(S_FRAC), .Q_W(Q_W), .Q_FRAC(Q_FRAC), .J_W(J_W),
+    .JE_W(JE_W), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC), .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS),
+    .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX),
+    .FC_LOG_FRAC(FC_LOG_FRAC), .FC_KNEE(FC_KNEE), .FC_FADE_LOG2(FC_FADE_LOG2), .FC_KS(FC_KS), .FC_KSF(FC_KSF),
+    .PERM(PERM)
+) u_texture_sum (
     .clk(clk), .rst(rst), .ce(ce),
-    .in_valid(sum_in_valid), .leaves(f_leaves),
-    .out_valid(sum_valid), .sum_out(f_sum)
+    .in_valid(px_valid), .s_in(px_s), .jm_in(px_jm), .je_in(px_je),
+    .q_coef(q_coef), .k_used(k_used_reg), .a_all(a_all_reg), .t_all(t_use), .o_all(o_all_reg),
+    .filter_en(filter_en_reg), .n_log2(n_log2_reg),
+    .fold_valid(fold_valid), .fold_f(fold_f), .fold_c(fold_c),
+    .out_valid(sum_valid), .f_out(f_sum), .c_valid(c_fw_valid), .c_out(c_fw), .wv_out(fc_wv)
 );
 
 generate
-    if (NG) begin : g_c_tree
-        /* verilator lint_off UNUSEDSIGNAL */  // the same as sum_valid (f's tree)
-        wire c_valid;
-        /* verilator lint_on UNUSEDSIGNAL */
-        sum_tree #(.N(NLEAF + 1), .W(C_W), .LANES(3), .LATENCY(TREE_LEVELS)) u_c_tree (
-            .clk(clk), .rst(rst), .ce(ce),
-            .in_valid(sum_in_valid), .leaves(c_leaves),
-            .out_valid(c_valid), .sum_out(c_sum)
-        );
-    end else begin : g_c_zero
-        assign c_sum = {3*C_W{1'b0}};
+    if (FCL) begin : g_wv
+        if (LAT_FCW > T_FW) begin : g_bad_fc_latency
+            fc_weight_latency_exceeds_filter_width u_bad ();  // elaboration error
+        end
+        delay_line #(.W(W_W), .N(T_FW - LAT_FCW)) u_dly_wv (.clk(clk), .rst(rst), .ce(ce), .d_in(fc_wv),
+                                                            .d_out(fc_wv_d));
+    end else begin : g_nowv
+        assign fc_wv_d = {W_W{1'b0}};
     end
 endgenerate
 
@@ -465,7 +359,7 @@ delay_line #(.W(1), .N(T_CM + LAT_CM)) u_dly_last (.clk(clk), .rst(rst), .ce(ce)
                                                   .d_out(cm_last));
 
 // ---------------------------------------------------------------------------
-// filter_width on grad f (NG: the tree's c; otherwise the quadric's gradient)
+// filter_width on grad f (texture_sum's c: NG the tree's, otherwise the quadric's gradient)
 
 wire [NW*W_W-1:0] fw_w;
 wire           fw_valid;
@@ -475,8 +369,8 @@ filter_width #(
     .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .COMPONENTS(NW - 1), .FPGA_REGS(FPGA_REGS)
 ) u_filter_width (
     .clk(clk), .rst(rst), .ce(ce),
-    .in_valid(NG ? sum_valid : qm_valid),
-    .c_in(NG ? c_sum : qm_cq),
+    .in_valid(c_fw_valid),
+    .c_in(c_fw),
     .jm_in(jd_out[0 +: JM_W]),
     .je_in(jd_out[JM_W +: JE_W]),
     .n_log2(n_log2_reg),

@@ -226,13 +226,19 @@ def critical_path(rep: dict) -> dict | None:
 
 
 def multipliers_by_block(net: dict, top: str) -> dict:
-    """MULT18X18D cells per block: the first instance below the top's that names a block (u_<block>),
-    so every noise term of an unfolded configuration counts under noise_term."""
+    """MULT18X18D cells per block: the first instance below the top's that names a block of the
+    gate count (u_<block>, synth/run.py BLOCKS, FC_BLOCKS; past the glue modules that hold them,
+    u_texture_sum, u_noise_leaves), else the first instance below the top's; so every noise term of
+    an unfolded configuration counts under noise_term."""
+    from synth.run import BLOCKS, FC_BLOCKS
+
+    blocks = {*BLOCKS.values(), *FC_BLOCKS.values()}
     out: dict = {}
     for name, cell in net["modules"][top]["cells"].items():
         if cell["type"] == "MULT18X18D":
             parts = name.split(".")
-            block = next((p[2:] for p in parts[1:-1] if p.startswith("u_")), parts[0])
+            insts = [p[2:] for p in parts[1:-1] if p.startswith("u_")]
+            block = next((b for b in insts if b in blocks), insts[0] if insts else parts[0])
             out[block] = out.get(block, 0) + 1
     return dict(sorted(out.items(), key=lambda kv: -kv[1]))
 

@@ -39,7 +39,7 @@ PAPER_MODELS = ("full", "reduced")  # budgets that are the paper's gate counts
 BLOCKS = {"quadric": "quadric_mac", "noise_term": "noise_term", "filter_width": "filter_width",
           "colour_map": "colour_map"}
 TOP = "texture_pipeline"
-GLUE = ("delay_line", "tex_regs", "axis_skid", "noise_fold", "sum_tree", "cm_align", "noise_leaves")  # small modules counted with the top's glue (control), not as blocks
+GLUE = ("delay_line", "tex_regs", "axis_skid", "noise_fold", "sum_tree", "cm_align", "noise_leaves", "texture_sum")  # small modules counted with the top's glue (control), not as blocks
 # the blocks of the frequency-clamping filter (filter "sat_fc"): fc_weight once, fc_scale a term
 FC_BLOCKS = {"fc_weight": "fc_weight", "fc_scale": "fc_scale"}
 

@@ -189,12 +189,15 @@ def block_cases(sets: dict, verilator=()):
 
 def block_test(module: str, sets: dict, verilator, test_file: str, **run_kw):
     """The pytest entry of a block testbench: test_<module>_rtl = block_test(...) runs the
-    cocotb tests of `test_file` on every parameter set (block_cases, run_block)."""
+    cocotb tests of `test_file` on every parameter set (block_cases, run_block). run_kw are
+    run_block's keywords; a dict `config` gives each set its own configuration ({set name:
+    configuration}: cfg() on the cocotb side, for a block whose twin reads a whole Config)."""
     import pytest
 
     @pytest.mark.parametrize("sim,name,params", block_cases(sets, verilator))
     def test(sim, name, params):
-        run_block(module, sim, name, params, test_file, **run_kw)
+        kw = {**run_kw, **({"config": run_kw["config"][name]} if isinstance(run_kw.get("config"), dict) else {})}
+        run_block(module, sim, name, params, test_file, **kw)
 
     return test
 

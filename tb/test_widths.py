@@ -31,8 +31,9 @@ from tb import pipe
 # noise_term (nt) and cmap_sat (cs), which exist for every configuration (also without noise
 # terms, or with another filter family)
 TOP = "u.u_pipe"
+TS = f"{TOP}.u_texture_sum"  # f and grad f: the quadric, the noise leaves, the adder trees
 WIDTHS = {
-    "v_w": f"{TOP}.u_quadric_mac.V_W", "qv_w": f"{TOP}.u_quadric_mac.QV_W", "qf_w": f"{TOP}.u_quadric_mac.QF_W",
+    "v_w": f"{TS}.u_quadric_mac.V_W", "qv_w": f"{TS}.u_quadric_mac.QV_W", "qf_w": f"{TS}.u_quadric_mac.QF_W",
     "p_w": "nt.P_W", "o_w": "nt.O_W", "ts_shift": "nt.TS_SHIFT", "n_w": "nt.N_W", "gn_w": "nt.GN_W",
     "blend_w": "nt.BW", "an_shift": "nt.AN_SHIFT", "an_w": "nt.AN_W", "h_shift": "nt.H_SHIFT", "h_w": "nt.H_W",
     "ag_w": "nt.AG_W", "te_max": "nt.TE_MAX", "ae_max": "nt.AE_MAX",
@@ -42,14 +43,15 @@ WIDTHS = {
     "e_w": f"{TOP}.u_filter_width.E_W", "w_w": f"{TOP}.u_filter_width.W_W",
     "u_w": f"{TOP}.u_colour_map.U_W", "x_w": "cs.X_W", "x_frac": "cs.XF",
     "csat_w": f"{TOP}.u_colour_map.CS_W", "d_w": "cs.D_W",
-    "fc_af": f"{TOP}.FC_AF",
+    "fc_af": f"{TS}.FC_AF",
 }
 # the trapezoid's words (filter "sat2"), from a stand-alone cmap_sat2 (c2), built where they fit
 # its 62-bit limit (the configuration check refuses sat2 beyond it)
 SAT2_WIDTHS = {"x2_w": "c2.X_W", "csat2_w": "c2.CS2_W", "d2_w": "c2.D_W", "w2_w": "c2.WD_W"}
-# the same word derived where it crosses between blocks: the top's copy must agree
-CROSS = {"qf_w": f"{TOP}.QF_W", "an_w": f"{TOP}.u_noise_leaves.AN_W", "ag_w": f"{TOP}.u_noise_leaves.AG_W",
-         "o_w": f"{TOP}.O_W",
+# the same word derived where it crosses between blocks: that copy (the top's, texture_sum's)
+# must agree
+CROSS = {"qf_w": f"{TS}.QF_W", "an_w": f"{TS}.u_noise_leaves.AN_W", "ag_w": f"{TS}.u_noise_leaves.AG_W",
+         "o_w": f"{TOP}.O_W", "f_w": f"{TS}.F_W", "c_w": f"{TS}.C_W",
          "w_w": f"{TOP}.W_W", "csat_w": f"{TOP}.CSAT_W", "n_log2_w": f"{TOP}.u_filter_width.N_LOG2_W"}
 
 
@@ -112,7 +114,7 @@ def test_rtl_widths_equal_python(config):
     cfg = hdlbuild.config_of(config)
     got = elaborated_widths(cfg)
     bad = [f"{k}: RTL {got[k]}, Python {cfg.d[k]}" for k in (*WIDTHS, *SAT2_WIDTHS) if k in got and got[k] != cfg.d[k]]
-    bad += [f"{k} (texture_pipeline's copy): RTL {got[k + '@top']}, Python {cfg.d[k]}" for k in CROSS
+    bad += [f"{k} (the copy at {CROSS[k]}): RTL {got[k + '@top']}, Python {cfg.d[k]}" for k in CROSS
             if got[k + "@top"] != cfg.d[k]]
     assert not bad, f"{cfg.name}: derived widths differ:\n  " + "\n  ".join(bad)
 

@@ -822,6 +822,21 @@ def cm_align(cfg: Config, mode, f, w, wv=None, f_waits: bool = False):
     return f, w
 
 
+def texture_sum(cfg: Config, tex: TexInt, s, Jm, je):
+    """f and grad f of pixels s [..., 3] (rtl/texture_sum.v): (f, c, wv). f = q + sum a_i n_i
+    and, with the noise gradient, c = dq/ds + sum a_i grad n_i, summed exactly in the adder
+    trees (sum_tree); without it c = dq/ds (the quadric's, to filter_width). With sat_fc
+    (unfolded terms) each term is faded by fc_weight's alpha (from Jm [..., 3, 2], je) and wv
+    is the faded terms' spread; otherwise wv is None."""
+    s = np.asarray(s, dtype=I64)
+    fc = cfg.filter == "sat_fc"
+    alpha, wv = fc_weight(cfg, tex, Jm, je) if fc else (None, None)
+    q, cq = quadric_mac(cfg, tex.Q, s)
+    fl, cl = noise_leaves(cfg, tex, s, q, cq, alpha)
+    # without the noise gradient the tree carries none: grad f = grad q (to filter_width)
+    return sum_tree(fl, cfg.f_w), (sum_tree(cl, cfg.c_w) if cfg.noise_gradient else cq), wv
+
+
 def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
     """The whole pixel pipeline with its intermediate signals: f, c, w and rgba.
 
@@ -831,19 +846,12 @@ def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
     noise units, noise_fold) gives the same bits. A term with a = 0 contributes exactly 0
     (a * anything = 0 before every floor shift), so it is skipped.
     """
-    s = np.asarray(s, dtype=I64)
-    fc = cfg.filter == "sat_fc"
-    if fc:
-        alpha, wv = fc_weight(cfg, tex, Jm, je)
-    q, cq = quadric_mac(cfg, tex.Q, s)
-    fl, cl = noise_leaves(cfg, tex, s, q, cq, alpha if fc else None)
-    # without the noise gradient the tree carries none: grad f = grad q (to filter_width)
-    f, c = sum_tree(fl, cfg.f_w), (sum_tree(cl, cfg.c_w) if cfg.noise_gradient else cq)
+    f, c, wv = texture_sum(cfg, tex, s, Jm, je)
     sat2 = cfg.filter == "sat2"  # the two screen components (a, b) instead of |grad f|
     w = filter_width(cfg, c, np.asarray(Jm, dtype=I64), je, tex.n_log2, components=sat2)
     # the faded terms' spread widens the box (sat_fc); f whole (the RTL may carry it in
     # fewer bits, the same colour)
-    f_cm, w = cm_align(cfg, tex.mode, f, w, wv if fc else None)
+    f_cm, w = cm_align(cfg, tex.mode, f, w, wv)
     out = {"f": f, "c": c, "w": w.max(axis=-1) if sat2 else w, "rgba": colour_map(cfg, tex, f_cm, w)}
     if sat2:
         out["ab"] = w
