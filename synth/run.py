@@ -296,7 +296,21 @@ def write_doc() -> None:
           "synthesized alone (the command above): 19,578.3 -> 18,333.3 GE, sequential 3,145.0 -> 2,482.0. The "
           "reports above (synth/reports/*.json, the rtl hash in the stamp below) predate the quadric_mac split "
           "and this change: `make synth` has not been rerun on them yet, so compact's total with both is not "
-          "measured here.", ""]
+          "measured here (the reports after the texture_sum split, below, measure it).", "",
+          "texture_sum (issue 25: f and grad f of a pixel, the quadric with its wait, sat_fc's fc_weight and "
+          "its alpha delay, noise_leaves and the adder trees, out of texture_pipeline; counted with the glue, "
+          "flattened into the control as before): the same flip-flops (sequential GE of the control unchanged "
+          "in all three), the same function (bit-exact block and frame tests). The reports above are `make synth` "
+          "on main b110d87's rtl/ with it (so with the quadric_mac split, qmac_diag_fold's saving and b110d87). "
+          "Control, against the reports before (`git show d7fad7d:synth/reports/<config>.json`): compact -0.02% "
+          "(17,301 -> 17,298 GE), reduced -0.07% (8,300 -> 8,295), full -1.07% (28,401 -> 28,097; the same "
+          "28,097.3 on 7e893f8, before a37e37c and b110d87, so it is this change's). Totals: compact -0.97% "
+          "(99,759 -> 98,788: qmac_diag_fold's registers, sequential 26,855 -> 26,192), reduced +0.28% (94,897 "
+          "-> 95,167), full +0.95% (598,632 -> 604,291), the rest of it in blocks this change did not touch: "
+          "full quadric +1.47% (61,111 -> 62,011; 61,907 measured on the quadric_mac split's base), noise_terms "
+          "+1.07% (462,398 -> 467,350; noise_term's RTL changed in b110d87), filter_width +0.98% (11,708 -> "
+          "11,823, its RTL unchanged); on 7e893f8 the same change gave full 601,473 (+0.19% against the "
+          "quadric_mac split's 600,329). Yosys/ABC noise on unchanged logic, as above.", ""]
     L += ["## Reproduce", "", "    make setup", "    make synth          # every configuration, synth/reports/",
           "    make synth-check    # fails when a configuration is over budget",
           "    make synth-blocks   # GE of each block for every configuration", ""]
