@@ -59,9 +59,9 @@ def perm_literal(cfg: Config) -> str:
 
 
 # the blocks that take the per-term exponents (formats.t_exp_w, a_exp_w) as parameters: their
-# own testbenches build them with exponents; everything above them (noise_leaves, noise_fold,
-# tex_regs, texture_pipeline) has no exponent yet
-EXPONENT_BLOCKS = ("noise_term",)
+# own testbenches build them with exponents (noise_term: also noise_xform, noise_grad); everything
+# above them (noise_leaves, noise_fold, tex_regs, texture_pipeline) has no exponent yet
+EXPONENT_BLOCKS = ("noise_term", "fc_weight")
 
 
 def exponent_params(cfg: Config) -> dict:
@@ -77,7 +77,7 @@ def rtl_supported(cfg: Config, module: str | None = None) -> None:
     if (cfg.t_exp_w or cfg.a_exp_w) and module not in EXPONENT_BLOCKS:
         where = f" for {module}" if module else ""
         raise ConfigError(f"{rel_path(cfg.path) if cfg.path else cfg.name}: formats.t_exp_w = {cfg.t_exp_w}, "
-                          f"a_exp_w = {cfg.a_exp_w}: per-term exponents are in the golden model and noise_term, "
+                          f"a_exp_w = {cfg.a_exp_w}: per-term exponents are in the golden model, noise_term and fc_weight, "
                           f"not in the RTL yet{where} (issue 26)")
 
 
@@ -128,7 +128,7 @@ def block_params(cfg: Config, module: str) -> dict:
         return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "j_w", "je_w", "t_w", "t_frac", "a_w", "a_frac", "f_frac",
                                                         "w_cap_log2", "n_log2_max", "fc_log_frac", "fc_knee",
                                                         "fc_fade_log2"),
-                "FC_KS": cfg.fc_ks, "FC_KSF": FC_KSF}
+                "FC_KS": cfg.fc_ks, "FC_KSF": FC_KSF, **exponent_params(cfg)}
     if module == "fc_scale":
         return {"AN_W": cfg.an_w, "AG_W": cfg.ag_w, "AF": cfg.fc_af, "NOISE_GRADIENT": value(cfg, "noise_gradient")}
     if module == "box_divide":  # as colour_map divides: exact, or on a div_bits-bit w

@@ -4,11 +4,11 @@
 // The bit-exact twin of model/hw/golden.py fc_weight(cfg, tex, Jm, je), axis by axis (k = 0..2):
 //   m_k   = max_c |Jm_kc|                                (row k of the pixel's J = Jm 2^je)
 //   lm_k  = fc_log2(m_k) + je 2^LF                       (2^-LF octaves, LF = FC_LOG_FRAC)
-//   lt_ik = fc_log2(max_j |T_i,jk|) - T_FRAC 2^LF        (column k of T_i; static)
+//   lt_ik = fc_log2(max_j |T_i,jk|) - (T_FRAC - te_i) 2^LF  (column k of T_i; static)
 //   L_i   = max_k (lm_k + lt_ik) over the axes with m_k != 0 and T_i column k != 0
 //   alpha_i = clip(FC_KNEE - L_i, 0, 2^AF)               (u1.AF, AF = FC_LOG_FRAC + FC_FADE_LOG2)
 //           = 2^AF when no axis qualifies, a_i = 0, i >= k_used or !filter_en (the term unchanged)
-//   sd_i  = (2^AF - alpha_i) |a_i|                       (u.{AF + A_FRAC}: the faded part's spread)
+//   sd_i  = (2^AF - alpha_i) |a_i| 2^ae_i                (u.{AF + A_FRAC}: the faded part's spread)
 //   wv    = min(shift((max_i sd_i) FC_KS 2^n_log2, F_FRAC - AF - A_FRAC - FC_KSF), 2^(W_CAP_LOG2 + F_FRAC))
 // with fc_log2(x) = (e << LF) + floor((x - 2^e) 2^LF / 2^e), e = bitlen(x) - 1 (Mitchell's
 // piecewise-linear log2, exact at powers of two) and FC_KS = sigma sqrt(12) of the lattice
@@ -17,12 +17,18 @@
 // in term i's cells within a factor 3 of |T_i J|'s; the fade is linear in it: the term is whole
 // up to 2^((FC_KNEE - 2^AF) 2^-LF) cells a pixel and gone (its mean, 0) from 2^(FC_KNEE 2^-LF),
 // frequency clamping (Gritz 1998); its spread moves into the box width, after Heitz et al. (2013).
+// Block floating point ([t_exp_w] T_EXP_W, [a_exp_w] A_EXP_W > 0; docs/numerics.md "Block floating
+// point"): T_i and a_i are mantissas with the term's exponents te_i, ae_i (T_i = M_i 2^(te_i -
+// T_FRAC), a_i = A_i 2^(ae_i - A_FRAC)), which ride above each term's mantissas in t_all and a_all
+// (as in noise_term's t_in and a_in); te = ae = 0 without them (the block as it was).
 //
 // Formats: jm_in 6 x s{J_W}.0 (element 2*k + col), je_in s{JE_W}.0; a_all K x s{A_W}.{A_FRAC},
-//   t_all K x 9 x s{T_W}.{T_FRAC} (the parameter registers, static during a pass);
+//   t_all K x 9 x s{T_W}.{T_FRAC} (the parameter registers, static during a pass); with
+//   exponents term i of a_all is {ae_i u{A_EXP_W}, A_i} (A_W + A_EXP_W bits) and of t_all
+//   {te_i u{T_EXP_W}, its nine mantissas} (9 T_W + T_EXP_W bits);
 //   alpha_out K x u{AF+1}.{AF} (term i at [i*(AF+1) +: AF+1]); wv_out u{W_W}.{F_FRAC} entries.
 // Internal: m_k u{J_W}; lm, lt, L, the fade argument s{L_W}.{LF} (L_W below bounds every sum);
-//   sd u{SD_W}.{AF + A_FRAC}; the scaled width u{PW_W}.
+//   |a| 2^ae u{A_W + AE_MAX}; sd u{SD_W}.{AF + A_FRAC}; the scaled width u{PW_W}.
 // Pipeline (LATENCY = `LAT_FC_WEIGHT = 8 register stages, one pixel per enabled clock):
 //   1  m_k, je      2  lm_k (bitlen, shift)      3  L_i      4  alpha_i      5  sd_i
 //   6  max_i sd_i   7  its product with FC_KS    8  wv (shifts, saturation)
@@ -50,7 +56,9 @@ module fc_weight #(
     parameter FC_KNEE      = 112, // the fade's end, log2 phi in 2^-LF octaves
     parameter FC_FADE_LOG2 = 2,   // the fade spans 2^FC_FADE_LOG2 octaves
     parameter FC_KS        = 328, // sigma sqrt(12) of the lattice noise, u.FC_KSF (the configuration's blend)
-    parameter FC_KSF       = 8    // FC_KS's fraction bits
+    parameter FC_KSF       = 8,   // FC_KS's fraction bits
+    parameter T_EXP_W      = 0,   // [t_exp_w] T's per-term exponent te in t_all (0: none)
+    parameter A_EXP_W      = 0    // [a_exp_w] a's per-term exponent ae in a_all (0: none)
 ) (clk, rst, ce, in_valid, jm_in, je_in, a_all, t_all, k_used, filter_en, n_log2, out_valid, alpha_out,
    wv_out);
 localparam K     = NOISE_TERMS;
@@ -64,14 +72,23 @@ localparam JB_W  = $clog2(J_W + 1);                         // bitlen(m), m <= 2
 localparam TB_W  = $clog2(T_W + 1);                         // bitlen(|T|), |T| <= 2^(T_W-1)
 localparam KNEE_ABS = (FC_KNEE < 0) ? -FC_KNEE : FC_KNEE;
 localparam KB_W  = $clog2(KNEE_ABS + 1);
-localparam TF_W  = $clog2(T_FRAC + 1);
+localparam TE_MAX = (1 << T_EXP_W) - 1;                     // the largest exponents (0: none)
+localparam AE_MAX = (1 << A_EXP_W) - 1;
+localparam TS_W  = 9*T_W + T_EXP_W;                         // one term of t_all: {te, T}
+localparam AS_W  = A_W + A_EXP_W;                           // one term of a_all: {ae, a}
+localparam AA_W  = A_W + AE_MAX;                            // |a| 2^ae
+localparam TF_W  = $clog2(((T_FRAC > TE_MAX) ? T_FRAC : TE_MAX) + 1);
 // L_W: every term of FC_KNEE - lm - lt is below 2^(L_W - 3) in magnitude: |FC_KNEE| < 2^KB_W,
-// fc_log2(m) < 2^(JB_W+LF), |je| 2^LF <= 2^(JE_W-1+LF), fc_log2(|T|) < 2^(TB_W+LF), T_FRAC 2^LF < 2^(TF_W+LF)
+// fc_log2(m) < 2^(JB_W+LF), |je| 2^LF <= 2^(JE_W-1+LF), fc_log2(|T|) < 2^(TB_W+LF), T_FRAC 2^LF and
+// te 2^LF < 2^(TF_W+LF); at most four of them add in one direction (five with an exponent, te
+// beside T_FRAC: one bit more)
 localparam L_M1  = (KB_W > JB_W + LF) ? KB_W : JB_W + LF;
 localparam L_M2  = (L_M1 > JE_W + LF) ? L_M1 : JE_W + LF;
 localparam L_M3  = (L_M2 > TB_W + LF) ? L_M2 : TB_W + LF;
-localparam L_W   = ((L_M3 > TF_W + LF) ? L_M3 : TF_W + LF) + 3;
-localparam SD_W  = AF + A_W;                                // (2^AF - alpha) |a| <= 2^AF 2^(A_W-1)
+localparam L_W   = ((L_M3 > TF_W + LF) ? L_M3 : TF_W + LF) + 3 + ((T_EXP_W > 0) ? 1 : 0);
+localparam TE_W  = (T_EXP_W > 0) ? T_EXP_W : 1;             // te, ae words (1 bit, 0, when none)
+localparam AE_W  = (A_EXP_W > 0) ? A_EXP_W : 1;
+localparam SD_W  = AF + AA_W;                               // (2^AF - alpha) |a| 2^ae <= 2^AF 2^(A_W-1+AE_MAX)
 localparam KS_W  = $clog2(FC_KS + 1) > 0 ? $clog2(FC_KS + 1) : 1;
 localparam integer C0 = F_FRAC - AF - A_FRAC - FC_KSF;  // signed (may be negative)           // the constant part of wv's shift
 localparam PW_W  = SD_W + KS_W + N_LOG2_MAX + ((C0 > 0) ? C0 : 0);  // the shifted product
@@ -91,8 +108,8 @@ input  wire                              ce;
 input  wire                              in_valid;
 input  wire [6*J_W-1:0]                  jm_in;
 input  wire [JE_W-1:0]                   je_in;
-input  wire [NOISE_TERMS*A_W-1:0]        a_all;
-input  wire [NOISE_TERMS*9*T_W-1:0]      t_all;
+input  wire [NOISE_TERMS*AS_W-1:0]       a_all;
+input  wire [NOISE_TERMS*TS_W-1:0]       t_all;
 input  wire [KU_W-1:0]                   k_used;
 input  wire                              filter_en;
 input  wire [NL_W-1:0]                   n_log2;
@@ -130,9 +147,10 @@ always @(posedge clk) begin
     for (ia = 0; ia < K; ia = ia + 1)
         for (ka = 0; ka < 3; ka = ka + 1)
             tn[(3*ia + ka)*T_W +: T_W] <= rst ? {T_W{1'b0}} :
-                t_max3(t_abs(t_all[(9*ia + 0 + ka)*T_W +: T_W]), t_abs(t_all[(9*ia + 3 + ka)*T_W +: T_W]),
-                       t_abs(t_all[(9*ia + 6 + ka)*T_W +: T_W]));
+                t_max3(t_abs(t_all[ia*TS_W + (0 + ka)*T_W +: T_W]), t_abs(t_all[ia*TS_W + (3 + ka)*T_W +: T_W]),
+                       t_abs(t_all[ia*TS_W + (6 + ka)*T_W +: T_W]));
 end
+
 wire [3*K*TB_W-1:0]  tbl;   // bitlen(tn_ik)
 genvar               gb;
 generate
@@ -145,31 +163,41 @@ generate
 endgenerate
 reg signed [L_W-1:0] lt_c    [0:3*K-1];
 reg                  tz_c    [0:3*K-1];
-reg        [A_W-1:0] a_abs_c [0:K-1];
+reg        [AA_W-1:0] a_abs_c [0:K-1];
 reg                  t_on_c  [0:K-1];
-reg        [A_W-1:0] av;
+reg        [A_W-1:0] av, avm;
 reg      [TB_W-1:0]  te;    // e = bitlen(tn) - 1 (0 for tn = 0: masked by tz)
 /* verilator lint_off UNUSEDSIGNAL */  // above bit LF: the leading one (and zeros)
 reg    [T_W+LF-1:0]  tx;    // floor(tn 2^LF / 2^e) = 2^LF + the fraction
 /* verilator lint_on UNUSEDSIGNAL */
+reg        [L_W-1:0] te_sh; // te_i 2^LF (0 without an exponent)
+reg       [AE_W-1:0] ae_i;  // ae_i (0 without an exponent)
 integer              i, j;
 always @* begin
     for (j = 0; j < 3*K; j = j + 1) begin
+        te_sh = {L_W{1'b0}};
+        if (T_EXP_W > 0) te_sh = {{(L_W-TE_W){1'b0}}, t_all[(j/3)*TS_W + 9*T_W +: TE_W]} << LF;
         tz_c[j] = (tn[j*T_W +: T_W] == 0);
         te = tz_c[j] ? {TB_W{1'b0}} : tbl[j*TB_W +: TB_W] - 1'b1;
         tx = {tn[j*T_W +: T_W], {LF{1'b0}}} >> te;
-        lt_c[j] = $signed({{(L_W-TB_W-LF){1'b0}}, te, tx[LF-1:0]}) - $signed(TF_SH);
+        lt_c[j] = $signed({{(L_W-TB_W-LF){1'b0}}, te, tx[LF-1:0]}) - $signed(TF_SH) + $signed(te_sh);
     end
     for (i = 0; i < K; i = i + 1) begin
-        av = a_all[i*A_W +: A_W];
-        a_abs_c[i] = av[A_W-1] ? -av : av;
+        av = a_all[i*AS_W +: A_W];
+        avm = av[A_W-1] ? -av : av;         // |a|: -2^(A_W-1) is 2^(A_W-1) as unsigned
+        /* verilator lint_off WIDTHEXPAND */  // with an exponent AA_W > A_W: zero-extended on purpose
+        a_abs_c[i] = avm;
+        /* verilator lint_on WIDTHEXPAND */
+        ae_i = {AE_W{1'b0}};
+        if (A_EXP_W > 0) ae_i = a_all[i*AS_W + A_W +: AE_W];
+        a_abs_c[i] = a_abs_c[i] << ae_i;    // |a| 2^ae (no exponent: ae = 0)
         t_on_c[i]  = (av != 0) && (i < k_used);
     end
 end
 reg signed [L_W-1:0] lt    [0:3*K-1];
 reg                  tz    [0:3*K-1];
 reg                  t_on  [0:K-1];
-reg        [A_W-1:0] a_abs [0:K-1];
+reg       [AA_W-1:0] a_abs [0:K-1];
 integer              ip;
 always @(posedge clk) begin
     for (ip = 0; ip < 3*K; ip = ip + 1) begin
@@ -178,7 +206,7 @@ always @(posedge clk) begin
     end
     for (ip = 0; ip < K; ip = ip + 1) begin
         t_on[ip]  <= rst ? 1'b0 : t_on_c[ip];
-        a_abs[ip] <= rst ? {A_W{1'b0}} : a_abs_c[ip];
+        a_abs[ip] <= rst ? {AA_W{1'b0}} : a_abs_c[ip];
     end
 end
 

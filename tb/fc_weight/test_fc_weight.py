@@ -13,6 +13,11 @@ mantissa, normalised mantissas over a range of je that sweeps the fade from alph
 
 The golden is also checked against a plain-Python integer formulation (reference below) of
 every output.
+
+Per-term exponents (formats.t_exp_w, a_exp_w > 0; pipe.exponent_configs with the filter sat_fc:
+full_bfp, full_exp and a random one): T_k and a_k are mantissas, each term with its te_k, ae_k
+(0, the largest or uniform; t_all term k = {te_k, T_k}, a_all {ae_k, a_k}), drawn from a
+generator of their own, so a fixed-point configuration's passes are what they were.
 """
 from __future__ import annotations
 
@@ -47,11 +52,20 @@ CASES = [(s, c) for s in hdlbuild.SIMS
          for c in (("full", "reduced", "compact", "random:7", "random:31", "random:137") if s == "icarus"
                    else ("full", "reduced", "random:137"))
          if not os.environ.get("SIM") or os.environ["SIM"] == s]
+# with per-term exponents: Icarus, full_bfp under Verilator too
+EXP_CONFIGS = {n: config_fc_variant(c) for n, c in pipe.exponent_configs(1371)}
+EXP_CASES = [(s, n) for s in hdlbuild.SIMS for n in EXP_CONFIGS if s == "icarus" or n == "full_bfp"
+             if not os.environ.get("SIM") or os.environ["SIM"] == s]
 
 
 @pytest.mark.parametrize("sim,config", CASES)
 def test_fc_weight_rtl(sim, config):
     pipe.run_block("fc_weight", sim, test_file=__file__, config=fc_variant(config), sources=SOURCES)
+
+
+@pytest.mark.parametrize("sim,name", EXP_CASES)
+def test_fc_weight_exponents_rtl(sim, name):
+    pipe.run_block("fc_weight", sim, test_file=__file__, config=EXP_CONFIGS[name], sources=SOURCES)
 
 
 def mitchell(x: int, lf: int) -> int:
@@ -67,24 +81,26 @@ def reference(cfg, tex, Jm, je):
     m = [max(abs(int(Jm[k][0])), abs(int(Jm[k][1]))) for k in range(3)]
     alphas, sd = [], 0
     for i in range(cfg.noise_terms):
-        a = int(tex.a[i])
+        a, te, ae = int(tex.a[i]), int(tex.te[i]), int(tex.ae[i])
         T = np.asarray(tex.T[i])
         tk = [max(abs(int(T[j][k])) for j in range(3)) for k in range(3)]
-        Ls = [mitchell(m[k], lf) + (int(je) << lf) + mitchell(tk[k], lf) - (cfg.t_frac << lf)
+        Ls = [mitchell(m[k], lf) + (int(je) << lf) + mitchell(tk[k], lf) - ((cfg.t_frac - te) << lf)
               for k in range(3) if m[k] and tk[k]]
         if i >= tex.k_used or not tex.filter or a == 0 or not Ls:
             alphas.append(one)
             continue
         al = min(max(cfg.fc_knee - max(Ls), 0), one)
         alphas.append(al)
-        sd = max(sd, (one - al) * abs(a))
+        sd = max(sd, (one - al) * abs(a) * (1 << ae))
     sh = cfg.f_frac - af - cfg.a_frac - FC_KSF
     v = (sd * cfg.fc_ks) << tex.n_log2
     v = v << sh if sh >= 0 else v >> -sh
     return alphas, min(v, 1 << (cfg.w_cap_log2 + cfg.f_frac))
 
 
-def make_pass(cfg, r, kind: str):
+def make_pass(cfg, r, kind: str, re=None):
+    """One pass's parameters; re: the exponents' own generator (0, the largest or uniform per
+    term; None or a fixed-point configuration: all 0)."""
     K = cfg.noise_terms
     tlo, thi = -(1 << (cfg.t_w - 1)), (1 << (cfg.t_w - 1)) - 1
     alo, ahi = -(1 << (cfg.a_w - 1)), (1 << (cfg.a_w - 1)) - 1
@@ -105,7 +121,15 @@ def make_pass(cfg, r, kind: str):
         a[-1] = alo
     if kind == "cap":  # every a the most negative, n_log2 the largest: a faded term's wv can reach the cap
         a[:] = alo
-    return SimpleNamespace(a=a, T=T, te=np.zeros(K, dtype=np.int64), ae=np.zeros(K, dtype=np.int64), k_used=int(r.integers(0, K + 1)) if kind == "k_used" else K,
+
+    def exps(e_max):
+        if re is None or not e_max:
+            return np.zeros(K, dtype=np.int64)
+        return np.array([(0, e_max, int(re.integers(0, e_max + 1)))[int(re.integers(0, 3))] for _ in range(K)],
+                        dtype=np.int64)
+
+    return SimpleNamespace(a=a, T=T, te=exps(cfg.d["te_max"]), ae=exps(cfg.d["ae_max"]),
+                           k_used=int(r.integers(0, K + 1)) if kind == "k_used" else K,
                            filter=kind != "filter_off",
                            n_log2=cfg.n_log2_max if kind == "cap" else int(r.integers(0, cfg.n_log2_max + 1)))
 
@@ -119,7 +143,7 @@ def make_pixels(cfg, r, tex, n: int):
     for j in range(n // 2):
         i = int(r.integers(0, cfg.noise_terms))
         L = cfg.fc_knee / (1 << cfg.fc_log_frac) - float(r.uniform(-1, (1 << cfg.fc_fade_log2) + 1))
-        e = int(np.floor(L - np.log2(tn[i]) + cfg.t_frac - (cfg.j_w - 1)))
+        e = int(np.floor(L - np.log2(tn[i]) + cfg.t_frac - int(tex.te[i]) - (cfg.j_w - 1)))
         je[j] = np.clip(e, cfg.je_min, cfg.je_max)
         Jm[j].flat[int(r.integers(0, 6))] = jhi * int(r.choice([-1, 1]))
     Jm[n // 2] = 0
@@ -135,8 +159,11 @@ def make_pixels(cfg, r, tex, n: int):
 
 
 def _drive_pass(dut, cfg, tex):
-    dut.a_all.value = pipe.pack(tex.a, cfg.a_w)
-    dut.t_all.value = pipe.pack(np.asarray(tex.T).reshape(-1), cfg.t_w)
+    # term k: {ae_k, a_k} and {te_k, T_k} (the exponents only with t_exp_w, a_exp_w > 0)
+    dut.a_all.value = pipe.pack([pipe.pack([a], cfg.a_w) | (int(e) << cfg.a_w) for a, e in zip(tex.a, tex.ae)],
+                                cfg.a_w + cfg.a_exp_w)
+    dut.t_all.value = pipe.pack([pipe.pack(np.asarray(T).reshape(-1), cfg.t_w) | (int(e) << (9 * cfg.t_w))
+                                 for T, e in zip(tex.T, tex.te)], 9 * cfg.t_w + cfg.t_exp_w)
     dut.k_used.value = tex.k_used
     dut.filter_en.value = int(tex.filter)
     dut.n_log2.value = tex.n_log2
@@ -153,8 +180,9 @@ async def passes_bit_exact(dut):
     kinds = ["config", "config", "hard", "k_used", "filter_off", "pow2", "cap"]
     n = max(64, pipe.n_vectors() // len(kinds))
     total = 0
+    re = np.random.default_rng([int(os.environ.get("SEED", "1")), 31])
     for pi, kind in enumerate(kinds):
-        tex = make_pass(cfg, r, kind)
+        tex = make_pass(cfg, r, kind, re)
         Jm, je = make_pixels(cfg, r, tex, n)
         alpha, wv = G.fc_weight(cfg, tex, Jm, je)
         for i in range(0, n, max(1, n // 16)):  # the golden against plain integers
