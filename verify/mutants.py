@@ -79,6 +79,40 @@ TIMEOUT = 900  # seconds per test of a mutant (a hang is a kill)
 # register that no valid output reads before it is loaded.
 _LOOP = "the extra iteration writes past the vector (or array), a write Verilog drops; its reads feed only that write"
 EQUIVALENT: dict[str, str] = {
+    "6045c743": "cs is D_W bits, 0 before this write: cs[CS_W+1:0] takes cs_in's CS_W-bit slice zero-extended, so the"
+                " two bits above CS_W get the 0 they held (past D_W, a part-select write Verilog drops)",
+    "3110b5f6": "clut_we holds only with wr_addr[NMAX] = 0 (sat2_table: !wr_addr[NMAX]), so wr_addr[NMAX:0] is the "
+                "same index as wr_addr[NMAX-1:0]",
+    "05e09ffd": "the delay line is KW bits wider (5 KW for 4 KW) than the concatenation it carries: its input is "
+                "zero-extended, the extra output bits dropped; the bits the nets carry are delayed as before",
+    "283b220c": "(loop) r2 = 3 writes lm2[3], past the array lm2[0:2] (and reads lm0[3], past lm0[0:2]): " + _LOOP,
+    "2fc2c8ab": "(reset) at_last reaches the outputs only through busy_reg && at_last and !busy_reg || at_last; reset"
+                " clears busy_reg, and busy_reg rises only in the clock that takes a pixel, the clock that loads "
+                "at_last_reg (j_last == 0): while busy_reg = 0 its value is not read",
+    "67ce33a5": "(reset) t_on is rewritten on every clock (no ce) from t_on_c, a function of the pass parameters: one"
+                " clock after rst falls it holds the same value whatever rst wrote, and stage 3, where it is read "
+                "(lok0), sees a pixel two clocks after it enters at the earliest",
+    "6ba15391": "(contract) n_log2 is the loaded tables' size (colour_map, cmap_sat2: 'tables loaded for that N'); it"
+                " changes only with a table load, which texture_pipeline makes only with the pipeline empty "
+                "(tex_regs), so s2, s3 and s4 hold the same n_log2 whenever a pixel is in flight; tb/cmap_sat2 holds "
+                "it per table",
+    "84ffc093": "the extra generate iteration gl = 4 adds a fifth x lerp, g_lerp_x[4], whose y nothing reads (stage 4"
+                " reads g_lerp_x[0..3].y by name): unused logic, its b past v_reg's eight corners",
+    "c2e6abb5": "a zero of KV 2 O_W bits zero-extended to o_all's KV 3 O_W bits is the same zero",
+    "c5e71ecd": "q_bcf (B | C | F, 0 by contract) is read by nothing: a wire kept for lint (UNUSEDSIGNAL), not logic",
+    "f5b90fc6": "(trunc) ku_reg is KU_W = U_W - FF bits: u_in[U_W+1:FF] is cut to u_in[U_W-1:FF]",
+    "a1382ea7": "without FPGA_REGS (P = 0, g_no5a) h_0y feeds only wn_0, hence wn_f, which s5_wn_reg takes only with "
+                "FPGA_REGS (else {1'b0, w_y} + h2): the constant is not read",
+    "b54fc3cb": "FX_Q = 0 takes g_fx instead of g_f: a sign extension by zero bits ({0{...}} in a concatenation is "
+                "empty) is q_in itself",
+    "54ba9431": "(trunc) valid_reg is LATENCY bits: vin[LATENCY:0] is cut to vin[LATENCY-1:0]",
+    "867b0a9d": "(loop) cs2 = 4 writes v1_nx and v2_nx past their four channels (and reads term past its four): " + _LOOP,
+    "86f55fb4": "(trunc) the slice written is DEN_W bits: the conditional's diff[DEN_W:0] is cut to diff[DEN_W-1:0] "
+                "(rem[I +: DEN_W] on the other side is zero-extended and cut back)",
+    "87a5b002": "(trunc) ag_next is AG_W bits: agp[AG_W:0] is cut to agp[AG_W-1:0]",
+    "eef05fc2": "the delay line is 5 TW bits wide on 4 TW-bit nets: its input is zero-extended, the extra output bits"
+                " dropped; the 4 TW bits the nets carry are delayed as before",
+    "98ff867d": "(trunc) an_next is AN_W bits: an_w[AN_W+1:0] is cut to an_w[AN_W-1:0]",
     "47877a40": "(loop) the extra generate lane l = LANES reads and writes rem_in/rem_out past their LANES lanes: " + _LOOP,
     "6dfa04d7": "(loop) c = 4 writes num_x past its 4 channels: " + _LOOP + " (sum and pt are loop temporaries)",
     "c67ff000": "(loop) al3[K] is past the array al3[0:K-1]: " + _LOOP,
@@ -120,6 +154,17 @@ EQUIVALENT: dict[str, str] = {
 
 # Survivors neither killed nor shown equivalent, with what was found (listed as open in the report).
 OPEN: dict[str, str] = {
+    "00d3bc02": "not equivalent: with kt < K, k_used = K leaves j_last at 0 (one issue instead of ceil(K / U)); no "
+                "mutant frame has a texture using every term of a folded configuration (marble has 4 terms, compact K"
+                " = 8). Killed by hand: marble 16x16 under Icarus on compact with noise_terms = 4 (k_used = K), 93 of"
+                " the frame's pixels differ, unmutated 0; a frame configuration like that is the missing test",
+    "51c54460": "equivalent in hardware, not in simulation: m U + gu = K exists only when U does not divide K (no "
+                "frame configuration: compact K 8 on U 1 and 2); that slot's a_sel is 0 (K >= k_used), so the term is"
+                " 0 whatever T and o, but t_sel and o_sel read past t_all and o_all, X under Icarus, and 0 times X is"
+                " X: a frame on K = 5, U = 2 would show X, not a wrong value",
+    "80e34b7e": "not equivalent, unreachable: with || a C_W or J_W above 35 (mul_pipe's two parts) takes mul_pipe "
+                "when the other is at most 35; no configuration has one (C_W at most 33, J_W at most 13 over the "
+                "named, candidate and random:0..299 configurations)",
 }
 
 

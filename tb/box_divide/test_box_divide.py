@@ -8,6 +8,9 @@ Two halves in one file (the project's testbench convention):
   B = div_bits bits, NUM_W = B + 8; docs/numerics.md "Colour map") for each configuration
   with div_bits > 0, and the saturating build (SAT = 1, NUM_W = B + 9) that colour_map uses
   for div_bits <= 9, at B = 9 and B = 4;
+- pytest entry `test_box_divide_random_rtl`: random configurations' dividers, a 1- and a 2-bit
+  divisor with SAT, and SAT with NUM_W <= Q_W (sat_narrow: no quotient saturates, the
+  overflow compare is not built);
 - cocotb test `box_divide_vs_python`: random divisors (uniform over the whole DEN_W range
   and log-uniform) with random numerators meeting the precondition num < den 2^Q_W
   (SAT: num < den 2^(Q_W+1)), then the edge cases: den = 1, den at its maximum, den = 2^k
@@ -159,6 +162,8 @@ def _random_sets():
         out[f"random{s}"] = {k: p[k] for k in ("NUM_W", "DEN_W", "Q_W", "LANES", "SAT")}
     out["den2"] = {"NUM_W": 11, "DEN_W": 2, "Q_W": Q_W, "LANES": LANES, "SAT": 1}  # a 2-bit divisor
     out["den1"] = {"NUM_W": 10, "DEN_W": 1, "Q_W": Q_W, "LANES": LANES, "SAT": 1}  # div_bits = 1: den' is 1
+    # SAT with NUM_W <= Q_W: every quotient fits, the overflow compare is not built (q = num // den)
+    out["sat_narrow"] = {"NUM_W": 7, "DEN_W": 3, "Q_W": Q_W, "LANES": LANES, "SAT": 1}
     return out
 
 

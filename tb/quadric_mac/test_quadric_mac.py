@@ -56,6 +56,13 @@ def test_quadric_mac_rtl(sim, config):
     pipe.run_block("quadric_mac", sim, test_file=__file__, config=config, sources=SOURCES)
 
 
+# random:6 (full quadric, fpga_regs): C_W > V_W + CSH, so the sign extension of v_k reaches grad q's
+# top bits (27 of the named and random:0..399 configurations; none of family_params' draws)
+@pytest.mark.parametrize("config", ["random:6"])
+def test_quadric_mac_c_sign_rtl(config):
+    pipe.run_block("quadric_mac", "icarus", test_file=__file__, config=config, sources=SOURCES)
+
+
 # ---------------------------------------------------------------------------
 # Stimulus
 
