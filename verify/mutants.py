@@ -79,6 +79,17 @@ TIMEOUT = 900  # seconds per test of a mutant (a hang is a kill)
 # register that no valid output reads before it is loaded.
 _LOOP = "the extra iteration writes past the vector (or array), a write Verilog drops; its reads feed only that write"
 EQUIVALENT: dict[str, str] = {
+    "ed444ca3": "unused_w is read by nothing (a lint sink, UNUSEDSIGNAL): its width and bits change no logic",
+    "158aebc7": "q_bcf (B | C | F, 0 by contract) is read by nothing: a wire kept for lint (UNUSEDSIGNAL), not logic",
+    "a9152661": "o_sel keeps its default only when no slot m matches (j_reg past the pixel's slots, or m U + gu >= "
+                "K), where a_sel keeps its default 0: a term with a = 0 is exactly 0 whatever its offset o",
+    "259be3f9": "d_w is 0 before this write: d_w[W_W:0] takes w_s zero-extended, so bit W_W gets the 0 it held",
+    "d4e79b0f": "(loop) lk = NLN writes w_fin past its NLN lanes (and reads fin_over[NLN] past the vector): " + _LOOP,
+    "8d4aed03": "LAT_CMAP_SAT2, LAT_CMAP_MIP and LAT_CMAP_POINT are equal (13, with FPGA_REGS 17; "
+                "rtl/tex_latency.vh): whichever of them the inverted condition picks, LAT_FAM is the same number",
+    "731b2a03": "kt runs 0..K < 2^KU_W, so kt[KU_W+1:0] is kt[KU_W-1:0] with two zero bits above, and k_used zero-"
+                "extended compares equal to it exactly when it did",
+    "c81a7f37": "(trunc) km is NMAX bits: kms[NMAX:0] is cut to kms[NMAX-1:0]",
     "6045c743": "cs is D_W bits, 0 before this write: cs[CS_W+1:0] takes cs_in's CS_W-bit slice zero-extended, so the"
                 " two bits above CS_W get the 0 they held (past D_W, a part-select write Verilog drops)",
     "3110b5f6": "clut_we holds only with wr_addr[NMAX] = 0 (sat2_table: !wr_addr[NMAX]), so wr_addr[NMAX:0] is the "
@@ -154,6 +165,9 @@ EQUIVALENT: dict[str, str] = {
 
 # Survivors neither killed nor shown equivalent, with what was found (listed as open in the report).
 OPEN: dict[str, str] = {
+    "ed80d9b8": "not equivalent: with <= the slot of term k_used (< K) takes a_all's a_k instead of 0; the frames' "
+                "textures write a = 0 past k_used (tex_regs from the host), so the extra term adds 0 there; a texture"
+                " with a non-zero a past k_used would kill it (noise_leaves zeroes it the same way, tested)",
     "00d3bc02": "not equivalent: with kt < K, k_used = K leaves j_last at 0 (one issue instead of ceil(K / U)); no "
                 "mutant frame has a texture using every term of a folded configuration (marble has 4 terms, compact K"
                 " = 8). Killed by hand: marble 16x16 under Icarus on compact with noise_terms = 4 (k_used = K), 93 of"
@@ -688,7 +702,7 @@ def _cell(s: str) -> str:
 def section(recs: list[dict], s: dict, args: dict, seconds: float) -> str:
     """The "## Mutants" section of docs/verification.md."""
     cmd = f"make mutants N={args['n']} SEED={args['seed']}"
-    borrowed = "; ".join(f"{p.stem}, {', '.join(str(tb.relative_to(ROOT)) for tb in testbenches(p.stem))}"
+    borrowed = "; ".join(f"{p.stem} ({', '.join(str(tb.relative_to(ROOT)) for tb in testbenches(p.stem))})"
                          for p in sorted(RTL.glob("*.v"))
                          if not (ROOT / "tb" / p.stem).is_dir() and testbenches(p.stem)) or "none"
     L = ["## Mutants", "",
