@@ -100,5 +100,7 @@ def test_tiny_run_kills_a_known_mutant(tmp_path):
     (r,) = res["mutants"]
     assert (r["id"], r["kind"], r["result"]) == ("6f92a850", "stage", "killed") and r["by"].startswith("tb/fc_weight/")
     assert rc == 0 and res["summary"]["killed_share"] == 1.0
-    assert "| 6f92a850 | fc_weight.v:246 | stage |" in doc.read_text() and "<!-- measured on:" in doc.read_text()
+    line = next(i for i, x in enumerate((mu.RTL / "fc_weight.v").read_text().split("\n"), 1) if x.strip() == "v2  <= v1;")
+    assert r["line"] == line  # the line moves with edits to fc_weight.v; the mutant's id does not
+    assert f"| 6f92a850 | fc_weight.v:{line} | stage |" in doc.read_text() and "<!-- measured on:" in doc.read_text()
     assert not (tmp_path / "out" / "run" / "6f92a850").exists()  # the scratch copy is gone
