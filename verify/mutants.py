@@ -431,11 +431,13 @@ def draw(site_list, seed: int):
 
 def frame_configs(work: Path) -> dict[str, str]:
     """{name: what sim.frame's --config takes}: the named configurations a mutant's frame may run
-    on, in order, and the variants that reach the rest of rtl/ (compact on two noise units, filter
-    mip and none, fpga_regs), written to configuration files under work/."""
+    on, in order, and the variants that reach the rest of rtl/ (compact on two noise units, compact
+    with four terms so that marble's four use every one (k_used = K on folded units: 00d3bc02),
+    filter mip and none, fpga_regs), written to configuration files under work/."""
     out = {n: n for n in ("full", "compact", "reduced", "full_fc")}
     full, compact = load_config("full"), load_config("compact")
     for name, cfg in (("compact_u2", variant(compact, "compact_u2", noise_units=2)),
+                      ("compact_k4", variant(compact, "compact_k4", noise_terms=4)),
                       ("full_mip", variant(full, "full_mip", filter="mip")),
                       ("full_none", variant(full, "full_none", filter="none")),
                       ("compact_fpga", variant(compact, "compact_fpga", fpga_regs=True))):
