@@ -33,23 +33,21 @@
 // Internal: p u{P_W}.{P_FRAC}; v, e, fz, n s{N_W}.{N_FRAC}; differences s{N_W+1}.{N_FRAC};
 //   w, dw s{BLEND_W}.{P_FRAC} in [0, 1.5]; g s{GN_W}.{N_FRAC}; h s{H_W}.{C_FRAC + A_FRAC}.
 // Blocks: p_j is noise_xform, once per axis (stages 1, 2); the gradient (g, h, ag) is
-// noise_grad beside the value path (stages 4..8); noise_hash, noise_blend, lerp as below.
+// noise_grad beside the value path (stages 4..8); noise_hash, noise_blend, lerp as below;
+// the parameters as each stage sees them (pow2 decoders, PARAM_PIPE delays) noise_params.
 //
 // Transform (TRANSFORM): affine (0) uses multipliers for T s and g T. pow2 (1): T is
-// diagonal with entries 0 or 2^e (model/hw/quantize.py guarantees it; the off-diagonal
-// entries are ignored): T_jj s_j and g_j T_jj are shifts by e, the highest set bit of
-// T_jj, decoded here once into tc_in = {T_jj == 0, e} per axis; no multipliers.
+// diagonal with entries 0 or 2^e: T_jj s_j and g_j T_jj are shifts by e, decoded once per
+// term by noise_params into tc = {T_jj == 0, e} per axis; no multipliers.
 //
 // Amplitude (AMPLITUDE): any (0) uses multipliers for a n and a h. pow2 (1): a is
-// 0 or +-2^e (model/hw/quantize.py guarantees it), e in 0..A_W-2 for a > 0 and 0..A_W-1
-// for a < 0 (-2^(A_W-1), the format's most negative value, is legal). a_in is decoded
-// once, combinationally, into ac_in = {zero, neg, e} (1 + 1 + EA_W bits, EA_W =
-// clog2(A_W)): e = the lowest set bit of a_in (2^e has bit e alone, -2^e bits e..A_W-1),
-// neg = the sign bit. Stage 8 then forms sign(a) n as s{N_W+1} and sign(a) h_k as
-// s{H_W+1} (a conditional negation, 0 when a = 0; one extra bit so that even the most
-// negative word negates exactly), shifts it left by e in the A_W + N_W (A_W + H_W) bit
-// product word (|a n| <= 2^(A_W-1) 2^(N_W-1) < 2^(A_W+N_W-1): no overflow) and takes
-// the same floor shift (>> AN_SHIFT, >> A_FRAC) as the multiplier path: the products
+// 0 or +-2^e, e in 0..A_W-2 for a > 0 and 0..A_W-1 for a < 0 (-2^(A_W-1), the format's
+// most negative value, is legal), decoded once per term by noise_params into ac = {zero,
+// neg, e} (1 + 1 + EA_W bits, EA_W = clog2(A_W)). Stage 8 then forms sign(a) n as
+// s{N_W+1} and sign(a) h_k as s{H_W+1} (a conditional negation, 0 when a = 0; one extra
+// bit so that even the most negative word negates exactly), shifts it left by e in the
+// A_W + N_W (A_W + H_W) bit product word (|a n| <= 2^(A_W-1) 2^(N_W-1) < 2^(A_W+N_W-1):
+// no overflow) and takes the same floor shift (>> AN_SHIFT, >> A_FRAC) as the multiplier path: the products
 // are exactly a n and a h_k, so the results equal the golden model's for every n, h
 // and legal a. No multipliers.
 //
@@ -70,16 +68,14 @@
 // gradient's g wait beside them); the parameters of PARAM_PIPE travel 8 stages further.
 //
 // Parameters (PARAM_PIPE = 0): a_in, t_in, o_in are per-pass parameters, not per-vector
-// data. No register carries them down the pipeline: each is read directly by the stage that
-// needs it (t_in by stages 1 and 7, o_in by stage 2, a_in by stage 8; pow2 T and a
-// through their combinational decoders, tc_in and ac_in; te by stages 2 and 7, ae by 8).
+// data, read by the stage that needs them (stages 1, 2, 7, 8; noise_params gives each its
+// words, pow2 T and a decoded).
 // CONTRACT: a_in, t_in, o_in must be stable from the first vector's entry until the
 // last vector's exit; texture_pipeline guarantees it: parameters are written only
 // when the pipeline is empty (between passes). Changing them with vectors in flight
 // gives those vectors a mixture of old and new parameters. PARAM_PIPE = 1 (noise_fold): the
 // parameters are per-vector data, taken with in_valid and carried down beside the vector
-// (o for 1 stage, T for 6, a for 7; in pow2 modes the decoded shifts, a few bits each; te
-// with T: 1 stage to noise_xform's stage 2 beside o, 6 to noise_grad's stage 7; ae with a, 7).
+// (noise_params: o and te 1 stage, T and te 6, a and ae 7).
 // ce = 0 holds every register. rst clears the valid chain and the output registers
 // (the output registers load only with a valid vector, so no X reaches the outputs).
 //
@@ -196,89 +192,12 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------------------
-// Parameters, stable for the whole pass (see the contract in the header): read
-// directly where needed, not pipelined. The decoders below change only when the
-// parameters do (between passes).
+// The parameters as each stage sees them (noise_params): stage 1 reads tc_s1 (pow2 T
+// decoded), stage 2 o_s2 and te_s2, stage 7 tc_s7 and te_s7, stage 8 ac_s8 (pow2 a decoded)
+// and ae_s8. PARAM_PIPE = 0: the ports themselves (stable); PARAM_PIPE = 1: delayed with
+// the vector (1, 6 and 7 enabled clocks), so that every stage works with its own term.
 
-// the mantissas and the exponents (0 when there are none: not read then)
-wire [A_W-1:0]   a_m = a_in[A_W-1:0];
-wire [9*T_W-1:0] t_m = t_in[9*T_W-1:0];
-/* verilator lint_off UNUSEDSIGNAL */  // PARAM_PIPE = 1 without exponents: not read
-wire [TE_W-1:0]  te_in;
-wire [AE_W-1:0]  ae_in;
-/* verilator lint_on UNUSEDSIGNAL */
-generate
-    if (T_EXP_W > 0) begin : g_te
-        assign te_in = t_in[9*T_W +: TE_W];
-    end else begin : g_no_te
-        assign te_in = {TE_W{1'b0}};
-    end
-    if (A_EXP_W > 0) begin : g_ae
-        assign ae_in = a_in[A_W +: AE_W];
-    end else begin : g_no_ae
-        assign ae_in = {AE_W{1'b0}};
-    end
-endgenerate
-
-wire [AC_W-1:0] ac_in;              // a as stage 8 needs it (any: a; pow2: {zero, neg, e})
-// T as stages 1 and 7 need it (affine: T; pow2: {zero, e} per diagonal entry, entry j
-// at element j)
-wire [TC_W-1:0] tc_in;
-
-generate
-    if (AMP_POW2) begin : g_a_pow2
-        // a = 2^e has bit e alone set, a = -2^e bits e..A_W-1 (-2^(A_W-1): bit A_W-1
-        // alone): either way e is the lowest set bit, and neg the sign bit
-        reg [AC_W-1:0] ac;
-        reg [EA_W-1:0] e;
-        integer        i;
-        always @* begin
-            // priority encoder: the lowest set bit of a (0 when a = 0)
-            e = {EA_W{1'b0}};
-            for (i = A_W - 1; i >= 0; i = i - 1) begin
-                if (a_m[i]) e = i[EA_W-1:0];
-            end
-            ac = {a_m == {A_W{1'b0}}, a_m[A_W-1], e};
-        end
-        assign ac_in = ac;
-    end else begin : g_a_any
-        assign ac_in = a_m;
-    end
-
-    if (AFFINE) begin : g_t_affine
-        assign tc_in = t_m;
-    end else begin : g_t_pow2
-        // T_jj = 2^e: e is the highest set bit of T_jj below the sign (0 when T_jj = 0)
-        reg [TC_W-1:0]        tc;
-        reg signed [T_W-1:0]  t_jj;
-        reg [E_W-1:0]         e;
-        integer               i, j;
-        always @* begin
-            tc = {TC_W{1'b0}};
-            for (j = 0; j < 3; j = j + 1) begin
-                t_jj = t_m[(4*j)*T_W +: T_W];
-                e    = {E_W{1'b0}};
-                for (i = 0; i < T_W - 1; i = i + 1) begin
-                    if (t_jj[i]) e = i[E_W-1:0];
-                end
-                tc[j*(E_W+1) +: E_W+1] = {t_jj == {T_W{1'b0}}, e};
-            end
-        end
-        assign tc_in = tc;
-        // the quantizer guarantees a diagonal T: the off-diagonal entries are not read
-        /* verilator lint_off UNUSEDSIGNAL */
-        wire [6*T_W-1:0] t_offdiag = {t_m[5*T_W +: 3*T_W], t_m[1*T_W +: 3*T_W]};
-        /* verilator lint_on UNUSEDSIGNAL */
-    end
-endgenerate
-
-// ---------------------------------------------------------------------------
-// The parameters as each stage sees them: stage 1 reads tc_in itself; stage 2 reads
-// o_s2 and te_s2, stage 7 tc_s7 and te_s7, stage 8 ac_s8 and ae_s8. PARAM_PIPE = 0: the
-// ports themselves (stable); PARAM_PIPE = 1: delayed with the vector (1, 6 and 7 enabled
-// clocks), so that every stage works with its own vector's term (te with T, ae with a;
-// without exponents they are constant 0 and no register carries them).
-
+wire [TC_W-1:0]  tc_s1;
 wire [3*O_W-1:0] o_s2;
 /* verilator lint_off UNUSEDSIGNAL */  // without the gradient, stage 7 reads no T (nor te)
 wire [TC_W-1:0]  tc_s7;
@@ -290,41 +209,13 @@ wire [AC_W-1:0]  ac_s8;
 wire [AE_W-1:0]  ae_s8;
 /* verilator lint_on UNUSEDSIGNAL */
 
-generate
-    if (PARAM_PIPE != 0) begin : g_param_pipe
-        delay_line #(.W(3*O_W), .N(1)) u_dly_o  (.clk(clk), .rst(rst), .ce(ce), .d_in(o_in),  .d_out(o_s2));
-        delay_line #(.W(AC_W),  .N(7 + P + 3*LP)) u_dly_ac (.clk(clk), .rst(rst), .ce(ce), .d_in(ac_in), .d_out(ac_s8));
-        if (GRAD) begin : g_t
-            delay_line #(.W(TC_W), .N(6 + P + 3*LP)) u_dly_tc (.clk(clk), .rst(rst), .ce(ce), .d_in(tc_in), .d_out(tc_s7));
-        end else begin : g_no_t
-            assign tc_s7 = {TC_W{1'b0}};
-        end
-        if (T_EXP_W > 0) begin : g_te_pipe
-            delay_line #(.W(TE_W), .N(1)) u_dly_te2 (.clk(clk), .rst(rst), .ce(ce), .d_in(te_in), .d_out(te_s2));
-            if (GRAD) begin : g_te7
-                delay_line #(.W(TE_W), .N(5 + P + 3*LP)) u_dly_te7 (.clk(clk), .rst(rst), .ce(ce), .d_in(te_s2),
-                                                                    .d_out(te_s7));
-            end else begin : g_no_te7
-                assign te_s7 = {TE_W{1'b0}};
-            end
-        end else begin : g_te_none
-            assign te_s2 = {TE_W{1'b0}};
-            assign te_s7 = {TE_W{1'b0}};
-        end
-        if (A_EXP_W > 0) begin : g_ae_pipe
-            delay_line #(.W(AE_W), .N(7 + P + 3*LP)) u_dly_ae (.clk(clk), .rst(rst), .ce(ce), .d_in(ae_in), .d_out(ae_s8));
-        end else begin : g_ae_none
-            assign ae_s8 = {AE_W{1'b0}};
-        end
-    end else begin : g_param_static
-        assign o_s2  = o_in;
-        assign tc_s7 = tc_in;
-        assign ac_s8 = ac_in;
-        assign te_s2 = te_in;
-        assign te_s7 = te_in;
-        assign ae_s8 = ae_in;
-    end
-endgenerate
+noise_params #(
+    .T_W(T_W), .A_W(A_W), .O_W(O_W), .TRANSFORM(TRANSFORM), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
+    .PARAM_PIPE(PARAM_PIPE), .FPGA_REGS(FPGA_REGS), .T_EXP_W(T_EXP_W), .A_EXP_W(A_EXP_W)
+) u_params (
+    .clk(clk), .rst(rst), .ce(ce), .a_in(a_in), .t_in(t_in), .o_in(o_in),
+    .tc_s1(tc_s1), .o_s2(o_s2), .te_s2(te_s2), .tc_s7(tc_s7), .te_s7(te_s7), .ac_s8(ac_s8), .ae_s8(ae_s8)
+);
 
 // ---------------------------------------------------------------------------
 // Registers (stage numbers as in the header), loaded by the clocked process below; the
@@ -360,7 +251,7 @@ generate
             .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .P_FRAC(P_FRAC), .HASH_BITS(HB),
             .TRANSFORM(TRANSFORM), .AXIS(gj), .T_EXP_W(T_EXP_W)
         ) u_xform (
-            .clk(clk), .ce(ce), .s_in(s_in), .t_row(tc_in[gj*TR_W +: TR_W]), .o_in(o_s2[gj*O_W +: O_W]),
+            .clk(clk), .ce(ce), .s_in(s_in), .t_row(tc_s1[gj*TR_W +: TR_W]), .o_in(o_s2[gj*O_W +: O_W]),
             .te(te_s2), .ip(ip_j), .fp(fp)
         );
         // stage 3: w, dw of axis j (the slopes only feed the gradient)

@@ -145,12 +145,10 @@ EQUIVALENT: dict[str, str] = {
                 "holds the same value whatever rst wrote, and no valid pixel reads it earlier",
     "335826b3": "(reset) c_acc_reg is loaded with c_step on a pixel's first term (first_o) before any sum is valid: "
                 "its reset value never reaches the output",
-    "42a2bf56": "e's default is read only when a = 0 (no bit set), where ac's zero flag makes the term's product 0 "
-                "(noise_term stage 8): the exponent is not used",
     "b4115851": "m_nx's default is overwritten: the channel loop assigns all four D_W slices of it",
     "8f70a181": "(loop) k0 = 3 writes m0[3], past the array m0[0:2]: " + _LOOP + " (ja, jb are loop temporaries)",
     "5dae4462": "m = NJ adds an iteration whose condition never holds: NJ = ceil(K / U), so NJ U + gu >= K",
-    "6f1613d0": "tc's default is overwritten: the loop over j assigns all three E_W + 1-bit fields of tc (TC_W = 3 (E_W + 1))",
+    "17c6677f": "tc's default is overwritten: the loop over j assigns all three E_W + 1-bit fields of tc (TC_W = 3 (E_W + 1))",
     "c38d2b94": "with the condition inverted a diagonal quadric on two clocks (FPGA_REGS 0) takes g_diag, qmac_diag, "
                 "instead of g_diag_fold, qmac_diag_fold: the same values (golden qmac_diag_fold is qmac_diag; "
                 "tb/qmac_diag and tb/qmac_diag_fold check each bit-exact), the same latency (LAT_QMAC_DIAG = "

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from model.hw.config import FC_KSF, Config
+from model.hw.config import FC_KSF, Config, latency
 
 MODE_MOD, MODE_CLAMP = 0, 1
 I64 = np.int64
@@ -233,6 +233,46 @@ def noise_grad(cfg: Config, a: int, T, v, e, fz, wy, wz, dw, te: int = 0, ae: in
         h = shift(gx * T[0, k] + gy * T[1, k] + gz * T[2, k], int(te) - d["h_shift"])
         ag.append((int(a) * h) >> (cfg.a_frac - int(ae)))
     return np.stack(ag, axis=-1)
+
+
+def noise_params(cfg: Config, a: int, T, o, te: int = 0, ae: int = 0) -> dict:
+    """A term's parameters as noise_term's stages read them (rtl/noise_params.v), the words of
+    its ports: "tc" (stages 1, 7) T's nine mantissas s{t_w} (entry 3 j + k at element 3 j + k)
+    with an affine transform; pow2 (T diagonal 0 / 2^e) per axis j {T_jj == 0, e} (e the highest
+    set bit below the sign, 0 for T_jj = 0; E_W = clog2(t_w - 1) bits) at element j. "ac" (stage
+    8) a s{a_w} with amplitude any; pow2 (a = 0 / +-2^e) {a == 0, sign, e} (e the lowest set bit,
+    0 for a = 0; EA_W = clog2(a_w) bits). "o" the three offsets u{p_w} packed, "te", "ae" as
+    given. Where each arrives: noise_params_delays."""
+    tw, aw = cfg.t_w, cfg.a_w
+    T = np.asarray(T, dtype=I64).reshape(3, 3)
+    if cfg.transform == "affine":
+        tc = sum((int(T[j, k]) & ((1 << tw) - 1)) << ((3 * j + k) * tw) for j in range(3) for k in range(3))
+    else:
+        ew = (tw - 2).bit_length()  # clog2(t_w - 1)
+        tc = 0
+        for j in range(3):
+            t = int(T[j, j]) & ((1 << tw) - 1)
+            tc |= ((t == 0) << ew | max((t & ((1 << (tw - 1)) - 1)).bit_length() - 1, 0)) << (j * (ew + 1))
+    am = int(a) & ((1 << aw) - 1)
+    if cfg.amplitude == "any":
+        ac = am
+    else:
+        ea = (aw - 1).bit_length()  # clog2(a_w)
+        ac = (am == 0) << (ea + 1) | (am >> (aw - 1)) << ea | ((am & -am).bit_length() - 1 if am else 0)
+    pw = cfg.d["p_w"]
+    ow = sum((int(o[j]) & ((1 << pw) - 1)) << (j * pw) for j in range(3))
+    return {"tc": tc, "ac": ac, "o": ow, "te": int(te), "ae": int(ae)}
+
+
+def noise_params_delays(cfg: Config, param_pipe: bool) -> dict:
+    """The enabled clocks after which each output of rtl/noise_params.v shows its input term
+    (port: (word of noise_params, delay)): none with per-pass parameters (param_pipe False);
+    with param_pipe the stage that reads it, 1 (noise_xform's second stage), L - 2 (stage 7) and
+    L - 1 (stage 8) of noise_term's latency L. Without the noise gradient tc_s7 and te_s7 are 0."""
+    L, x = latency("noise_term", cfg), latency("noise_xform", cfg) - 1
+    d = (lambda n: n) if param_pipe else (lambda n: 0)
+    return {"tc_s1": ("tc", 0), "o_s2": ("o", d(x)), "te_s2": ("te", d(x)), "tc_s7": ("tc", d(L - 2)),
+            "te_s7": ("te", d(L - 2)), "ac_s8": ("ac", d(L - 1)), "ae_s8": ("ae", d(L - 1))}
 
 
 def noise_term(cfg: Config, a: int, T, o, s, te: int = 0, ae: int = 0):

@@ -30,7 +30,7 @@ from model.hw.config import folded, latency, load_config, variant
 from tb import pipe
 from tb.noise_term.test_noise_term import rand_a, rand_o, rand_s, rand_T
 
-SOURCES = ["noise_leaves.v", "noise_term.v", "noise_xform.v", "noise_grad.v", "noise_hash.v", "noise_blend.v",
+SOURCES = ["noise_leaves.v", "noise_term.v", "noise_params.v", "noise_xform.v", "noise_grad.v", "noise_hash.v", "noise_blend.v",
            "lerp.v", "fc_scale.v", "delay_line.v"]
 CONFIGS = (("full", 0), ("full", 2), ("reduced", 0), ("random:8", 0), ("random:8", 1), ("random:10", 0),
            ("random:3", 0), ("full_q12s12", 0))

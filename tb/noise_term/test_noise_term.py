@@ -54,7 +54,7 @@ import hdlbuild
 from model.hw import golden as G
 from tb import pipe
 
-SOURCES = ["noise_term.v", "noise_xform.v", "noise_grad.v", "noise_hash.v", "noise_blend.v", "lerp.v", "delay_line.v"]
+SOURCES = ["noise_term.v", "noise_params.v", "noise_xform.v", "noise_grad.v", "noise_hash.v", "noise_blend.v", "lerp.v", "delay_line.v"]
 
 
 def latency(cfg) -> int:
