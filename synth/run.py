@@ -310,7 +310,12 @@ def write_doc() -> None:
           "full quadric +1.47% (61,111 -> 62,011; 61,907 measured on the quadric_mac split's base), noise_terms "
           "+1.07% (462,398 -> 467,350; noise_term's RTL changed in b110d87), filter_width +0.98% (11,708 -> "
           "11,823, its RTL unchanged); on 7e893f8 the same change gave full 601,473 (+0.19% against the "
-          "quadric_mac split's 600,329). Yosys/ABC noise on unchanged logic, as above.", ""]
+          "quadric_mac split's 600,329). Yosys/ABC noise on unchanged logic, as above.", "",
+          "noise_params (issue 25: noise_term's pow2 decoders and parameter delays, 1e5234a) and fc_weight's "
+          "exponent ports (2449d81, none at t_exp_w = a_exp_w = 0): the reports above are `make synth` on main "
+          "1e5234a's rtl/: full 604,291 -> 601,571 (-0.45%), reduced 95,167 -> 95,454 (+0.30%), compact "
+          "98,788 -> 98,784 (-0.00%); flip-flops unchanged (noise_term alone: the same 265 / 685 / 793 in "
+          "reduced / compact / full). Within 0.5%, all of it in the combinational logic ABC maps.", ""]
     L += ["## Reproduce", "", "    make setup", "    make synth          # every configuration, synth/reports/",
           "    make synth-check    # fails when a configuration is over budget",
           "    make synth-blocks   # GE of each block for every configuration", ""]

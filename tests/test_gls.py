@@ -1,5 +1,5 @@
-"""make gls (app/gls.py, synth/netlist.py, issue 29): the synthesized netlists of reduced and
-compact simulated through the frame harness, bit-exact against the golden model on the scenes at a
+"""make gls (app/gls.py, synth/netlist.py, issue 29): the synthesized netlists of compact
+(reduced: make gls CONFIG=reduced) simulated through the frame harness, bit-exact against the golden model on the scenes at a
 small size; the pieces of the flow (Verilog numbers, the control netlist's black-box parameters,
 the shared doc's sections) on written examples; a bad input."""
 from __future__ import annotations
@@ -54,7 +54,10 @@ def test_write_doc_section_keeps_the_others(tmp_path):
         < text.index("## Mutants") < text.index("killed")
 
 
-@pytest.mark.parametrize("config", ["reduced", "compact"])
+# compact only in make test (its folded noise unit and two-clock quadric reach what reduced's blocks do
+# not); reduced is the same test in `make gls CONFIG=reduced`: both configurations took 370-470 s each
+# here, more than make test's time budget allows (closing note of stop 31)
+@pytest.mark.parametrize("config", ["compact"])
 def test_gls_bit_exact(config, tmp_path):
     """Every scene at GLS_SIZE px through the configuration's synthesized netlists (Verilator):
     every pixel equal to the golden model's."""
