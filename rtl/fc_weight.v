@@ -185,9 +185,9 @@ always @* begin
     for (i = 0; i < K; i = i + 1) begin
         av = a_all[i*AS_W +: A_W];
         avm = av[A_W-1] ? -av : av;         // |a|: -2^(A_W-1) is 2^(A_W-1) as unsigned
-        /* verilator lint_off WIDTHEXPAND */  // with an exponent AA_W > A_W: zero-extended on purpose
+        /* verilator lint_off WIDTH */  // with an exponent AA_W > A_W: zero-extended on purpose
         a_abs_c[i] = avm;
-        /* verilator lint_on WIDTHEXPAND */
+        /* verilator lint_on WIDTH */
         ae_i = {AE_W{1'b0}};
         if (A_EXP_W > 0) ae_i = a_all[i*AS_W + A_W +: AE_W];
         a_abs_c[i] = a_abs_c[i] << ae_i;    // |a| 2^ae (no exponent: ae = 0)
