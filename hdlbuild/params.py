@@ -115,6 +115,10 @@ def block_params(cfg: Config, module: str) -> dict:
                         "f_frac", "c_frac", "transform", "blend", "amplitude", "noise_gradient", "fpga_regs"),
                 "PARAM_PIPE": 1 if folded(cfg) else 0,  # noise_fold's units take a term a clock
                 **exponent_params(cfg), "PERM": perm_literal(cfg)}
+    if module == "noise_fold":  # folded terms (texture_pipeline's g_fold; side: {tlast, je, Jm})
+        nt = {k: v for k, v in block_params(cfg, "noise_term").items() if k != "PARAM_PIPE"}
+        return {**nt, "NOISE_TERMS": cfg.noise_terms, "NOISE_UNITS": cfg.noise_units, "F_W": cfg.f_w,
+                "C_W": cfg.c_w, "SIDE_W": 6 * cfg.j_w + cfg.je_w + 1, "MIN_CLOCKS": cfg.quadric_clocks}
     if module == "noise_hash":
         return {"H": cfg.hash_bits, "N_FRAC": cfg.n_frac, "N_W": cfg.n_w, "PERM": perm_literal(cfg)}
     if module == "filter_width":

@@ -63,12 +63,13 @@ def test_draw_is_seeded_and_covers_the_rtl():
 
 
 def test_testbenches_of_a_module():
-    """A block's own testbench; a module without one (sat2_integral) is run under the testbenches that
-    build it; noise_fold, which none builds, has only the frames."""
+    """A block's own testbench (noise_fold's: tb/noise_fold); a module without one (sat2_integral) is run
+    under the testbenches that build it; texture_pipeline, which none builds, has only the frames."""
     tb = mu.ROOT / "tb"
     assert mu.testbenches("bitlen") == [tb / "bitlen"]
+    assert mu.testbenches("noise_fold") == [tb / "noise_fold"]
     assert tb / "cmap_sat2" in mu.testbenches("sat2_integral") and tb / "cmap_sat2" in mu.testbenches("sat2_table")
-    assert mu.testbenches("noise_fold") == []
+    assert mu.testbenches("texture_pipeline") == []
 
 
 def test_section_merges(tmp_path):

@@ -148,6 +148,8 @@ EQUIVALENT: dict[str, str] = {
     "b4115851": "m_nx's default is overwritten: the channel loop assigns all four D_W slices of it",
     "8f70a181": "(loop) k0 = 3 writes m0[3], past the array m0[0:2]: " + _LOOP + " (ja, jb are loop temporaries)",
     "5dae4462": "m = NJ adds an iteration whose condition never holds: NJ = ceil(K / U), so NJ U + gu >= K",
+    "5e541f1d": "q <= MIN_CLOCKS - 1 differs from q < MIN_CLOCKS - 1 only at q = MIN_CLOCKS - 1, where the "
+                "assignment writes the value q holds",
     "17c6677f": "tc's default is overwritten: the loop over j assigns all three E_W + 1-bit fields of tc (TC_W = 3 (E_W + 1))",
     "c38d2b94": "with the condition inverted a diagonal quadric on two clocks (FPGA_REGS 0) takes g_diag, qmac_diag, "
                 "instead of g_diag_fold, qmac_diag_fold: the same values (golden qmac_diag_fold is qmac_diag; "
@@ -159,21 +161,48 @@ EQUIVALENT: dict[str, str] = {
                 "GUARD = W_CAP_LOG2 + F_FRAC - 1 > n_log2 since w_cap_log2 >= n_log2_max), the clamp's own value",
     "1ee186ff": "NG = 0 with CX_N > 0 takes g_cx instead of g_c0: the sign extension of ag, and ag (noise_term's "
                 "ag_out) is 0 when NOISE_GRADIENT = 0, so c is 0 either way",
+    # make mutants N=100 SEED=1 after noise_params (1e5234a): the survivors new to that draw
+    "9edf807e": "(trunc) t_m is 9 T_W bits: t_in[9*T_W+1:0] is cut to t_in[9*T_W-1:0]",
+    "53a5b39e": "(trunc) {valid_reg[STAGES+2:0], in_valid} is cut to valid_reg's STAGES bits: the same low bits",
+    "8d84b3a2": "num_hi is 0 before this write: num_hi[NH:0] takes the NH-bit slice zero-extended, so bit NH gets the "
+                "0 it held (past OW, a write Verilog drops)",
+    "3498b2bf": "(loop) k = 3 writes prod_next past its NPROD = 3 products (and reads t_row, s_in past their 3 "
+                "elements): " + _LOOP,
+    "74027af8": "(check) a term of g_bad_params' condition, the elaboration-time check: MH_W < 0 is false where MH_W < 1"
+                " is, so every parameter set the check accepts it still accepts, and the design it elaborates is the "
+                "same (the check only refuses)",
+    "61b21aae": "(check) || to && in g_bad_params' condition, the elaboration-time check: where every term is false "
+                "(the check accepts) the mutated condition is false too, so the designs that elaborate are the same "
+                "(the check only refuses)",
+    "2b5d9fd8": "without FPGA_REGS (P = 0, g_no5a) sh0_y is read only under if (P != 0) (stage 5(b) finds sh0 itself): "
+                "the constant is not read",
+    "a4474a98": "ht is 0 before this write: ht[CS2_W+1:0] takes the CS2_W-bit slice zero-extended, so the two bits "
+                "above CS2_W get the 0 they held (past D_W, a part-select write Verilog drops)",
+    "2f8b87e0": "the extra generate iteration gl = 2 adds a third y lerp, g_lerp_y[2], whose y nothing reads (fz_reg "
+                "reads g_lerp_y[0..1].y by name): unused logic, its a and b past e_reg's four words",
+    "0ea780e8": "(trunc) out_reg is 32 bits: dd_reg[(DL-2)*32 +: 48] is cut to its low 32 bits, dd_reg[(DL-2)*32 +: 32]",
+    "b016f30b": "(x >= z) ? x : z differs from (x > z) ? x : z only at x = z, where both give the same value",
+    "44bad121": "(loop) ui = KV writes t_use past its KV terms: " + _LOOP,
+    "bbad62b1": "(trunc) e is EA_W bits: i[EA_W+1:0] is cut to i[EA_W-1:0]",
+    "1effb58f": "(trunc) ag_next is AG_W bits: agp[AG_W+1:0] is cut to agp[AG_W-1:0]",
+    "e2c26b1e": "(trunc) cq_out_reg is 3 C_W bits: the two extra bits of c2_sh[C_W+1:0], the concatenation's top, are "
+                "cut",
+    "62862b39": "nlm1_x is 0 before this write: nlm1_x[NMAX:0] takes nlm1 (NMAX bits) zero-extended, so bit NMAX gets the"
+                " 0 it held (past KU_W, a write Verilog drops)",
+    "631d55bf": "the delay line is one bit wider than the concatenation it carries: its input is zero-extended, the "
+                "extra output bit dropped; the bits the nets carry are delayed as before",
+    "f2c7f971": "(trunc) rem is R_W bits: the conditional's rs[R_W+1:0] (all of rs) is cut to rs[R_W-1:0] (diff[R_W-1:0]"
+                " on the other side is zero-extended and cut back)",
+    "78320d08": "(trunc) ah is AH_W = A_W - SA bits: a[A_W+1:SA] is cut to a[A_W-1:SA]",
+    "28bf94c4": "X_W = L_W takes g_pad instead of g_nopad: a zero extension by zero bits ({0{...}} in a concatenation is "
+                "empty) is l_in itself",
+    "cf82c493": "(trunc) p11_reg is P1_W bits: y1[P1_W+1:0] is cut to y1[P1_W-1:0]",
+    "dfc3e0b9": "lsum >= lmax differs from lsum > lmax only at lsum = lmax, where lmax = lsum writes the value lmax holds"
+                " (lany is set either way)",
 }
 
 # Survivors neither killed nor shown equivalent, with what was found (listed as open in the report).
 OPEN: dict[str, str] = {
-    "ed80d9b8": "not equivalent: with <= the slot of term k_used (< K) takes a_all's a_k instead of 0; the frames' "
-                "textures write a = 0 past k_used (tex_regs from the host), so the extra term adds 0 there; a texture"
-                " with a non-zero a past k_used would kill it (noise_leaves zeroes it the same way, tested)",
-    "00d3bc02": "not equivalent: with kt < K, k_used = K leaves j_last at 0 (one issue instead of ceil(K / U)); no "
-                "mutant frame has a texture using every term of a folded configuration (marble has 4 terms, compact K"
-                " = 8). Killed by hand: marble 16x16 under Icarus on compact with noise_terms = 4 (k_used = K), 93 of"
-                " the frame's pixels differ, unmutated 0; a frame configuration like that is the missing test",
-    "51c54460": "equivalent in hardware, not in simulation: m U + gu = K exists only when U does not divide K (no "
-                "frame configuration: compact K 8 on U 1 and 2); that slot's a_sel is 0 (K >= k_used), so the term is"
-                " 0 whatever T and o, but t_sel and o_sel read past t_all and o_all, X under Icarus, and 0 times X is"
-                " X: a frame on K = 5, U = 2 would show X, not a wrong value",
     "80e34b7e": "not equivalent, unreachable: with || a C_W or J_W above 35 (mul_pipe's two parts) takes mul_pipe "
                 "when the other is at most 35; no configuration has one (C_W at most 33, J_W at most 13 over the "
                 "named, candidate and random:0..299 configurations)",

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from model.hw.config import FC_KSF, Config, latency
+from model.hw.config import FC_KSF, Config, clocks_per_pixel, latency
 
 MODE_MOD, MODE_CLAMP = 0, 1
 I64 = np.int64
@@ -840,6 +840,66 @@ def noise_leaves(cfg: Config, tex, s, q, cq, alpha=None, skip: bool = True):
         fl.append(an)
         cl.append(ag if cfg.noise_gradient else zc)
     return fl, cl
+
+
+def noise_fold(cfg: Config, tex, s):
+    """The sums of rtl/noise_fold.v for pixels s [..., 3]: f_sum [...] = sum over k < k_used of
+    a_k n_k and c_sum [..., 3] = sum of a_k grad n_k (0 without the noise gradient), exact
+    (f_w, c_w bound them: modulo 2^f_w, 2^c_w as the RTL adds). Terms k >= k_used are ignored
+    whatever their a (the fold gives their slots a = 0). noise_fold_schedule gives the clocks."""
+    s = np.asarray(s, dtype=I64)
+    f = [np.zeros(s.shape[:-1], dtype=I64)]
+    c = [np.zeros(s.shape, dtype=I64)]
+    for i in range(min(int(tex.k_used), cfg.noise_terms)):
+        an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s)
+        f.append(an)
+        c.append(ag)
+    return sum_tree(f, cfg.f_w), (sum_tree(c, cfg.c_w) if cfg.noise_gradient else c[0])
+
+
+def noise_fold_schedule(cfg: Config, k_used: int, in_valid, ce, rst=None) -> dict:
+    """The handshake of rtl/noise_fold.v per clock of a stream: in_valid[t], ce[t], rst[t] the
+    inputs during clock t (k_used static). A pixel is taken on an enabled edge with in_valid and
+    in_ready; it then has P = clocks_per_pixel(cfg, k_used) enabled issue clocks, px_valid high on the last
+    (its exit: the next pixel may be taken on that edge); its sums appear (sum_valid) after the
+    LATENCY-th enabled edge counted from that last one, LATENCY = latency noise_term + noise_fold
+    (rtl/tex_latency.vh). rst empties the fold: the held pixel and every sum in flight are dropped.
+    Returns int64 arrays over t: in_ready, px_valid and px (the held pixel: its index in take
+    order, -1 none) during clock t; take (1: a pixel taken at edge t); sum_valid and sum_px
+    (the pixel whose sums f_sum, c_sum show, -1 none) after edge t (registers: they hold
+    while ce = 0)."""
+    n = len(in_valid)
+    ce = np.ones(n, dtype=bool) if ce is None else np.asarray(ce, dtype=bool)
+    rst = np.zeros(n, dtype=bool) if rst is None else np.asarray(rst, dtype=bool)
+    P = clocks_per_pixel(cfg, k_used)
+    lat = latency("noise_term", cfg) + latency("noise_fold", cfg)
+    out = {k: np.zeros(n, dtype=I64) for k in ("in_ready", "px_valid", "px", "take", "sum_valid", "sum_px")}
+    busy, j, held, taken, enabled = False, 0, -1, 0, 0
+    pending: list[tuple[int, int]] = []  # (enabled edge at which its sums show, pixel)
+    sv, spx = 0, -1
+    for t in range(n):
+        last = busy and j == P - 1
+        ready = (not busy) or last
+        out["in_ready"][t], out["px_valid"][t], out["px"][t] = ready, last, held if busy else -1
+        if rst[t]:
+            busy, j, pending, sv, spx = False, 0, [], 0, -1
+        elif ce[t]:
+            enabled += 1
+            if last:
+                pending.append((enabled + lat - 1, held))
+            if in_valid[t] and ready:
+                busy, j, held = True, 0, taken
+                taken += 1
+                out["take"][t] = 1
+            elif last:
+                busy = False
+            elif busy:
+                j += 1
+            sv, spx = 0, -1
+            if pending and pending[0][0] == enabled:
+                sv, spx = 1, pending.pop(0)[1]
+        out["sum_valid"][t], out["sum_px"][t] = sv, spx
+    return out
 
 
 def cm_align(cfg: Config, mode, f, w, wv=None, f_waits: bool = False):

@@ -9,6 +9,9 @@ a sink that stalls most clocks. Checked on every clock:
 - while m_axis_tvalid is high and m_axis_tready low, the next clock still has
   m_axis_tvalid high with the same m_axis_tdata and m_axis_tlast;
 - s_axis_tready does not move when m_axis_tready does within a clock (it is a register);
+- s_axis_tready is low exactly when the buffer holds two beats (accepted, not yet delivered:
+  the output register and the skid register), so a stalled sink costs the source nothing
+  until both are full;
 - at full rate (no gaps, no stalls) one beat per clock, after one clock of latency;
 and at the end that the beats out equal the twin model/hw/stream.py axis_skid of the beats
 in: nothing lost, duplicated or reordered.
@@ -87,6 +90,8 @@ async def stream_with_gaps_and_stalls(dut):
         m_data = _val(dut.m_axis_tdata, f"clock {cycles}")
         m_last = _val(dut.m_axis_tlast, f"clock {cycles}")
         s_ready = _val(dut.s_axis_tready, f"clock {cycles}")
+        held = len(sent) - len(got)
+        assert s_ready == (held < 2), f"clock {cycles}: s_axis_tready {s_ready} with {held} beats held"
         if prev is not None and prev[0] and not prev[1]:
             assert m_valid, f"clock {cycles}: m_axis_tvalid dropped while stalled"
             assert (m_data, m_last) == prev[2:], (f"clock {cycles}: data/last changed while stalled: "
