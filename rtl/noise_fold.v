@@ -26,8 +26,10 @@
 // `LAT_NOISE_TERM + `LAT_NOISE_FOLD (FPGA_REGS: `LAT_NOISE_TERM_FPGA + `LAT_NOISE_FOLD_FPGA)
 // enabled clocks after the pixel's px_valid.
 //
-// Formats: s_in 3 x s{S_W}.{S_FRAC}; a_all, t_all, o_all: term k's a at [k*A_W +: A_W], T at
-// [9*k*T_W +: 9*T_W], o at [3*k*O_W +: 3*O_W] (as texture_pipeline's parameter registers);
+// Formats: s_in 3 x s{S_W}.{S_FRAC}; a_all, t_all, o_all: term k's {ae, a} at [k*AS_W +: AS_W],
+// {te, T} at [k*TS_W +: TS_W], o at [3*k*O_W +: 3*O_W] (as texture_pipeline's parameter
+// registers, tex_regs; AS_W = A_W + A_EXP_W, TS_W = 9*T_W + T_EXP_W: the exponents te, ae
+// only with T_EXP_W, A_EXP_W > 0, noise_term's a_in and t_in; a term past k_used gets {ae, a} = 0);
 // k_used u{KU_W}.0 (0..K); f_sum s{F_W}.{F_FRAC}, c_sum 3 x s{C_W}.{C_FRAC} (F_W, C_W: the
 // exact-sum widths of texture_pipeline, which hold K terms and the quadric).
 // Throughput: one pixel per P enabled clocks. in_ready is a function of registers only.
@@ -63,6 +65,8 @@ module noise_fold #(
     parameter SIDE_W         = 1,   // data that travel with a pixel (held, not read)
     parameter MIN_CLOCKS     = 1,   // [quadric_clocks] a pixel takes at least this many clocks (1, 2)
     parameter FPGA_REGS      = 0,   // [fpga_regs] the noise units' extra register stages (noise_term)
+    parameter T_EXP_W        = 0,   // [t_exp_w] T's per-term exponent te above its mantissas (0: none)
+    parameter A_EXP_W        = 0,   // [a_exp_w] a's per-term exponent ae above its mantissa (0: none)
     parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}  // lattice permutation
 ) (clk, rst, ce, in_valid, in_ready, s_in, side_in, k_used, a_all, t_all, o_all,
    px_valid, px_s, px_side, sum_valid, f_sum, c_sum);
@@ -76,8 +80,11 @@ localparam NJE     = (NJ > MIN_CLOCKS) ? NJ : MIN_CLOCKS;  // issues of a pixel 
 localparam J_W     = (NJE > 1) ? $clog2(NJE) : 1;        // issue index
 localparam KU_W    = $clog2(K + 1);                      // k_used
 localparam O_W     = HASH_BITS + P_FRAC;
-localparam AN_W    = tw_an_w(A_W, A_FRAC, N_FRAC, F_FRAC);
-localparam AG_W    = tw_ag_w(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC);
+localparam TS_W    = 9*T_W + T_EXP_W;                    // a term of t_all: {te, T}
+localparam AS_W    = A_W + A_EXP_W;                      // a term of a_all: {ae, a}
+localparam AN_W    = tw_an_w_e(A_W, A_FRAC, N_FRAC, F_FRAC, (1 << A_EXP_W) - 1);
+localparam AG_W    = tw_ag_w_e(BLEND, TRANSFORM, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC, (1 << T_EXP_W) - 1,
+                               (1 << A_EXP_W) - 1);
 localparam LAT_NT  = FPGA_REGS ? `LAT_NOISE_TERM_FPGA : `LAT_NOISE_TERM;
 localparam LAT_F   = FPGA_REGS ? `LAT_NOISE_FOLD_FPGA : `LAT_NOISE_FOLD;  // the fold's own stages
 localparam XR      = LAT_F - 1;                          // the parameter register (FPGA_REGS)
@@ -94,8 +101,8 @@ output wire                 in_ready;
 input  wire [3*S_W-1:0]     s_in;
 input  wire [SIDE_W-1:0]    side_in;
 input  wire [KU_W-1:0]      k_used;
-input  wire [K*A_W-1:0]     a_all;
-input  wire [K*9*T_W-1:0]   t_all;
+input  wire [K*AS_W-1:0]    a_all;
+input  wire [K*TS_W-1:0]    t_all;
 input  wire [K*3*O_W-1:0]   o_all;
 output wire                 px_valid;
 output wire [3*S_W-1:0]     px_s;
@@ -300,18 +307,18 @@ delay_line #(.W(1), .N(XR), .CLEAR(1)) u_dly_v (.clk(clk), .rst(rst), .ce(ce), .
 genvar gu;
 generate
     for (gu = 0; gu < U; gu = gu + 1) begin : g_unit
-        reg [A_W-1:0]   a_sel;
-        reg [9*T_W-1:0] t_sel;
+        reg [AS_W-1:0]  a_sel;
+        reg [TS_W-1:0]  t_sel;
         reg [3*O_W-1:0] o_sel;
         integer         m;
         always @* begin
-            a_sel = {A_W{1'b0}};
-            t_sel = {9*T_W{1'b0}};
+            a_sel = {AS_W{1'b0}};
+            t_sel = {TS_W{1'b0}};
             o_sel = {3*O_W{1'b0}};
             for (m = 0; m < NJ; m = m + 1) begin
                 if (j_reg == m[J_W-1:0] && m*U + gu < K) begin
-                    a_sel = (m*U + gu < k_used) ? a_all[(m*U + gu)*A_W +: A_W] : {A_W{1'b0}};
-                    t_sel = t_all[(m*U + gu)*9*T_W +: 9*T_W];
+                    a_sel = (m*U + gu < k_used) ? a_all[(m*U + gu)*AS_W +: AS_W] : {AS_W{1'b0}};
+                    t_sel = t_all[(m*U + gu)*TS_W +: TS_W];
                     o_sel = o_all[(m*U + gu)*3*O_W +: 3*O_W];
                 end
             end
@@ -319,18 +326,18 @@ generate
 `ifdef FORMAL
         // the parameters this unit gets on slot f_n: those of term f_n U + u (a = 0 past
         // k_used; nothing past K)
-        reg [A_W-1:0]   f_a;
-        reg [9*T_W-1:0] f_t;
+        reg [AS_W-1:0]  f_a;
+        reg [TS_W-1:0]  f_t;
         reg [3*O_W-1:0] f_o;
         integer         fm;
         always @* begin
-            f_a = {A_W{1'b0}};
-            f_t = {9*T_W{1'b0}};
+            f_a = {AS_W{1'b0}};
+            f_t = {TS_W{1'b0}};
             f_o = {3*O_W{1'b0}};
             for (fm = gu; fm < K; fm = fm + U) begin
                 if (f_n == fm / U) begin
-                    f_a = (fm < f_ku) ? a_all[fm*A_W +: A_W] : {A_W{1'b0}};
-                    f_t = t_all[fm*9*T_W +: 9*T_W];
+                    f_a = (fm < f_ku) ? a_all[fm*AS_W +: AS_W] : {AS_W{1'b0}};
+                    f_t = t_all[fm*TS_W +: TS_W];
                     f_o = o_all[fm*3*O_W +: 3*O_W];
                 end
             end
@@ -338,17 +345,17 @@ generate
                 assert(a_sel == f_a && t_sel == f_t && o_sel == f_o);
         end
 `endif
-        wire [A_W-1:0]   a_u;
-        wire [9*T_W-1:0] t_u;
+        wire [AS_W-1:0]  a_u;
+        wire [TS_W-1:0]  t_u;
         wire [3*O_W-1:0] o_u;
-        delay_line #(.W(A_W + 9*T_W + 3*O_W), .N(XR)) u_dly_param (.clk(clk), .rst(rst), .ce(ce),
+        delay_line #(.W(AS_W + TS_W + 3*O_W), .N(XR)) u_dly_param (.clk(clk), .rst(rst), .ce(ce),
             .d_in({a_sel, t_sel, o_sel}), .d_out({a_u, t_u, o_u}));
         wire v;
         noise_term #(
             .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
             .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
             .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
-            .PARAM_PIPE(1), .FPGA_REGS(FPGA_REGS), .PERM(PERM)
+            .PARAM_PIPE(1), .FPGA_REGS(FPGA_REGS), .T_EXP_W(T_EXP_W), .A_EXP_W(A_EXP_W), .PERM(PERM)
         ) u_noise_term (
             .clk(clk), .rst(rst), .ce(ce),
             .in_valid(v_u),

@@ -8,7 +8,9 @@
 // quadric's q and grad q (q_in, cq_in), leaf 1 + k term k. model/hw/golden.py noise_leaves
 // is the twin.
 //
-// Formats (rtl/tex_widths.vh): s_in 3 x s{S_W}.{S_FRAC}; a, T, o as noise_term's; alpha K x
+// Formats (rtl/tex_widths.vh): s_in 3 x s{S_W}.{S_FRAC}; a, T, o as noise_term's (term k of
+// a_all {ae_k, a_k} at [k*AS_W +: AS_W], of t_all {te_k, T_k} at [k*TS_W +: TS_W]; the
+// exponents only with T_EXP_W, A_EXP_W > 0, tex_regs' layout); alpha K x
 // u1.{FC_AF}, FC_AF = FC_LOG_FRAC + FC_FADE_LOG2; q_in s{QF_W}.{F_FRAC}, cq_in 3 x
 // s{C_W}.{C_FRAC}; fold_f s{F_W}.{F_FRAC}, fold_c 3 x s{C_W}.{C_FRAC}. Leaf i at
 // f_leaves[i*F_W +: F_W] (s{F_W}.{F_FRAC}) and c_leaves[i*3*C_W +: 3*C_W] (3 x
@@ -52,6 +54,8 @@ module noise_leaves #(
     parameter AMPLITUDE      = 0,   // 0 any, 1 pow2
     parameter NOISE_GRADIENT = 1,   // 1: the terms' gradients are leaves of the c tree
     parameter FPGA_REGS      = 0,   // 1: the terms' FPGA register stages
+    parameter T_EXP_W        = 0,   // T_k's per-term exponent te_k above its mantissas in t_all (0: none)
+    parameter A_EXP_W        = 0,   // a_k's per-term exponent ae_k above its mantissa in a_all (0: none)
     parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}  // lattice permutation
 ) (clk, rst, ce, in_valid, s_in, k_used, a_all, t_all, o_all, alpha, fold_valid, fold_f, fold_c,
    q_valid, q_in, cq_in, out_valid, f_leaves, c_leaves);
@@ -69,11 +73,15 @@ localparam NG    = NOISE_GRADIENT;
 localparam O_W   = HASH_BITS + P_FRAC;
 localparam FC_AF = FC_LOG_FRAC + FC_FADE_LOG2;
 localparam QF_W  = tw_qf_w(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC);
-localparam AN_W  = tw_an_w(A_W, A_FRAC, N_FRAC, F_FRAC);
-localparam AG_W  = tw_ag_w(CUBIC, POW2T, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC);
-localparam F_W   = tw_f_w(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC, K, A_W, A_FRAC, N_FRAC);
-localparam C_W   = tw_c_w(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, C_FRAC, K, NOISE_GRADIENT, CUBIC, POW2T, T_W,
-                          T_FRAC, N_FRAC, A_W, A_FRAC);
+localparam TE_MAX = (1 << T_EXP_W) - 1;                                       // the largest exponents
+localparam AE_MAX = (1 << A_EXP_W) - 1;
+localparam TS_W  = 9*T_W + T_EXP_W;                                            // a term of t_all: {te, T}
+localparam AS_W  = A_W + A_EXP_W;                                              // a term of a_all: {ae, a}
+localparam AN_W  = tw_an_w_e(A_W, A_FRAC, N_FRAC, F_FRAC, AE_MAX);
+localparam AG_W  = tw_ag_w_e(CUBIC, POW2T, T_W, T_FRAC, N_FRAC, C_FRAC, A_W, A_FRAC, TE_MAX, AE_MAX);
+localparam F_W   = tw_f_w_e(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC, K, A_W, A_FRAC, N_FRAC, AE_MAX);
+localparam C_W   = tw_c_w_e(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, C_FRAC, K, NOISE_GRADIENT, CUBIC, POW2T, T_W,
+                            T_FRAC, N_FRAC, A_W, A_FRAC, TE_MAX, AE_MAX);
 localparam LAT_NT = FPGA_REGS ? `LAT_NOISE_TERM_FPGA : `LAT_NOISE_TERM;
 localparam LAT_NF = FPGA_REGS ? `LAT_NOISE_FOLD_FPGA : `LAT_NOISE_FOLD;
 localparam LAT_NS = FOLD ? LAT_NT + LAT_NF : LAT_NT + (FC ? `LAT_FC_SCALE : 0);  // the terms' own latency
@@ -91,8 +99,8 @@ input  wire                    ce;
 input  wire                    in_valid;
 input  wire [3*S_W-1:0]        s_in;
 input  wire [KU_W-1:0]         k_used;     // terms the texture uses: 0..k_used-1
-input  wire [KV*A_W-1:0]       a_all;      // a_k at [k*A_W +: A_W]
-input  wire [KV*9*T_W-1:0]     t_all;      // T_k[j][m] at [(9*k + 3*j + m)*T_W +: T_W]
+input  wire [KV*AS_W-1:0]      a_all;      // {ae_k, a_k} at [k*AS_W +: AS_W]
+input  wire [KV*TS_W-1:0]      t_all;      // {te_k, T_k} at [k*TS_W +: TS_W], T_k[j][m] at (3*j + m)*T_W in it
 input  wire [KV*3*O_W-1:0]     o_all;      // o_k[j] at [(3*k + j)*O_W +: O_W]
 input  wire [KV*(FC_AF+1)-1:0] alpha;      // sat_fc: alpha_k at [k*(FC_AF+1) +: FC_AF+1], at the terms' outputs
 input  wire                    fold_valid; // folded: noise_fold's sum
@@ -131,7 +139,7 @@ generate
             assign nt_valid = fold_valid;
         end else begin : g_unit
             // a term past the texture's k_used contributes nothing (a = 0), as noise_fold skips it
-            wire [A_W-1:0] a_k = (gi < k_used) ? a_all[gi*A_W +: A_W] : {A_W{1'b0}};
+            wire [AS_W-1:0] a_k = (gi < k_used) ? a_all[gi*AS_W +: AS_W] : {AS_W{1'b0}};
             wire [LN_W-1:0]   nt_an;
             wire [3*LG_W-1:0] nt_ag;
             wire              nt_out_valid;
@@ -139,13 +147,13 @@ generate
                 .S_W(S_W), .S_FRAC(S_FRAC), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
                 .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
                 .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
-                .FPGA_REGS(FPGA_REGS), .PERM(PERM)
+                .FPGA_REGS(FPGA_REGS), .T_EXP_W(T_EXP_W), .A_EXP_W(A_EXP_W), .PERM(PERM)
             ) u_noise_term (
                 .clk(clk), .rst(rst), .ce(ce),
                 .in_valid(in_valid),
                 .s_in(s_in),
                 .a_in(a_k),
-                .t_in(t_all[gi*9*T_W +: 9*T_W]),
+                .t_in(t_all[gi*TS_W +: TS_W]),
                 .o_in(o_all[gi*3*O_W +: 3*O_W]),
                 .out_valid(nt_out_valid),
                 .an_out(nt_an),

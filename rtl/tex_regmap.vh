@@ -20,6 +20,9 @@ localparam integer RM_TERM_SLOTS = 16;             // noise-term slots in the ad
 localparam integer RM_TERM_A = 0;                  // term field: a_k, s{a_w}.{a_frac}
 localparam integer RM_TERM_T = 1;                  // term fields TERM_T + 3*j + m: T_k[j][m], s{t_w}.{t_frac}
 localparam integer RM_TERM_O = 10;                 // term fields TERM_O + j: o_k[j], u{o_w}.{p_frac}
+localparam integer RM_TERM_E = 13;                 // term field: the exponents of T_k and a_k (formats.t_exp_w, a_exp_w > 0; ignored without): te_k u{t_exp_w} at [TERM_E_TE_LSB +: t_exp_w], ae_k u{a_exp_w} at [TERM_E_AE_LSB +: a_exp_w]
+localparam integer RM_TERM_E_TE_LSB = 0;           // TERM_E field: te_k (T_k = T mantissas 2^(te_k - t_frac))
+localparam integer RM_TERM_E_AE_LSB = 8;           // TERM_E field: ae_k (a_k = a mantissa 2^(ae_k - a_frac))
 localparam [15:0] RM_ADDR_CLUT = 16'h1000;         // clut[n], RGBA8 (R at [7:0]), at ADDR_CLUT + n
 localparam integer RM_CLUT_LOG2 = 0;               // clut words accepted: 2^(n_log2_max + CLUT_LOG2)
 localparam [15:0] RM_ADDR_CSAT = 16'h2000;         // csat[n] channel ch (u{csat_w}) at ADDR_CSAT + CSAT_CHANNELS*n + ch: channels 0..2 are staged, channel 3 commits entry n (write entries in ascending order)

@@ -7,7 +7,9 @@
 //                      [CTRL_NLOG2_LSB +: NL_W] n_log2
 //   ADDR_Q + i         quadric coefficient i = 0..Q_COUNT-1 (A..J), s{Q_W}.{Q_FRAC}
 //   ADDR_TERM + TERM_STRIDE*k + field, k < NOISE_TERMS: TERM_A a_k s{A_W}.{A_FRAC};
-//                      TERM_T + 3*j + m T_k[j][m] s{T_W}.{T_FRAC}; TERM_O + j o_k[j] u{O_W}.{P_FRAC}
+//                      TERM_T + 3*j + m T_k[j][m] s{T_W}.{T_FRAC}; TERM_O + j o_k[j] u{O_W}.{P_FRAC};
+//                      TERM_E (T_EXP_W or A_EXP_W > 0; ignored without): te_k u{T_EXP_W} at
+//                      [TERM_E_TE_LSB +: T_EXP_W], ae_k u{A_EXP_W} at [TERM_E_AE_LSB +: A_EXP_W]
 //   ADDR_CLUT + n      clut[n], RGBA8 (R at [7:0]), n < 2^(N_LOG2_MAX + CLUT_LOG2)
 //   ADDR_CSAT + 4n + ch  csat[n] channel ch, u{CSAT_W}: channels 0..2 go to a staging
 //                      register, channel 3 commits the whole entry n (write entries in order)
@@ -18,9 +20,12 @@
 //
 // Outputs (formats as above; the registers hold raw bit patterns):
 //   mode, filter_en, n_log2 (NL_W = bits of N_LOG2_MAX); q_coef: coefficient i at
-//   [i*Q_W +: Q_W]; a_all: a_k at [k*A_W +: A_W]; t_all: T_k[j][m] at
-//   [(9*k + 3*j + m)*T_W +: T_W]; o_all: o_k[j] at [(3*k + j)*O_W +: O_W] (O_W = HASH_BITS +
-//   P_FRAC; with NOISE_TERMS = 0 the three are one unused entry wide);
+//   [i*Q_W +: Q_W]; a_all: term k {ae_k, a_k} at [k*AS_W +: AS_W] (AS_W = A_W + A_EXP_W);
+//   t_all: term k {te_k, T_k} at [k*TS_W +: TS_W] (TS_W = 9*T_W + T_EXP_W), T_k[j][m] at
+//   [k*TS_W + (3*j + m)*T_W +: T_W] (noise_term's a_in and t_in; without exponents a_k at
+//   [k*A_W +: A_W], T_k[j][m] at [(9*k + 3*j + m)*T_W +: T_W]); o_all: o_k[j] at
+//   [(3*k + j)*O_W +: O_W] (O_W = HASH_BITS + P_FRAC; with NOISE_TERMS = 0 the three are one
+//   unused entry wide);
 //   tbl_wr_*: colour_map's table write port: tbl_wr_table RM_TABLE_CLUT/CSAT/MIP, tbl_wr_addr
 //   the entry, tbl_wr_data four CSAT_W-bit channel fields, channel c at [c*CSAT_W +: CSAT_W]
 //   (an RGBA8 word: each byte in the low 8 bits of its field).
@@ -39,7 +44,9 @@ module tex_regs #(
     parameter T_W         = 17,  // [t_w] transform entries s{T_W}.{T_FRAC}
     parameter HASH_BITS   = 8,   // [hash_bits] with P_FRAC: offsets u{HASH_BITS + P_FRAC}.{P_FRAC}
     parameter P_FRAC      = 12,  // [p_frac]
-    parameter N_LOG2_MAX  = 8    // [n_log2_max] colour tables of up to 2^N_LOG2_MAX entries
+    parameter N_LOG2_MAX  = 8,   // [n_log2_max] colour tables of up to 2^N_LOG2_MAX entries
+    parameter T_EXP_W     = 0,   // [t_exp_w] T_k's per-term exponent te_k (0: none, no register)
+    parameter A_EXP_W     = 0    // [a_exp_w] a_k's per-term exponent ae_k (0: none, no register)
 ) (clk, rst, cfg_wr_en, cfg_wr_addr, cfg_wr_data, mode, filter_en, n_log2, k_used, q_coef, a_all, t_all, o_all,
    tbl_wr_en, tbl_wr_table, tbl_wr_addr, tbl_wr_data);
 
@@ -49,6 +56,10 @@ module tex_regs #(
 localparam K      = NOISE_TERMS;
 localparam KV     = (K > 0) ? K : 1;                  // K = 0 still declares (unused) vectors
 localparam O_W    = HASH_BITS + P_FRAC;               // noise offset word
+localparam TS_W   = 9*T_W + T_EXP_W;                  // one term of t_all: {te, T}
+localparam AS_W   = A_W + A_EXP_W;                    // one term of a_all: {ae, a}
+localparam TE_W   = (T_EXP_W > 0) ? T_EXP_W : 1;      // the exponent registers (one unused bit when none)
+localparam AE_W   = (A_EXP_W > 0) ? A_EXP_W : 1;
 localparam CSAT_W = tw_csat_w(N_LOG2_MAX);            // summed-area channel
 localparam NL_W   = tw_bits_unsigned(N_LOG2_MAX);     // n_log2
 localparam KU_W   = tw_bits_unsigned(NOISE_TERMS);    // k_used, 0..K
@@ -65,6 +76,7 @@ localparam [RL-1:0]  OFF_Q    = RM_ADDR_Q[RL-1:0];
 localparam [TSL-1:0] FLD_A    = RM_TERM_A[TSL-1:0];
 localparam [TSL-1:0] FLD_T    = RM_TERM_T[TSL-1:0];
 localparam [TSL-1:0] FLD_O    = RM_TERM_O[TSL-1:0];
+localparam [TSL-1:0] FLD_E    = RM_TERM_E[TSL-1:0];
 localparam [CHL-1:0] CH_LAST  = NCH[CHL-1:0] - 1'b1;  // the channel that commits an entry
 
 input  wire                     clk;
@@ -79,8 +91,8 @@ output reg                      filter_en;
 output reg  [NL_W-1:0]          n_log2;
 output reg  [KU_W-1:0]          k_used;
 output reg  [RM_Q_COUNT*Q_W-1:0] q_coef;
-output reg  [KV*A_W-1:0]        a_all;
-output reg  [KV*9*T_W-1:0]      t_all;
+output wire [KV*AS_W-1:0]       a_all;
+output wire [KV*TS_W-1:0]       t_all;
 output reg  [KV*3*O_W-1:0]      o_all;
 // colour-table write port (to colour_map)
 output reg                      tbl_wr_en;
@@ -101,6 +113,15 @@ wire [TNL-1:0]   term_sel   = wr_off[TSL +: TNL];
 wire [TSL-1:0]   term_field = wr_off[0 +: TSL];
 integer          pi, pj;
 
+// the mantissa registers, and the exponents' (written only with T_EXP_W, A_EXP_W > 0; else
+// constant 0 and not read)
+reg  [KV*A_W-1:0]   a_reg;
+reg  [KV*9*T_W-1:0] t_reg;
+/* verilator lint_off UNUSEDSIGNAL */
+reg  [KV*TE_W-1:0]  te_reg;
+reg  [KV*AE_W-1:0]  ae_reg;
+/* verilator lint_on UNUSEDSIGNAL */
+
 // One process loads every parameter register (one wake-up a clock for an event-driven
 // simulator, whatever K is); the loops unroll into one write enable per register.
 always @(posedge clk) begin
@@ -110,8 +131,10 @@ always @(posedge clk) begin
         n_log2    <= {NL_W{1'b0}};
         k_used    <= {KU_W{1'b0}};
         q_coef    <= {RM_Q_COUNT*Q_W{1'b0}};
-        a_all     <= {KV*A_W{1'b0}};
-        t_all     <= {KV*9*T_W{1'b0}};
+        a_reg     <= {KV*A_W{1'b0}};
+        t_reg     <= {KV*9*T_W{1'b0}};
+        te_reg    <= {KV*TE_W{1'b0}};
+        ae_reg    <= {KV*AE_W{1'b0}};
         o_all     <= {KV*3*O_W{1'b0}};
     end else if (wr_regs) begin
         if (wr_off == OFF_CTRL) begin
@@ -127,11 +150,15 @@ always @(posedge clk) begin
         for (pi = 0; pi < K; pi = pi + 1) begin
             if (term_space && term_sel == pi[TNL-1:0]) begin
                 if (term_field == FLD_A)
-                    a_all[pi*A_W +: A_W] <= cfg_wr_data[A_W-1:0];
+                    a_reg[pi*A_W +: A_W] <= cfg_wr_data[A_W-1:0];
                 for (pj = 0; pj < 9; pj = pj + 1) begin
                     if (term_field == FLD_T + pj[TSL-1:0])
-                        t_all[(9*pi + pj)*T_W +: T_W] <= cfg_wr_data[T_W-1:0];
+                        t_reg[(9*pi + pj)*T_W +: T_W] <= cfg_wr_data[T_W-1:0];
                 end
+                if (T_EXP_W > 0 && term_field == FLD_E)
+                    te_reg[pi*TE_W +: TE_W] <= cfg_wr_data[RM_TERM_E_TE_LSB +: TE_W];
+                if (A_EXP_W > 0 && term_field == FLD_E)
+                    ae_reg[pi*AE_W +: AE_W] <= cfg_wr_data[RM_TERM_E_AE_LSB +: AE_W];
                 for (pj = 0; pj < 3; pj = pj + 1) begin
                     if (term_field == FLD_O + pj[TSL-1:0])
                         o_all[(3*pi + pj)*O_W +: O_W] <= cfg_wr_data[O_W-1:0];
@@ -140,6 +167,25 @@ always @(posedge clk) begin
         end
     end
 end
+
+// the terms as noise_term takes them: {ae, a} and {te, T} (without exponents the registers)
+genvar gk;
+generate
+    if (A_EXP_W > 0) begin : g_ae
+        for (gk = 0; gk < KV; gk = gk + 1) begin : g_k
+            assign a_all[gk*AS_W +: AS_W] = {ae_reg[gk*AE_W +: AE_W], a_reg[gk*A_W +: A_W]};
+        end
+    end else begin : g_a
+        assign a_all = a_reg;
+    end
+    if (T_EXP_W > 0) begin : g_te
+        for (gk = 0; gk < KV; gk = gk + 1) begin : g_k
+            assign t_all[gk*TS_W +: TS_W] = {te_reg[gk*TE_W +: TE_W], t_reg[gk*9*T_W +: 9*T_W]};
+        end
+    end else begin : g_t
+        assign t_all = t_reg;
+    end
+endgenerate
 
 // colour tables: forwarded to colour_map one clock later; csat entries are staged
 reg [(NCH-1)*CSAT_W-1:0] csat_stage_reg;
@@ -235,8 +281,8 @@ reg                      f_mode, f_filter_en;
 reg [NL_W-1:0]           f_n_log2;
 reg [KU_W-1:0]           f_k_used;
 reg [RM_Q_COUNT*Q_W-1:0] f_q;
-reg [KV*A_W-1:0]         f_a;
-reg [KV*9*T_W-1:0]       f_t;
+reg [KV*AS_W-1:0]        f_a;
+reg [KV*TS_W-1:0]        f_t;
 reg [KV*3*O_W-1:0]       f_o;
 always @(posedge clk) begin
     {f_mode, f_filter_en, f_n_log2, f_k_used} <= {mode, filter_en, n_log2, k_used};
@@ -268,14 +314,14 @@ always @* begin
         // term k's fields at ADDR_TERM + TERM_STRIDE k + field
         for (fa = 0; fa < K; fa = fa + 1) begin
             if (f_wr && f_addr == RM_ADDR_TERM + RM_TERM_STRIDE*fa + RM_TERM_A)
-                assert(a_all[fa*A_W +: A_W] == f_data[A_W-1:0]);
+                assert(a_all[fa*AS_W +: A_W] == f_data[A_W-1:0]);
             else
-                assert(a_all[fa*A_W +: A_W] == f_a[fa*A_W +: A_W]);
+                assert(a_all[fa*AS_W +: A_W] == f_a[fa*AS_W +: A_W]);
             for (fb = 0; fb < 9; fb = fb + 1)
                 if (f_wr && f_addr == RM_ADDR_TERM + RM_TERM_STRIDE*fa + RM_TERM_T + fb)
-                    assert(t_all[(9*fa + fb)*T_W +: T_W] == f_data[T_W-1:0]);
+                    assert(t_all[fa*TS_W + fb*T_W +: T_W] == f_data[T_W-1:0]);
                 else
-                    assert(t_all[(9*fa + fb)*T_W +: T_W] == f_t[(9*fa + fb)*T_W +: T_W]);
+                    assert(t_all[fa*TS_W + fb*T_W +: T_W] == f_t[fa*TS_W + fb*T_W +: T_W]);
             for (fb = 0; fb < 3; fb = fb + 1)
                 if (f_wr && f_addr == RM_ADDR_TERM + RM_TERM_STRIDE*fa + RM_TERM_O + fb)
                     assert(o_all[(3*fa + fb)*O_W +: O_W] == f_data[O_W-1:0]);
@@ -301,11 +347,30 @@ always @* begin
             assert(!tbl_wr_en);
     end
 end
+// the exponents (T_EXP_W, A_EXP_W > 0): term k's at ADDR_TERM + TERM_STRIDE k + TERM_E (te_reg and
+// ae_reg, which the generate above places above each term's mantissas in t_all and a_all;
+// without exponents never written: 0 after reset)
+integer              fe;
+reg [KV*TE_W-1:0]    f_te;
+reg [KV*AE_W-1:0]    f_ae;
+always @(posedge clk) {f_te, f_ae} <= {te_reg, ae_reg};
+always @* begin
+    if (f_past_valid && f_rst)
+        assert(te_reg == 0 && ae_reg == 0);
+    if (f_past_valid && !f_rst)
+        for (fe = 0; fe < K; fe = fe + 1)
+            if (f_wr && f_addr == RM_ADDR_TERM + RM_TERM_STRIDE*fe + RM_TERM_E && T_EXP_W + A_EXP_W > 0)
+                assert((T_EXP_W == 0 || te_reg[fe*TE_W +: TE_W] == f_data[RM_TERM_E_TE_LSB +: TE_W])
+                       && (A_EXP_W == 0 || ae_reg[fe*AE_W +: AE_W] == f_data[RM_TERM_E_AE_LSB +: AE_W]));
+            else
+                assert(te_reg[fe*TE_W +: TE_W] == f_te[fe*TE_W +: TE_W] && ae_reg[fe*AE_W +: AE_W] == f_ae[fe*AE_W +: AE_W]);
+end
 `endif
 
 // elaboration checks: the table's shape this decoder assumes
 generate
-    if (NCH != 4 || K > RM_TERM_SLOTS || NLMAX + RM_CSAT_LOG2 >= RL) begin : g_bad_params
+    if (NCH != 4 || K > RM_TERM_SLOTS || NLMAX + RM_CSAT_LOG2 >= RL
+        || RM_TERM_E_TE_LSB + T_EXP_W > RM_DATA_W || RM_TERM_E_AE_LSB + A_EXP_W > RM_DATA_W) begin : g_bad_params
         // a module that does not exist: elaboration fails with this instance name
         tex_regs_bad_parameters u_bad ();
     end

@@ -260,29 +260,48 @@ endfunction
 // ---------------------------------------------------------------------------
 // the exact sums over the quadric and k noise terms
 
-// f = q + sum a_i n_i (fraction f_frac)
+// f = q + sum a_i n_i (fraction f_frac); *_e: a_i with exponents up to ae_max
+function integer tw_f_w_e;
+    input integer diag, s_w, s_frac, q_w, q_frac, f_frac, k, a_w, a_frac, n_frac, ae_max;
+    begin
+        tw_f_w_e = tw_bits_signed(tw_shift_bound(tw_qsum(diag, s_w, s_frac, q_w), f_frac - q_frac)
+                                  + k * tw_an_max_e(a_w, a_frac, n_frac, f_frac, ae_max));
+    end
+endfunction
+
 function integer tw_f_w;
     input integer diag, s_w, s_frac, q_w, q_frac, f_frac, k, a_w, a_frac, n_frac;
     begin
-        tw_f_w = tw_bits_signed(tw_shift_bound(tw_qsum(diag, s_w, s_frac, q_w), f_frac - q_frac)
-                                + k * tw_an_max(a_w, a_frac, n_frac, f_frac));
+        tw_f_w = tw_f_w_e(diag, s_w, s_frac, q_w, q_frac, f_frac, k, a_w, a_frac, n_frac, 0);
     end
 endfunction
 
 // |grad f| component bound (fraction c_frac): dq/ds, plus the k a_i grad n_i when grad != 0
-function [63:0] tw_c_max;
-    input integer diag, s_w, s_frac, q_w, q_frac, c_frac, k, grad, cubic, pow2, t_w, t_frac, n_frac, a_w, a_frac;
+// (*_e: T_i and a_i with exponents up to te_max, ae_max)
+function [63:0] tw_c_max_e;
+    input integer diag, s_w, s_frac, q_w, q_frac, c_frac, k, grad, cubic, pow2, t_w, t_frac, n_frac, a_w, a_frac,
+                  te_max, ae_max;
     begin
-        tw_c_max = tw_cq_max(diag, s_w, s_frac, q_w, q_frac, c_frac)
-                   + ((grad != 0) ? k * tw_ag_max(cubic, pow2, t_w, t_frac, n_frac, c_frac, a_w, a_frac) : 64'd0);
+        tw_c_max_e = tw_cq_max(diag, s_w, s_frac, q_w, q_frac, c_frac)
+                     + ((grad != 0) ? k * tw_ag_max_e(cubic, pow2, t_w, t_frac, n_frac, c_frac, a_w, a_frac, te_max,
+                                                       ae_max) : 64'd0);
+    end
+endfunction
+
+function integer tw_c_w_e;
+    input integer diag, s_w, s_frac, q_w, q_frac, c_frac, k, grad, cubic, pow2, t_w, t_frac, n_frac, a_w, a_frac,
+                  te_max, ae_max;
+    begin
+        tw_c_w_e = tw_bits_signed(tw_c_max_e(diag, s_w, s_frac, q_w, q_frac, c_frac, k, grad, cubic, pow2, t_w, t_frac,
+                                             n_frac, a_w, a_frac, te_max, ae_max));
     end
 endfunction
 
 function integer tw_c_w;
     input integer diag, s_w, s_frac, q_w, q_frac, c_frac, k, grad, cubic, pow2, t_w, t_frac, n_frac, a_w, a_frac;
     begin
-        tw_c_w = tw_bits_signed(tw_c_max(diag, s_w, s_frac, q_w, q_frac, c_frac, k, grad, cubic, pow2, t_w, t_frac,
-                                         n_frac, a_w, a_frac));
+        tw_c_w = tw_c_w_e(diag, s_w, s_frac, q_w, q_frac, c_frac, k, grad, cubic, pow2, t_w, t_frac, n_frac, a_w,
+                          a_frac, 0, 0);
     end
 endfunction
 

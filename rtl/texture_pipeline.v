@@ -104,6 +104,10 @@ module texture_pipeline #(
     parameter FC_FADE_LOG2   = 2,   // [fc_fade_log2] sat_fc: the fade spans 2^FC_FADE_LOG2 octaves
     parameter FC_KS          = 328, // sat_fc: sigma sqrt(12) of the lattice noise in u.FC_KSF (derived from
     parameter FC_KSF         = 8,   // [blend] by model/hw/config.py fc_sigma12; hdlbuild sets both)
+    parameter T_EXP_W        = 0,   // [t_exp_w] T_i = T mantissas 2^(te_i - T_FRAC), te_i u{T_EXP_W} per
+                                    // term (block floating point, docs/numerics.md; 0: none; affine only)
+    parameter A_EXP_W        = 0,   // [a_exp_w] a_i = a mantissa 2^(ae_i - A_FRAC), ae_i u{A_EXP_W} per
+                                    // term (0: none; amplitude any only)
     // [hash.seed] the lattice permutation (model/hw/config.py permutation()), entry i at
     // [i*HASH_BITS +: HASH_BITS]
     parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}
@@ -126,9 +130,13 @@ localparam DIAG   = QUADRIC;
 localparam CUBIC  = BLEND;
 localparam POW2T  = TRANSFORM;
 localparam O_W    = HASH_BITS + P_FRAC;                                        // noise offset word
-localparam F_W    = tw_f_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC, K, A_W, A_FRAC, N_FRAC); // f (exact sum)
-localparam C_W    = tw_c_w(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, C_FRAC, K, NOISE_GRADIENT, CUBIC, POW2T, T_W,
-                           T_FRAC, N_FRAC, A_W, A_FRAC);                       // grad f (exact sum)
+localparam TE_MAX = (1 << T_EXP_W) - 1;                                        // the largest exponents
+localparam AE_MAX = (1 << A_EXP_W) - 1;
+localparam TS_W   = 9*T_W + T_EXP_W;                                           // a term's {te, T}
+localparam AS_W   = A_W + A_EXP_W;                                             // a term's {ae, a}
+localparam F_W    = tw_f_w_e(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC, K, A_W, A_FRAC, N_FRAC, AE_MAX); // f (exact sum)
+localparam C_W    = tw_c_w_e(DIAG, S_W, S_FRAC, Q_W, Q_FRAC, C_FRAC, K, NOISE_GRADIENT, CUBIC, POW2T, T_W,
+                             T_FRAC, N_FRAC, A_W, A_FRAC, TE_MAX, AE_MAX);     // grad f (exact sum)
 localparam W_W    = W_CAP_LOG2 + F_FRAC + 1;                                   // filter width
 localparam CSAT_W = tw_csat_w(N_LOG2_MAX);                                     // summed-area channel
 localparam NL_W   = tw_bits_unsigned(N_LOG2_MAX);                              // n_log2
@@ -213,8 +221,8 @@ wire [KU_W-1:0]     k_used_reg;   // terms the texture uses: 0..k_used-1
 localparam KV = (K > 0) ? K : 1;  // K = 0 still declares (unused) vectors
 wire [10*Q_W-1:0]   q_coef;       // coefficient i at [i*Q_W +: Q_W]
 /* verilator lint_off UNUSEDSIGNAL */  // read by no noise term when K = 0
-wire [KV*A_W-1:0]   a_all_reg;    // a_k at [k*A_W +: A_W]
-wire [KV*9*T_W-1:0] t_all_reg;    // T_k[j][m] at [(9*k + 3*j + m)*T_W +: T_W]
+wire [KV*AS_W-1:0]  a_all_reg;    // {ae_k, a_k} at [k*AS_W +: AS_W] (ae: A_EXP_W > 0 only)
+wire [KV*TS_W-1:0]  t_all_reg;    // {te_k, T_k} at [k*TS_W +: TS_W], T_k[j][m] at (3*j + m)*T_W in it
 wire [KV*3*O_W-1:0] o_all_reg;    // o_k[j] at [(3*k + j)*O_W +: O_W]
 /* verilator lint_on UNUSEDSIGNAL */
 wire                tbl_wr_en_reg;
@@ -224,7 +232,7 @@ wire [4*CSAT_W-1:0] tbl_wr_data_reg;
 
 tex_regs #(
     .NOISE_TERMS(K), .Q_W(Q_W), .A_W(A_W), .T_W(T_W), .HASH_BITS(HASH_BITS), .P_FRAC(P_FRAC),
-    .N_LOG2_MAX(N_LOG2_MAX)
+    .N_LOG2_MAX(N_LOG2_MAX), .T_EXP_W(T_EXP_W), .A_EXP_W(A_EXP_W)
 ) u_regs (
     .clk(clk), .rst(rst),
     .cfg_wr_en(cfg_wr_en), .cfg_wr_addr(cfg_wr_addr), .cfg_wr_data(cfg_wr_data),
@@ -239,14 +247,14 @@ tex_regs #(
 // 0 and noise_term does not read them. Passing 0 makes that visible here, so their registers
 // go (they would in a flat synthesis anyway; the per-block gate count keeps the blocks apart;
 // texture_sum does the same for a diagonal quadric's coefficients).
-reg [KV*9*T_W-1:0]  t_use;
+reg [KV*TS_W-1:0]   t_use;
 integer             ui, uj;
 always @* begin
     t_use = t_all_reg;
     if (POW2T != 0) begin
         for (ui = 0; ui < KV; ui = ui + 1)
             for (uj = 0; uj < 9; uj = uj + 1)
-                if (uj % 4 != 0) t_use[(9*ui + uj)*T_W +: T_W] = {T_W{1'b0}};
+                if (uj % 4 != 0) t_use[ui*TS_W + uj*T_W +: T_W] = {T_W{1'b0}};
     end
 end
 
@@ -280,7 +288,7 @@ generate
             .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
             .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
             .NOISE_TERMS(K), .NOISE_UNITS(U), .F_W(F_W), .C_W(C_W), .SIDE_W(JM_W + JE_W + 1),
-            .MIN_CLOCKS(QUADRIC_CLOCKS), .FPGA_REGS(FPGA_REGS), .PERM(PERM)
+            .MIN_CLOCKS(QUADRIC_CLOCKS), .FPGA_REGS(FPGA_REGS), .T_EXP_W(T_EXP_W), .A_EXP_W(A_EXP_W), .PERM(PERM)
         ) u_noise_fold (
             .clk(clk), .rst(rst), .ce(ce),
             .in_valid(in_valid), .in_ready(fold_ready),
@@ -325,7 +333,7 @@ texture_sum #(
     .JE_W(JE_W), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC), .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS),
     .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX),
     .FC_LOG_FRAC(FC_LOG_FRAC), .FC_KNEE(FC_KNEE), .FC_FADE_LOG2(FC_FADE_LOG2), .FC_KS(FC_KS), .FC_KSF(FC_KSF),
-    .PERM(PERM)
+    .T_EXP_W(T_EXP_W), .A_EXP_W(A_EXP_W), .PERM(PERM)
 ) u_texture_sum (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(px_valid), .s_in(px_s), .jm_in(px_jm), .je_in(px_je),

@@ -16,7 +16,9 @@
 // in the caller. model/hw/golden.py texture_sum is the twin.
 //
 // Formats (rtl/tex_widths.vh): s_in 3 x s{S_W}.{S_FRAC} (element e at [e*S_W +: S_W]); jm_in
-// 6 x s{J_W}.0, je_in s{JE_W}.0; q_coef 10 x s{Q_W}.{Q_FRAC}; a, T, o as noise_term's;
+// 6 x s{J_W}.0, je_in s{JE_W}.0; q_coef 10 x s{Q_W}.{Q_FRAC}; a, T, o as noise_term's (term k
+// of a_all {ae_k, a_k}, of t_all {te_k, T_k}: tex_regs' layout, the exponents only with T_EXP_W,
+// A_EXP_W > 0);
 // fold_f s{F_W}.{F_FRAC}, fold_c 3 x s{C_W}.{C_FRAC}; f_out s{F_W}.{F_FRAC}, c_out 3 x
 // s{C_W}.{C_FRAC} (F_W, C_W bound the whole sums: exact, docs/numerics.md); wv_out
 // u{W_CAP_LOG2+F_FRAC+1}.{F_FRAC} colour-table entries.
@@ -68,6 +70,8 @@ module texture_sum #(
     parameter FC_FADE_LOG2   = 2,   // FC: the fade spans 2^FC_FADE_LOG2 octaves
     parameter FC_KS          = 328, // FC: sigma sqrt(12) of the lattice noise in u.FC_KSF
     parameter FC_KSF         = 8,
+    parameter T_EXP_W        = 0,   // T_k's per-term exponent te_k above its mantissas in t_all (0: none)
+    parameter A_EXP_W        = 0,   // a_k's per-term exponent ae_k above its mantissa in a_all (0: none)
     parameter [HASH_BITS*(1<<HASH_BITS)-1:0] PERM = {HASH_BITS*(1<<HASH_BITS){1'b0}}  // lattice permutation
 ) (clk, rst, ce, in_valid, s_in, jm_in, je_in, q_coef, k_used, a_all, t_all, o_all, filter_en, n_log2,
    fold_valid, fold_f, fold_c, out_valid, f_out, c_valid, c_out, wv_out);
@@ -85,9 +89,13 @@ localparam FC_AF  = FC_LOG_FRAC + FC_FADE_LOG2;                                /
 localparam NL_W   = tw_bits_unsigned(N_LOG2_MAX);
 localparam W_W    = W_CAP_LOG2 + F_FRAC + 1;
 localparam QF_W   = tw_qf_w(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC);        // quadric value
-localparam F_W    = tw_f_w(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC, K, A_W, A_FRAC, N_FRAC);
-localparam C_W    = tw_c_w(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, C_FRAC, K, NOISE_GRADIENT, BLEND, TRANSFORM, T_W,
-                           T_FRAC, N_FRAC, A_W, A_FRAC);
+localparam TE_MAX = (1 << T_EXP_W) - 1;                                        // the largest exponents
+localparam AE_MAX = (1 << A_EXP_W) - 1;
+localparam TS_W   = 9*T_W + T_EXP_W;                                           // a term of t_all: {te, T}
+localparam AS_W   = A_W + A_EXP_W;                                             // a term of a_all: {ae, a}
+localparam F_W    = tw_f_w_e(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC, K, A_W, A_FRAC, N_FRAC, AE_MAX);
+localparam C_W    = tw_c_w_e(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, C_FRAC, K, NOISE_GRADIENT, BLEND, TRANSFORM, T_W,
+                             T_FRAC, N_FRAC, A_W, A_FRAC, TE_MAX, AE_MAX);
 localparam LAT_QM = FPGA_REGS ? `LAT_QUADRIC_MAC_FPGA : `LAT_QUADRIC_MAC;
 localparam LAT_NT = FPGA_REGS ? `LAT_NOISE_TERM_FPGA : `LAT_NOISE_TERM;
 localparam LAT_NF = FPGA_REGS ? `LAT_NOISE_FOLD_FPGA : `LAT_NOISE_FOLD;
@@ -107,8 +115,8 @@ input  wire [6*J_W-1:0]        jm_in;      // Jm[k][col] at element 2*k+col
 input  wire [JE_W-1:0]         je_in;
 input  wire [10*Q_W-1:0]       q_coef;     // coefficient i at [i*Q_W +: Q_W]
 input  wire [KU_W-1:0]         k_used;     // terms the texture uses: 0..k_used-1
-input  wire [KV*A_W-1:0]       a_all;      // a_k at [k*A_W +: A_W]
-input  wire [KV*9*T_W-1:0]     t_all;      // T_k[j][m] at [(9*k + 3*j + m)*T_W +: T_W]
+input  wire [KV*AS_W-1:0]      a_all;      // {ae_k, a_k} at [k*AS_W +: AS_W]
+input  wire [KV*TS_W-1:0]      t_all;      // {te_k, T_k} at [k*TS_W +: TS_W], T_k[j][m] at (3*j + m)*T_W in it
 input  wire [KV*3*O_W-1:0]     o_all;      // o_k[j] at [(3*k + j)*O_W +: O_W]
 input  wire                    filter_en;
 input  wire [NL_W-1:0]         n_log2;
@@ -147,7 +155,8 @@ generate
         fc_weight #(
             .NOISE_TERMS(K), .J_W(J_W), .JE_W(JE_W), .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC),
             .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .FC_LOG_FRAC(FC_LOG_FRAC),
-            .FC_KNEE(FC_KNEE), .FC_FADE_LOG2(FC_FADE_LOG2), .FC_KS(FC_KS), .FC_KSF(FC_KSF)
+            .FC_KNEE(FC_KNEE), .FC_FADE_LOG2(FC_FADE_LOG2), .FC_KS(FC_KS), .FC_KSF(FC_KSF), .T_EXP_W(T_EXP_W),
+            .A_EXP_W(A_EXP_W)
         ) u_fc_weight (
             .clk(clk), .rst(rst), .ce(ce),
             .in_valid(in_valid), .jm_in(jm_in), .je_in(je_in),
@@ -210,7 +219,8 @@ noise_leaves #(
     .FC_FADE_LOG2(FC_FADE_LOG2), .LATENCY(LAT_FRONT), .S_W(S_W), .S_FRAC(S_FRAC), .Q_W(Q_W), .Q_FRAC(Q_FRAC),
     .T_W(T_W), .T_FRAC(T_FRAC), .A_W(A_W), .A_FRAC(A_FRAC), .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS),
     .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC), .TRANSFORM(TRANSFORM), .BLEND(BLEND),
-    .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT), .FPGA_REGS(FPGA_REGS), .PERM(PERM)
+    .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT), .FPGA_REGS(FPGA_REGS), .T_EXP_W(T_EXP_W),
+    .A_EXP_W(A_EXP_W), .PERM(PERM)
 ) u_noise_leaves (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(in_valid), .s_in(s_in),

@@ -25,7 +25,6 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from hdlbuild import ROOT, block_params, config_of
-from hdlbuild.params import rtl_supported
 from model.hw.config import (CONFIG_NAMES, STAMP, ConfigError, base_of, clocks_per_pixel, config_hash, is_config_file, load_config,
                              noise_term_instances, rtl_source_hash)
 from model.hw.config import fc_variant as config_fc_variant
@@ -132,7 +131,6 @@ def synth_config(config: str, jobs: int = 2, reports: Path | None = None) -> dic
     synth/reports/<name>.json (reports: elsewhere, e.g. out/synth/ for a file outside config/)."""
     t0 = time.perf_counter()
     cfg = load_config(config)
-    rtl_supported(cfg)  # before any block: noise_term alone takes exponents, the pipeline not yet
     reports = reports or REPORTS
     # a file's path: its blocks take the loaded configuration (a file outside config/ has no name to load by)
     src = cfg if Path(config).suffix == ".toml" else config
@@ -384,7 +382,7 @@ def main(argv=None) -> int:
     path_cfg = a.config is not None and (a.config.endswith(".toml") or os.sep in a.config)
     if path_cfg:
         try:
-            rtl_supported(load_config(a.config))
+            load_config(a.config)
         except ConfigError as e:
             print(f"synth: --config {a.config}: {e}", file=sys.stderr)
             return 2

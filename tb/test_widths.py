@@ -8,8 +8,8 @@ gives it under Icarus, reads every derived width back from the elaborated instan
 (hierarchical references to their localparams, printed by $display), and compares each
 with the Python value. A differing width is a derivation written twice that drifted apart.
 
-Configurations with per-term exponents (formats.t_exp_w, a_exp_w > 0: tb.pipe.exponent_configs),
-which only noise_term takes yet (hdlbuild refuses them for the top): the noise_term widths alone.
+Configurations with per-term exponents (formats.t_exp_w, a_exp_w > 0: tb.pipe.exponent_configs):
+every width too, through the whole top (an_w, h_w, ag_w, f_w, c_w take the largest exponents).
 
 Environment: RANDOM_WIDTH_CONFIGS (default 10) random configurations, RANDOM_SEED picks
 another set.
@@ -61,17 +61,13 @@ def _configs():
     return list(hdlbuild.CONFIGS) + [f"random:{base + i}" for i in range(n)]
 
 
-def elaborated_widths(config, top: bool = True) -> dict:
-    """{name: value} of every entry of WIDTHS and CROSS, read from the elaborated RTL (top False:
-    the stand-alone noise_term's alone, "nt." of WIDTHS)."""
+def elaborated_widths(config) -> dict:
+    """{name: value} of every entry of WIDTHS and CROSS, read from the elaborated RTL."""
     if shutil.which("iverilog") is None:
         raise RuntimeError("iverilog: not found on PATH (run `make setup`)")
     cfg = hdlbuild.config_of(config)
     nt = block_params(cfg, "noise_term")
     nt_probe = "noise_term #(" + ", ".join(f".{k}({v})" for k, v in nt.items()) + ") nt ();"
-    if not top:
-        names = {k: v for k, v in WIDTHS.items() if v.startswith("nt.")}
-        return _elaborate(cfg, ["module width_probe;", nt_probe], names, [])
     gdir = hdlbuild.gen_dir(cfg)
     sat2 = cfg.d2_w <= 62
     names = {**WIDTHS, **(SAT2_WIDTHS if sat2 else {}), **{f"{k}@top": v for k, v in CROSS.items()}}
@@ -120,13 +116,11 @@ def test_rtl_widths_equal_python(config):
 
 
 @pytest.mark.parametrize("name", [n for n, _ in pipe.exponent_configs(1361)])
-def test_noise_term_widths_with_exponents(name):
-    """With per-term exponents (which only noise_term takes yet): its widths equal the Python
-    derivation's (an_w, h_w, ag_w take the largest exponents)."""
-    cfg = dict(pipe.exponent_configs(1361))[name]
-    got = elaborated_widths(cfg, top=False)
-    bad = [f"{k}: RTL {got[k]}, Python {cfg.d[k]}" for k in got if got[k] != cfg.d[k]]
-    assert not bad, f"{cfg.name}: derived widths differ:\n  " + "\n  ".join(bad)
+def test_widths_with_exponents(name):
+    """With per-term exponents: every width of the top and the stand-alone blocks equals the
+    Python derivation's (an_w, h_w, ag_w, f_w, c_w take the largest exponents), and so do the
+    copies where the words cross between blocks."""
+    test_rtl_widths_equal_python(dict(pipe.exponent_configs(1361))[name])
 
 
 # derived values the RTL has no word for: the model's own checks and bounds

@@ -140,9 +140,7 @@ def test_validate_small_run(tmp_path):
 
 
 def test_validate_bad_input():
-    for args, what in ((["--config", "nope"], "no such configuration"), (["--config", "full", "--size", "2"], "--size"),
-                       # per-term exponents: the golden model only, so no RTL check (issue 26 part 4)
-                       (["--config", "config/candidates/full_bfp.toml", "--rtl", "1"], "not in the RTL yet")):
+    for args, what in ((["--config", "nope"], "no such configuration"), (["--config", "full", "--size", "2"], "--size")):
         r = subprocess.run([sys.executable, "-m", "explore.validate", "run", *args], capture_output=True, text=True,
                            cwd=ROOT)
         assert r.returncode == 2 and what in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr

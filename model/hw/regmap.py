@@ -51,6 +51,10 @@ REGMAP_TABLE = (
     ("TERM_A", 0, "term field: a_k, s{a_w}.{a_frac}"),
     ("TERM_T", 1, "term fields TERM_T + 3*j + m: T_k[j][m], s{t_w}.{t_frac}"),
     ("TERM_O", 10, "term fields TERM_O + j: o_k[j], u{o_w}.{p_frac}"),
+    ("TERM_E", 13, "term field: the exponents of T_k and a_k (formats.t_exp_w, a_exp_w > 0; ignored without): "
+                   "te_k u{t_exp_w} at [TERM_E_TE_LSB +: t_exp_w], ae_k u{a_exp_w} at [TERM_E_AE_LSB +: a_exp_w]"),
+    ("TERM_E_TE_LSB", 0, "TERM_E field: te_k (T_k = T mantissas 2^(te_k - t_frac))"),
+    ("TERM_E_AE_LSB", 8, "TERM_E field: ae_k (a_k = a mantissa 2^(ae_k - a_frac))"),
     ("ADDR_CLUT", 0x1000, "clut[n], RGBA8 (R at [7:0]), at ADDR_CLUT + n"),
     ("CLUT_LOG2", 0, "clut words accepted: 2^(n_log2_max + CLUT_LOG2)"),
     ("ADDR_CSAT", 0x2000, "csat[n] channel ch (u{csat_w}) at ADDR_CSAT + CSAT_CHANNELS*n + ch: channels "
@@ -95,8 +99,11 @@ def _derived(rm: dict) -> dict:
     assert all(a >> lsb == d["REGION_REGS"] for a in regs + [rm["ADDR_TERM"], rm["ADDR_TERM"] + win - 1])
     assert not any(rm["ADDR_TERM"] <= a < rm["ADDR_TERM"] + win for a in regs), "register map: Q/CTRL in the term window"
     assert len(set(regs)) == len(regs), "register map: two registers share an address"
-    fields = [rm["TERM_A"]] + [rm["TERM_T"] + i for i in range(9)] + [rm["TERM_O"] + j for j in range(3)]
+    fields = ([rm["TERM_A"]] + [rm["TERM_T"] + i for i in range(9)] + [rm["TERM_O"] + j for j in range(3)]
+              + [rm["TERM_E"]])
     assert len(set(fields)) == len(fields) and max(fields) < rm["TERM_STRIDE"], "register map: term fields"
+    # te and ae have at most 4 bits each (formats.t_exp_w, a_exp_w <= 4)
+    assert rm["TERM_E_TE_LSB"] + 4 <= rm["TERM_E_AE_LSB"] <= rm["DATA_W"] - 4, "register map: TERM_E fields"
     ctrl = (rm["CTRL_MODE_BIT"], rm["CTRL_FILTER_BIT"])
     assert len(set(ctrl)) == 2 and max(ctrl) < rm["CTRL_NLOG2_LSB"] < rm["DATA_W"] - 4, "register map: CTRL fields"
     # n_log2 has at most 4 bits (n_log2_max <= 10), k_used at most 4 (K <= 8)
@@ -112,7 +119,8 @@ Q_COUNT = REGMAP["Q_COUNT"]
 ADDR_TERM = REGMAP["ADDR_TERM"]
 TERM_STRIDE = REGMAP["TERM_STRIDE"]
 TERM_SLOTS = REGMAP["TERM_SLOTS"]
-TERM_A, TERM_T, TERM_O = REGMAP["TERM_A"], REGMAP["TERM_T"], REGMAP["TERM_O"]
+TERM_A, TERM_T, TERM_O, TERM_E = REGMAP["TERM_A"], REGMAP["TERM_T"], REGMAP["TERM_O"], REGMAP["TERM_E"]
+TERM_E_TE_LSB, TERM_E_AE_LSB = REGMAP["TERM_E_TE_LSB"], REGMAP["TERM_E_AE_LSB"]
 ADDR_CLUT = REGMAP["ADDR_CLUT"]
 ADDR_CSAT = REGMAP["ADDR_CSAT"]
 CSAT_CHANNELS = REGMAP["CSAT_CHANNELS"]
@@ -208,6 +216,9 @@ def write_sequence(cfg: Config, tex: TexInt) -> list[tuple[int, int]]:
     o = np.asarray(tex.o, dtype=np.int64).reshape(-1, 3)
     if np.any(a[K:] != 0):
         raise RegmapError(f"texture has {int(np.count_nonzero(a[K:]))} non-zero terms beyond K = {K}")
+    te = np.asarray(tex.te, dtype=np.int64).reshape(-1)
+    ae = np.asarray(tex.ae, dtype=np.int64).reshape(-1)
+    exps = bool(cfg.t_exp_w or cfg.a_exp_w)  # TERM_E is written only with exponents
     for k in range(K):
         base = ADDR_TERM + TERM_STRIDE * k
         have = k < len(a)
@@ -217,6 +228,13 @@ def write_sequence(cfg: Config, tex: TexInt) -> list[tuple[int, int]]:
                 w.append((base + TERM_T + 3 * j + m, _fit(f"T[{k}][{j}][{m}]", T[k, j, m] if have else 0, cfg.t_w, True)))
         for j in range(3):
             w.append((base + TERM_O + j, _fit(f"o[{k}][{j}]", o[k, j] if have else 0, cfg.d["o_w"], False)))
+        if exps:
+            tk = _fit(f"te[{k}]", te[k] if have else 0, cfg.t_exp_w, False) if cfg.t_exp_w else 0
+            ak = _fit(f"ae[{k}]", ae[k] if have else 0, cfg.a_exp_w, False) if cfg.a_exp_w else 0
+            w.append((base + TERM_E, (tk << TERM_E_TE_LSB) | (ak << TERM_E_AE_LSB)))
+    for name, e, ew in (("te", te, cfg.t_exp_w), ("ae", ae, cfg.a_exp_w)):
+        if not ew and np.any(e[:K] != 0):
+            raise RegmapError(f"{name} = {e[:K].tolist()}: the configuration has no exponent ({name[0]}_exp_w = 0)")
     clut = np.asarray(tex.clut, dtype=np.int64)
     if clut.shape != (n, 4):
         raise RegmapError(f"clut shape {clut.shape}, expected ({n}, 4) for n_log2 = {n_log2}")
@@ -248,7 +266,8 @@ class TexRegs:
     """The register state of rtl/tex_regs.v, as the RTL holds it (unsigned bit patterns).
 
     Fields after each write, one clock of the RTL per write (a clock without a write: `idle`):
-    mode, filter_en, n_log2; q[Q_COUNT] (q_w bits), a[K], T[K][9], o[K][3]; csat_stage[3];
+    mode, filter_en, n_log2; q[Q_COUNT] (q_w bits), a[K], T[K][9], o[K][3], te[K] (t_exp_w
+    bits), ae[K] (a_exp_w bits; both 0 without exponents); csat_stage[3];
     the table-write port registers tbl_wr_en, tbl_wr_table, tbl_wr_addr, tbl_wr_data (the
     four csat_w-bit channel fields packed, channel 0 at the LSBs), as forwarded to colour_map.
     """
@@ -266,6 +285,8 @@ class TexRegs:
         self.a = [0] * K
         self.T = [[0] * 9 for _ in range(K)]
         self.o = [[0] * 3 for _ in range(K)]
+        self.te = [0] * K
+        self.ae = [0] * K
         self.csat_stage = [0] * (CSAT_CHANNELS - 1)
         self.tbl_wr_en = 0
         self.tbl_wr_table = TABLE_CLUT
@@ -308,6 +329,9 @@ class TexRegs:
                         self.T[k][f - TERM_T] = data & _mask(cfg.t_w)
                     if TERM_O <= f < TERM_O + 3:
                         self.o[k][f - TERM_O] = data & _mask(cfg.d["o_w"])
+                    if f == TERM_E:  # without exponents (width 0) the field holds nothing
+                        self.te[k] = (data >> TERM_E_TE_LSB) & _mask(cfg.t_exp_w)
+                        self.ae[k] = (data >> TERM_E_AE_LSB) & _mask(cfg.a_exp_w)
             return None
         if region in (REGMAP_DERIVED["REGION_CLUT"], REGMAP_DERIVED["REGION_MIP"]):
             mip = region == REGMAP_DERIVED["REGION_MIP"]
@@ -369,7 +393,7 @@ def texint_of_regs(cfg: Config, st: TexRegs, tables) -> TexInt:
                   T=arr([[_signed(v, cfg.t_w) for v in t] for t in st.T]).reshape(K, 3, 3),
                   o=arr(st.o).reshape(K, 3), mode=st.mode, n_log2=st.n_log2, filter=bool(st.filter_en),
                   clut=table(TABLE_CLUT, n), csat=table(TABLE_CSAT, n), mip=table(TABLE_MIP, 2 * n - 1),
-                  k_used=st.k_used)
+                  k_used=st.k_used, te=arr(st.te), ae=arr(st.ae))
 
 
 def _pixel_fields(cfg: Config, s, Jm, je) -> list[tuple[np.ndarray, int]]:

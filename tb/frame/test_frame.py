@@ -22,6 +22,8 @@ import hdlbuild
 from model.hw.config import clocks_per_pixel, load_config, variant
 from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt, texture_stages
 
+ROOT_CFG = hdlbuild.ROOT / "config" / "candidates"  # candidate configurations (full_bfp)
+
 
 def _seed() -> int:
     s = os.environ.get("SEED")
@@ -80,7 +82,18 @@ def random_texture(cfg, r, kind: str, mode=None, filt=None, n_log2=None) -> TexI
     filt = bool(r.random() < 0.75) if filt is None else filt
     # the terms the texture uses: usually all, sometimes fewer (the rest must be skipped)
     k_used = int(r.integers(0, K + 1)) if r.random() < 0.3 else K
-    return TexInt(Q=Q, a=a, T=T, o=o, mode=mode, n_log2=n_log2, filter=filt, clut=clut, k_used=k_used)
+    # per-term exponents (formats.t_exp_w, a_exp_w > 0): 0, the largest or uniform (drawn only
+    # with exponents: a fixed-point configuration's draws stay what they were)
+    te, ae = (_exponents(r, K, e_max) for e_max in (cfg.d["te_max"], cfg.d["ae_max"]))
+    return TexInt(Q=Q, a=a, T=T, o=o, mode=mode, n_log2=n_log2, filter=filt, clut=clut, k_used=k_used, te=te, ae=ae)
+
+
+def _exponents(r, K: int, e_max: int) -> np.ndarray:
+    """K exponents in 0..e_max: each 0, e_max or uniform (all 0 when e_max = 0, no draw)."""
+    if not e_max:
+        return np.zeros(K, dtype=np.int64)
+    kind = r.integers(0, 3, size=K)
+    return np.where(kind == 0, 0, np.where(kind == 1, e_max, r.integers(0, e_max + 1, size=K))).astype(np.int64)
 
 
 def random_pixels(cfg, r, n: int, kind: str):
@@ -109,7 +122,7 @@ def random_pixels(cfg, r, n: int, kind: str):
 
 def junk_writes(cfg, r) -> list[tuple[int, int]]:
     """Writes the register map must ignore (addresses from model/hw/regmap.py REGMAP_TABLE):
-    unmapped registers, terms k >= K, term fields past o_k,
+    unmapped registers, terms k >= K, term fields past o_k (but TERM_E with exponents),
     table indices past the end of clut / csat / mip, unmapped regions."""
     from model.hw import regmap as RM
 
@@ -117,7 +130,9 @@ def junk_writes(cfg, r) -> list[tuple[int, int]]:
     region = 1 << RM.REGION_LSB  # words per region
     q_end, term_end = RM.ADDR_Q + RM.Q_COUNT, RM.ADDR_TERM + RM.TERM_STRIDE * RM.TERM_SLOTS
     addrs = [RM.ADDR_CTRL + 1, RM.ADDR_Q - 1, q_end, q_end + 5, q_end + 6, RM.ADDR_TERM - 1]
-    addrs += [RM.ADDR_TERM + RM.TERM_STRIDE * k + f for k in range(K) for f in range(RM.TERM_O + 3, RM.TERM_STRIDE)]
+    loaded = {RM.TERM_E} if cfg.t_exp_w or cfg.a_exp_w else set()  # the exponents' word (else ignored)
+    addrs += [RM.ADDR_TERM + RM.TERM_STRIDE * k + f for k in range(K) for f in range(RM.TERM_O + 3, RM.TERM_STRIDE)
+              if f not in loaded]
     addrs += [RM.ADDR_TERM + RM.TERM_STRIDE * k for k in range(K, RM.TERM_SLOTS)] + [term_end, region - 1]
     addrs += [RM.ADDR_CLUT + (1 << nmax), RM.ADDR_CLUT + (2 << nmax), RM.ADDR_CLUT + region - 1]
     addrs += [RM.ADDR_CSAT + RM.CSAT_CHANNELS * (1 << nmax) + c for c in range(RM.CSAT_CHANNELS)]
@@ -357,3 +372,67 @@ def test_frame_fpga_regs(sim, base):
     got_all = run_passes_rtl(cfg, sim, passes, gaps=30, stalls=40, seed=seed + 7)
     for (tex, s, Jm, je), got in zip(passes, got_all):
         _compare(cfg, tex, s, Jm, je, got, f"{cfg.name} k_used {tex.k_used}, gaps 30% / stalls 40%")
+
+
+def _exponent_params():
+    """(sim, name): configurations with per-term exponents (formats.t_exp_w, a_exp_w > 0) under
+    Verilator (SIM= narrows): full_bfp (config/candidates/full_bfp.toml: eight unfolded terms, the
+    box filter) and exp1351 (tb.pipe.exponent_configs: three terms folded on two units, fpga_regs,
+    mip, no noise gradient: noise_fold's parameter selection with {te, T} and {ae, a}); make
+    test-long (VECTORS >= 100000) adds full_bfp_fc (its terms faded, sat_fc: fc_weight at the top)."""
+    sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["verilator"]
+    names = ["full_bfp", "exp1351"] + (["full_bfp_fc"] if int(os.environ.get("VECTORS", "0")) >= 100000 else [])
+    return [(sim, n) for sim in sims for n in names]
+
+
+def _exponent_config(name: str):
+    from model.hw.config import fc_variant
+    from tb import pipe
+
+    if name.startswith("full_bfp"):
+        cfg = load_config(str(ROOT_CFG / "full_bfp.toml"))
+        return fc_variant(cfg) if name.endswith("_fc") else cfg
+    return dict(pipe.exponent_configs(1351))[name]
+
+
+@pytest.mark.parametrize("sim,name", _exponent_params())
+def test_frame_exponents(tmp_path, sim, name):
+    """Per-term exponents through the whole unit (TERM_E, tex_regs, noise_fold or noise_leaves,
+    noise_term; fc_weight with sat_fc): random textures whose terms each draw te and ae (0, the
+    largest, or uniform; the first texture every term with an extreme pair: te_max and ae 0, 0 and
+    ae_max) and streams with random input gaps and output stalls, junk writes to the
+    ignored addresses, every pixel bit-exact against the golden model; on full_bfp also the
+    rotated marble of the held-out corpus (model/scene/corpus.py rotated_marble: four rotated
+    terms, the scene of issue 26) at 16x16 through sim.frame, bit-exact."""
+    run_frame_rtl = _frame_rtl()
+    cfg = _exponent_config(name)
+    assert cfg.t_exp_w and cfg.a_exp_w
+    seed = _seed()
+    print(f"[frame {cfg.name} {sim}] SEED={seed}")
+    r = np.random.default_rng(seed + 31)
+    n = min(_n_pixels(sim), 1500)
+    for t, (tkind, pkind) in enumerate((("real", "real"), ("full", "full"), ("real", "real"))):
+        tex = random_texture(cfg, r, tkind, filt=True if t != 1 else None)
+        if t == 0:  # every term used, the extreme exponents on live terms: te_max with ae 0, then 0 with ae_max
+            tex.k_used = cfg.noise_terms
+            tex.te[:] = np.where(np.arange(cfg.noise_terms) % 2 == 0, cfg.d["te_max"], 0)
+            tex.ae[:] = np.where(np.arange(cfg.noise_terms) % 2 == 0, 0, cfg.d["ae_max"])
+            tex.a[tex.a == 0] = 1 << (cfg.a_w - 3)
+        s, Jm, je = random_pixels(cfg, r, n, pkind)
+        if cfg.filter == "sat_fc":  # footprints of every size: every term from whole to gone
+            je[: n // 2] = r.integers(cfg.je_min, cfg.je_max + 1, n // 2)
+        got, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed + t,
+                                       extra_writes=junk_writes(cfg, r))
+        _compare(cfg, tex, s, Jm, je, got, f"{cfg.name} texture {t} ({tkind}/{pkind}), te {tex.te.tolist()} "
+                                           f"ae {tex.ae.tolist()}, gaps 30% / stalls 40%")
+    if name == "full_bfp":
+        from model.scene.corpus import rotated_marble
+        from sim.frame import run_frame
+
+        scene, text = rotated_marble()
+        path = tmp_path / f"{scene}.toml"
+        path.write_text(text)
+        rep = run_frame(str(path), str(ROOT_CFG / "full_bfp.toml"), sim, 16, out_root=tmp_path / "frames",
+                        progress=False)
+        assert rep["pixels_streamed"] > 0
+        assert rep["bit_exact"], f"{scene} full_bfp {sim}: {rep['mismatched_pixels']} pixels differ"

@@ -14,6 +14,11 @@ to noise terms k >= K and term fields past o_k, to table entries inside and past
 clut / csat / mip, to unmapped addresses of every region and to random addresses, and
 resets in the middle; after every clock every output equals the twin's state. Then a
 texture's write_sequence, checked the same way.
+
+Per-term exponents (formats.t_exp_w, a_exp_w > 0; pipe.exponent_configs: full_bfp, full_exp and
+a random one, Icarus, full_bfp under Verilator too): the TERM_E word of each term loads te_k and
+ae_k, which tex_regs puts above the term's mantissas in t_all and a_all; without exponents
+TERM_E is an ignored address. The round trip and the ignored writes run on them too.
 """
 from __future__ import annotations
 
@@ -40,6 +45,17 @@ N_RANDOM = 3  # random valid configurations besides full and reduced (RANDOM_CON
 @pytest.mark.parametrize("sim,config", hdlbuild.family_params(N_RANDOM))
 def test_tex_regs_rtl(sim, config):
     pipe.run_block("tex_regs", sim, test_file=__file__, config=config, sources=SOURCES)
+
+
+# with per-term exponents: every configuration under Icarus, full_bfp under Verilator too
+EXP_CONFIGS = dict(pipe.exponent_configs(1342))
+
+
+@pytest.mark.parametrize("sim,name", [pytest.param(sim, n, id=f"{sim}-{n}") for sim in ("icarus", "verilator")
+                                      for n in EXP_CONFIGS if sim == "icarus" or n == "full_bfp"
+                                      if not os.environ.get("SIM") or os.environ["SIM"] == sim])
+def test_tex_regs_exponents_rtl(sim, name):
+    pipe.run_block("tex_regs", sim, test_file=__file__, config=EXP_CONFIGS[name], sources=SOURCES)
 
 
 def test_regmap_vh_is_generated():
@@ -70,17 +86,29 @@ def random_texture(cfg, r) -> TexInt:
 
     Q = s(cfg.q_w, 10)
     n_log2 = int(r.integers(0, cfg.n_log2_max + 1))
-    return TexInt(Q=Q, a=s(cfg.a_w, K), T=s(cfg.t_w, (K, 3, 3)),
-                  o=r.integers(0, 1 << cfg.d["o_w"], size=(K, 3), dtype=np.int64),
-                  mode=int(r.choice([MODE_MOD, MODE_CLAMP])), n_log2=n_log2, filter=bool(r.random() < 0.5),
-                  clut=r.integers(0, 256, size=(1 << n_log2, 4), dtype=np.int64), k_used=int(r.integers(0, K + 1)))
+    tex = TexInt(Q=Q, a=s(cfg.a_w, K), T=s(cfg.t_w, (K, 3, 3)),
+                 o=r.integers(0, 1 << cfg.d["o_w"], size=(K, 3), dtype=np.int64),
+                 mode=int(r.choice([MODE_MOD, MODE_CLAMP])), n_log2=n_log2, filter=bool(r.random() < 0.5),
+                 clut=r.integers(0, 256, size=(1 << n_log2, 4), dtype=np.int64), k_used=int(r.integers(0, K + 1)))
+    # the exponents (drawn only with them: a fixed-point configuration's draws stay as they were)
+    if cfg.t_exp_w:
+        tex.te = r.integers(0, 1 << cfg.t_exp_w, size=K, dtype=np.int64)
+    if cfg.a_exp_w:
+        tex.ae = r.integers(0, 1 << cfg.a_exp_w, size=K, dtype=np.int64)
+    return tex
+
+
+def term_fields(cfg) -> set:
+    """The term fields the decoder loads under cfg (TERM_E only with exponents)."""
+    return ({RM.TERM_A, *range(RM.TERM_T, RM.TERM_T + 9), *range(RM.TERM_O, RM.TERM_O + 3)}
+            | ({RM.TERM_E} if cfg.t_exp_w or cfg.a_exp_w else set()))
 
 
 def ignored_addresses(cfg) -> list[int]:
     """Addresses the decoder must ignore (no register changes, no table write)."""
     K, nmax = cfg.noise_terms, cfg.n_log2_max
     ctrl, q, term = RM.ADDR_CTRL, RM.ADDR_Q, RM.ADDR_TERM
-    used_fields = {RM.TERM_A, *range(RM.TERM_T, RM.TERM_T + 9), *range(RM.TERM_O, RM.TERM_O + 3)}
+    used_fields = term_fields(cfg)
     regs = {ctrl, *range(q, q + RM.Q_COUNT)}
     out = [ctrl + 1, q - 1, q + RM.Q_COUNT, q + RM.Q_COUNT + 5, term - 1]
     out += [term + RM.TERM_STRIDE * k + f for k in range(K) for f in range(RM.TERM_STRIDE) if f not in used_fields]
@@ -122,8 +150,8 @@ def random_writes(cfg, rr: random.Random, n: int) -> list[tuple[int, int]]:
 
 
 def _configs():
-    return [load_config("full"), load_config("reduced")] + [random_config(1200 + i, name=f"random{1200 + i}")
-                                                            for i in range(4)]
+    return ([load_config("full"), load_config("reduced")] + [random_config(1200 + i, name=f"random{1200 + i}")
+                                                             for i in range(4)] + list(EXP_CONFIGS.values()))
 
 
 @pytest.mark.parametrize("cfg", _configs(), ids=lambda c: c.name)
@@ -148,6 +176,7 @@ def test_write_sequence_round_trip(cfg):
         n = 1 << tex.n_log2
         assert np.array_equal(back.Q, tex.Q) and np.array_equal(back.a, tex.a)
         assert np.array_equal(back.T, tex.T) and np.array_equal(back.o, tex.o)
+        assert np.array_equal(back.te, tex.te) and np.array_equal(back.ae, tex.ae)
         assert (back.mode, back.n_log2, back.filter, back.k_used) == (tex.mode, tex.n_log2, tex.filter, tex.k_used)
         assert np.array_equal(back.clut, tex.clut)
         assert set(tables[RM.TABLE_CLUT]) == set(range(n))
@@ -157,7 +186,7 @@ def test_write_sequence_round_trip(cfg):
             assert np.array_equal(back.mip, tex.mip) and set(tables[RM.TABLE_MIP]) == set(range(2 * n - 1))
 
 
-@pytest.mark.parametrize("cfg", _configs()[:2], ids=lambda c: c.name)
+@pytest.mark.parametrize("cfg", _configs()[:2] + list(EXP_CONFIGS.values())[:1], ids=lambda c: c.name)
 def test_ignored_writes_change_nothing(cfg):
     st0, _ = RM.tex_regs(cfg, RM.write_sequence(cfg, random_texture(cfg, np.random.default_rng(3))))
     before = _state(st0)
@@ -169,7 +198,7 @@ def test_ignored_writes_change_nothing(cfg):
 
 def _state(st, tables=True):
     regs = (st.mode, st.filter_en, st.n_log2, st.k_used, tuple(st.q), tuple(st.a), tuple(map(tuple, st.T)),
-            tuple(map(tuple, st.o)))
+            tuple(map(tuple, st.o)), tuple(st.te), tuple(st.ae))
     return regs + ((st.tbl_wr_en,) if tables else ())
 
 
@@ -185,10 +214,14 @@ def _pack(values, w):
 
 
 def expected_outputs(cfg, st: RM.TexRegs) -> dict:
+    # term k of a_all {ae_k, a_k}, of t_all {te_k, T_k} (the exponents only with t_exp_w, a_exp_w > 0)
+    a_terms = [a | (e << cfg.a_w) for a, e in zip(st.a, st.ae)]
+    t_terms = [_pack(t, cfg.t_w) | (e << 9 * cfg.t_w) for t, e in zip(st.T, st.te)]
     return {
         "mode": st.mode, "filter_en": st.filter_en, "n_log2": st.n_log2, "k_used": st.k_used,
-        "q_coef": _pack(st.q, cfg.q_w), "a_all": _pack(st.a, cfg.a_w),
-        "t_all": _pack([v for t in st.T for v in t], cfg.t_w), "o_all": _pack([v for o in st.o for v in o], cfg.d["o_w"]),
+        "q_coef": _pack(st.q, cfg.q_w), "a_all": _pack(a_terms, cfg.a_w + cfg.a_exp_w),
+        "t_all": _pack(t_terms, 9 * cfg.t_w + cfg.t_exp_w),
+        "o_all": _pack([v for o in st.o for v in o], cfg.d["o_w"]),
         "tbl_wr_en": st.tbl_wr_en, "tbl_wr_table": st.tbl_wr_table, "tbl_wr_addr": st.tbl_wr_addr,
         "tbl_wr_data": st.tbl_wr_data,
     }
