@@ -18,7 +18,7 @@ alternatives, from random.Random(SEED); sites are drawn without replacement.
 
 Each mutant is screened with Icarus first: the design is compiled for every configuration that
 instantiates the mutated module (full, compact, reduced, full_fc, and the variants compact on two
-noise units, full with filter mip and none, compact with fpga_regs) and compared with the
+noise units, compact with four terms, full with filter mip and none, compact with fpga_regs) and compared with the
 unmutated compile. A mutant that compiles in none of them is stillborn (not counted; the next one
 drawn takes its place); one that compiles in some only is killed (any testbench building the others
 fails); the configurations whose compiled design differs are the ones its frames run on (none
@@ -746,8 +746,8 @@ def section(recs: list[dict], s: dict, args: dict, seconds: float) -> str:
          f"a module without one against the testbenches that build it: {borrowed}) "
          f"and then, if it passed, small frames ({', '.join(args['scenes'])} at {args['size']}x{args['size']}, Icarus, "
          "every pixel against the golden model) on each configuration whose compiled design the mutation changes "
-         "(full, compact, reduced, full_fc and the variants compact on two noise units, full with filter mip and "
-         "none, compact with fpga_regs), until one fails. The first failing test is named.", "",
+         "(full, compact, reduced, full_fc and the variants compact on two noise units, compact with four terms, full "
+         "with filter mip and none, compact with fpga_regs), until one fails. The first failing test is named.", "",
          f"**Killed: {s['killed']} of {s['mutants']} ({100 * s['killed_share']:.1f}%)**; survived {s['survived']}, "
          f"of which {s['equivalent']} shown equivalent and {s['open']} open (below); score without the equivalent ones "
          f"{100 * s['score']:.1f}%" + (f"; {s['stillborn']} drawn mutants did not compile (stillborn, replaced)."
