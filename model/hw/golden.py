@@ -846,12 +846,13 @@ def noise_fold(cfg: Config, tex, s):
     """The sums of rtl/noise_fold.v for pixels s [..., 3]: f_sum [...] = sum over k < k_used of
     a_k n_k and c_sum [..., 3] = sum of a_k grad n_k (0 without the noise gradient), exact
     (f_w, c_w bound them: modulo 2^f_w, 2^c_w as the RTL adds). Terms k >= k_used are ignored
-    whatever their a (the fold gives their slots a = 0). noise_fold_schedule gives the clocks."""
+    whatever their a (the fold gives their slots {ae, a} = 0); tex.te, tex.ae: the terms'
+    exponents (formats.t_exp_w, a_exp_w). noise_fold_schedule gives the clocks."""
     s = np.asarray(s, dtype=I64)
     f = [np.zeros(s.shape[:-1], dtype=I64)]
     c = [np.zeros(s.shape, dtype=I64)]
     for i in range(min(int(tex.k_used), cfg.noise_terms)):
-        an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s)
+        an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s, int(tex.te[i]), int(tex.ae[i]))
         f.append(an)
         c.append(ag)
     return sum_tree(f, cfg.f_w), (sum_tree(c, cfg.c_w) if cfg.noise_gradient else c[0])

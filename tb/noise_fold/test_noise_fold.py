@@ -6,14 +6,15 @@ gives them): compact (K = 5 terms on U = 1 unit, the quadric's two clocks a pixe
 pow2, the noise gradient), compact_u2 (U = 2, which does not divide K: the last slot's unit 1
 has no term), full_u3 (K = 8 on U = 3, affine, amplitude any, one clock a pixel at least) and
 full_u3_fpga (the same with FPGA_REGS: the registered parameters and last-issue flag, noise_term's
-extra stages), reduced_u1 (K = 2 on one unit, no noise gradient: c_sum 0). Icarus all;
-Verilator full_u3_fpga too (make coverage runs it).
+extra stages), reduced_u1 (K = 2 on one unit, no noise gradient: c_sum 0), full_bfp_u3
+(config/candidates/full_bfp.toml on U = 3: per-term exponents, {te, T} and {ae, a} in t_all and
+a_all). Icarus all; Verilator full_u3_fpga too (make coverage runs it).
 
 Stimulus: batches (the fold drained between them: k_used and the parameters are per-pass
 registers), each with its own k_used and terms: k_used = K (every term, every slot of every
 unit; twice), 0 (the quadric's clocks alone), and below K with a non-zero a on every term past
 k_used (the fold must give those slots a = 0), T and o random on every term (tb/noise_term's
-draws); s as tb/noise_term draws it, the side word uniform. Per clock: the pixel offered
+draws), the exponents te and ae uniform over what the configuration holds; s as tb/noise_term draws it, the side word uniform. Per clock: the pixel offered
 (in_valid) with random gaps, the source withdrawing and offering again (the fold takes a pixel
 only on an enabled clock with in_ready), ce low in random runs (the pipeline's output stalls),
 s_in and side_in random while in_valid = 0; one batch back to back without gaps or stalls
@@ -35,7 +36,7 @@ from cocotb.triggers import ReadOnly, RisingEdge, Timer
 
 import hdlbuild
 from model.hw import golden as G
-from model.hw.config import clocks_per_pixel, load_config, variant
+from model.hw.config import ROOT, clocks_per_pixel, load_config, variant
 from tb import pipe
 from tb.noise_term.test_noise_term import rand_a, rand_o, rand_s, rand_T
 
@@ -49,7 +50,9 @@ def _configs() -> dict:
             "compact_u2": variant(compact, "compact_u2", noise_units=2),
             "full_u3": variant(full, "full_u3", noise_units=3),
             "full_u3_fpga": variant(full, "full_u3_fpga", noise_units=3, fpga_regs=True),
-            "reduced_u1": variant(reduced, "reduced_u1", noise_units=1)}
+            "reduced_u1": variant(reduced, "reduced_u1", noise_units=1),
+            "full_bfp_u3": variant(load_config(str(ROOT / "config" / "candidates" / "full_bfp.toml")), "full_bfp_u3",
+                                   noise_units=3)}
 
 
 CONFIGS = _configs()
@@ -73,6 +76,8 @@ def _batches(cfg, r, n_pixels: int) -> list[dict]:
             a.append(v)
         m = max(2, int(n_pixels * r.uniform(0.5, 1.5)))
         out.append({"k_used": ku, "a": a, "T": [rand_T(cfg, r) for _ in range(K)], "o": [rand_o(cfg, r) for _ in range(K)],
+                    "te": [int(r.integers(0, cfg.d["te_max"] + 1)) for _ in range(K)],
+                    "ae": [int(r.integers(0, cfg.d["ae_max"] + 1)) for _ in range(K)],
                     "s": rand_s(cfg, r, m), "style": style})
     return out
 
@@ -132,14 +137,17 @@ async def noise_fold_bit_exact(dut):
     dut.s_in.value = 0
     dut.side_in.value = 0
     for bi, b in enumerate(batches):
-        tex = SimpleNamespace(k_used=b["k_used"], a=b["a"], T=b["T"], o=b["o"])
+        tex = SimpleNamespace(k_used=b["k_used"], a=b["a"], T=b["T"], o=b["o"], te=b["te"], ae=b["ae"])
         f_exp, c_exp = G.noise_fold(cfg, tex, b["s"])
         s_words = [pipe.pack(v, cfg.s_w) for v in b["s"]]
         sides = [rr.getrandbits(side_w) for _ in s_words]
         iv, ce, rst, sch = _streams(cfg, b, rr)
         dut.k_used.value = b["k_used"]
-        dut.a_all.value = pipe.pack(b["a"], cfg.a_w)
-        dut.t_all.value = pipe.pack([int(v) for T in b["T"] for v in np.asarray(T).reshape(-1)], cfg.t_w)
+        # term k: {ae, a} and {te, T} (the exponents only with t_exp_w, a_exp_w > 0)
+        dut.a_all.value = pipe.pack([(a & ((1 << cfg.a_w) - 1)) | ae << cfg.a_w for a, ae in zip(b["a"], b["ae"])],
+                                    cfg.a_w + cfg.a_exp_w)
+        dut.t_all.value = pipe.pack([pipe.pack(np.asarray(T).reshape(-1), cfg.t_w) | te << (9 * cfg.t_w)
+                                     for T, te in zip(b["T"], b["te"])], 9 * cfg.t_w + cfg.t_exp_w)
         dut.o_all.value = pipe.pack([int(v) for o in b["o"] for v in o], cfg.o_w)
         taken = 0
         for t in range(len(iv)):
