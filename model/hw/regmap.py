@@ -189,7 +189,8 @@ def _rgba_word(px) -> int:
 def write_sequence(cfg: Config, tex: TexInt) -> list[tuple[int, int]]:
     """The (address, data) writes that load `tex` into texture_pipeline.
 
-    Every parameter register is written (noise terms beyond len(tex.a) get zeros),
+    Every parameter register is written (noise terms beyond len(tex.a) get zeros; with
+    per-term exponents, cfg.t_exp_w or a_exp_w > 0, each term's TERM_E word too: te_k, ae_k),
     so a pass never depends on the previous one. The colour tables written are the
     ones the configuration's filter reads: clut always, csat for "sat", "sat_fc" and "sat2" (sat2's
     running sum of csat is derived by the unit from the csat writes, in ascending order), mip for "mip".
