@@ -12,6 +12,14 @@
 //   a quadratic term per table)
 // both modulo 2^D_W on purpose: cmap_sat2 uses only their four-point differences, which are
 // exact (0 <= Gamma <= 2040 ab < 2^D_W) because + - * commute with mod 2^D_W.
+// Computed with the modes sharing their products (the same words: in clamp m = 0 and t^2 clut
+// = fr^2 clut + 2 kx fr clut 2^XF + kx^2 clut 2^2XF), k = kx, Z = clamp ? clut : T:
+//   v1 = (csat << XF) + fr clut + (k Z) << XF
+//   v2 = (H << (2XF + 1)) + ((2 fr - 2^XF) csat << XF) + fr^2 clut + (k Z fr) << (XF + 1)
+//        + (k I) << 2XF,  I = clamp ? 2 csat + k Z : ((k Z - T) << n_log2) + T (2 kk - 1) + 2 HT
+// every product on its operands' own widths, kept mod the power of two its term needs (the term's
+// shift fills the rest: k Z fr mod 2^(D_W - XF - 1), k I mod 2^(D_W - 2XF), ...), so no
+// multiplier is D_W bits wide or depends on kx twice.
 // Inputs: c_in RGBA8 (channel c at [8c +: 8]); cs_in 4 x u{CS_W}; h_in 4 x u{CS2_W}; total_in,
 // total2_in likewise; first_in; fr_in u{XF}.{XF}; kx_in s{KW}.0; kk_in u{NMAX}; mode (0 mod, 1
 // clamp); n_log2 u{NL_W}.
@@ -52,57 +60,81 @@ module sat2_integral #(
 );
 
 localparam NT = 8;                          // terms a channel: 3 of v1, 5 of v2
+localparam MW = KW + CS_W + 1;              // k Z (signed, exact)
+localparam YW = D_W - XF;                   // (2 fr - 2^XF) csat, mod 2^YW
+localparam QW = D_W - 2 * XF;               // k I, mod 2^QW
+localparam EW = D_W - XF - 1;               // k Z fr, mod 2^EW
 
 generate
-    if (D_W > 64 || KW + XF > D_W || 2 * XF + 1 + CS2_W < 1) begin : g_bad_params
+    if (D_W > 64 || KW + XF > D_W || 2 * XF + 1 + CS2_W < 1 || CS_W < 9 || MW > D_W || 2 * XF + 8 >= D_W
+        || CS_W + 1 + XF >= D_W || QW < 1) begin : g_bad_params
         sat2_integral_unsupported_widths u_error ();
     end
 endgenerate
 
 // the terms of the four channels (PIPE = 1: registered before the sums)
 reg [4*NT*D_W-1:0] term_nx;
-// loop temporaries, all D_W bits (two's complement mod 2^D_W)
-integer         ch;
-reg [D_W-1:0]   t, m, frx, c, cs, h, tt, ht, nn, kk2, tsq, mt, q;
+// loop temporaries: two's complement, each product formed at the width of the word it is
+// assigned to (signed operands sign-extended, the result cut mod 2^width on purpose)
+integer                 ch;
+reg signed [KW-1:0]     k;            // kx
+reg signed [XF:0]       fs;           // fr, as a non-negative signed word
+reg signed [XF+1:0]     y;            // 2 fr - 2^XF
+reg [2*XF-1:0]          f2;           // fr^2
+reg signed [NMAX+1:0]   kk21;         // 2 kk - 1
+reg signed [CS_W:0]     cs, tt, z;    // csat[kk-1] (0 when first), T, Z = clamp ? clut : T
+reg signed [CS2_W+1:0]  ht2;          // 2 HT
+reg [D_W-1:0]           h;            // H (0 when first)
+reg signed [MW-1:0]     kz;           // k Z
+reg signed [MW:0]       kzt;          // k Z - T
+reg signed [QW-1:0]     ii, r;        // I, k I (mod 2^QW)
+reg signed [EW-1:0]     kzf;          // k Z fr (mod 2^EW)
+reg signed [YW-1:0]     ycs;          // (2 fr - 2^XF) csat (mod 2^YW)
+reg [XF+7:0]            fc;           // fr clut
+reg [2*XF+7:0]          f2c;          // fr^2 clut
+reg signed [D_W-1:0]    kzx;          // k Z, sign-extended
+/* verilator lint_off WIDTH */
 always @* begin
-    // t and m: clamp {kx, fr} and 0; mod fr and kx (sign-extended)
-    frx = {D_W{1'b0}};
-    frx[XF-1:0] = fr_in;
-    m = {{(D_W-KW){kx_in[KW-1]}}, kx_in};
-    t = mode ? ((m << XF) | frx) : frx;
-    if (mode)
-        m = {D_W{1'b0}};
-    nn = {{(D_W-1){1'b0}}, 1'b1} << n_log2;
-    kk2 = {D_W{1'b0}};
-    kk2[NMAX:1] = kk_in;
-    tsq = t * t;
+    k = kx_in;
+    fs = {1'b0, fr_in};
+    y = $signed({1'b0, fr_in, 1'b0}) - $signed({2'b01, {XF{1'b0}}});
+    f2 = fr_in * fr_in;
+    kk21 = {1'b0, kk_in, 1'b0} - 1'b1;
     for (ch = 0; ch < 4; ch = ch + 1) begin
-        c = {D_W{1'b0}};
-        c[7:0] = c_in[8*ch +: 8];
-        cs = {D_W{1'b0}};
+        cs = {(CS_W+1){1'b0}};
         h = {D_W{1'b0}};
         if (!first_in) begin
             cs[CS_W-1:0] = cs_in[ch*CS_W +: CS_W];
             h[CS2_W-1:0] = h_in[ch*CS2_W +: CS2_W];
         end
-        tt = {D_W{1'b0}};
-        tt[CS_W-1:0] = total_in[ch*CS_W +: CS_W];
-        ht = {D_W{1'b0}};
-        ht[CS2_W-1:0] = total2_in[ch*CS2_W +: CS2_W];
-        mt = m * tt;
-        q = m * (tt * (nn * (m - 1'b1) - 1'b1 + kk2) + (ht << 1));
-        // v1: csat << XF, t clut, (m T) << XF
-        term_nx[(ch*NT + 0)*D_W +: D_W] = cs << XF;
-        term_nx[(ch*NT + 1)*D_W +: D_W] = t * c;
-        term_nx[(ch*NT + 2)*D_W +: D_W] = mt << XF;
-        // v2: H << (2XF + 1), ((2t - 2^XF) csat) << XF, t^2 clut, q << 2XF, (m T fr) << (XF + 1)
+        tt = {1'b0, total_in[ch*CS_W +: CS_W]};
+        ht2 = {1'b0, total2_in[ch*CS2_W +: CS2_W], 1'b0};
+        z = mode ? {{(CS_W-8){1'b0}}, 1'b0, c_in[8*ch +: 8]} : tt;
+        kz = k * z;
+        kzt = kz - tt;
+        if (mode)
+            ii = (cs <<< 1) + kz;
+        else
+            ii = (kzt <<< n_log2) + tt * kk21 + ht2;
+        r = k * ii;
+        kzf = kz * fs;
+        ycs = y * cs;
+        fc = fr_in * c_in[8*ch +: 8];
+        f2c = f2 * c_in[8*ch +: 8];
+        kzx = kz;
+        // v1: csat << XF, fr clut, (k Z) << XF
+        term_nx[(ch*NT + 0)*D_W +: D_W] = {{(D_W-CS_W-1-XF){1'b0}}, cs, {XF{1'b0}}};
+        term_nx[(ch*NT + 1)*D_W +: D_W] = {{(D_W-XF-8){1'b0}}, fc};
+        term_nx[(ch*NT + 2)*D_W +: D_W] = kzx << XF;
+        // v2: H << (2XF + 1), ((2 fr - 2^XF) csat) << XF, fr^2 clut, (k I) << 2XF, (k Z fr) << (XF + 1)
         term_nx[(ch*NT + 3)*D_W +: D_W] = h << (2*XF + 1);
-        term_nx[(ch*NT + 4)*D_W +: D_W] = (((t << 1) - ({{(D_W-1){1'b0}}, 1'b1} << XF)) * cs) << XF;
-        term_nx[(ch*NT + 5)*D_W +: D_W] = tsq * c;
-        term_nx[(ch*NT + 6)*D_W +: D_W] = q << (2*XF);
-        term_nx[(ch*NT + 7)*D_W +: D_W] = (mt * frx) << (XF + 1);
+        term_nx[(ch*NT + 4)*D_W +: D_W] = {ycs, {XF{1'b0}}};
+        term_nx[(ch*NT + 5)*D_W +: D_W] = {{(D_W-2*XF-8){1'b0}}, f2c};
+        term_nx[(ch*NT + 6)*D_W +: D_W] = {r, {(2*XF){1'b0}}};
+        term_nx[(ch*NT + 7)*D_W +: D_W] = {kzf, {(XF+1){1'b0}}};
     end
 end
+/* verilator lint_on WIDTH */
 
 wire [4*NT*D_W-1:0] term;
 generate

@@ -90,8 +90,8 @@ EQUIVALENT: dict[str, str] = {
     "731b2a03": "kt runs 0..K < 2^KU_W, so kt[KU_W+1:0] is kt[KU_W-1:0] with two zero bits above, and k_used zero-"
                 "extended compares equal to it exactly when it did",
     "c81a7f37": "(trunc) km is NMAX bits: kms[NMAX:0] is cut to kms[NMAX-1:0]",
-    "6045c743": "cs is D_W bits, 0 before this write: cs[CS_W+1:0] takes cs_in's CS_W-bit slice zero-extended, so the"
-                " two bits above CS_W get the 0 they held (past D_W, a part-select write Verilog drops)",
+    "6045c743": "cs is CS_W + 1 bits, 0 before this write: cs[CS_W+1:0] takes cs_in's CS_W-bit slice zero-extended, so"
+                " bit CS_W gets the 0 it held (bit CS_W + 1, past cs's top, is a part-select write Verilog drops)",
     "3110b5f6": "clut_we holds only with wr_addr[NMAX] = 0 (sat2_table: !wr_addr[NMAX]), so wr_addr[NMAX:0] is the "
                 "same index as wr_addr[NMAX-1:0]",
     "05e09ffd": "the delay line is KW bits wider (5 KW for 4 KW) than the concatenation it carries: its input is "
