@@ -41,6 +41,9 @@ TOP = "texture_pipeline"
 GLUE = ("delay_line", "tex_regs", "axis_skid", "noise_fold", "sum_tree", "cm_align", "noise_leaves", "texture_sum")  # small modules counted with the top's glue (control), not as blocks
 # the blocks of the frequency-clamping filter (filter "sat_fc"): fc_weight once, fc_scale a term
 FC_BLOCKS = {"fc_weight": "fc_weight", "fc_scale": "fc_scale"}
+# modules kept whole inside a block (synth.py --keep-modules), so that equal instances are synthesized once:
+# cmap_sat2's four sat2_integral (filter "sat2"; flattened, colour_map did not finish in 30 min)
+KEEP_MODULES = {"sat2": ("sat2_integral",)}
 
 
 def config_blocks(cfg) -> dict:
@@ -76,6 +79,8 @@ def synth_one(config, top: str, lib_files=(), out: Path | None = None, keep: Pat
         cmd += ["--lib-files", *lib_files]
     if keep is not None:
         cmd += ["--keep", str(keep)]
+    if not lib_files and KEEP_MODULES.get(cfg.filter):
+        cmd += ["--keep-modules", *KEEP_MODULES[cfg.filter]]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         msg = (r.stderr.strip().splitlines() or ["?"])[-1]

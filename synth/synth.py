@@ -4,7 +4,7 @@
 Usage:
   synth.py --top TOP --files a.v b.v ... [--include DIR ...] [--define K=V ...]
            [--param NAME=VALUE ...] [--blocks INST[=LABEL] ...]
-           [--memories macro|flops] [--json out.json] [--keep DIR]
+           [--keep-modules NAME ...] [--memories macro|flops] [--json out.json] [--keep DIR]
 
 What it reports (JSON on stdout, and in --json):
   top, yosys_version, ge_total, ge_comb, ge_seq, storage_bits, rom_bits,
@@ -18,7 +18,11 @@ is given, to resolve instance paths to module names):
      read_verilog (Verilog-2005) -I/-D; hierarchy -check -top TOP [-chparam].
   2. synth -top TOP -flatten -run :fine  (everything up to and including
      `memory -nomap`).  Modules of --blocks instances get keep_hierarchy, so
-     they stay separate modules; everything else is flattened.
+     they stay separate modules; everything else is flattened.  Modules named by
+     --keep-modules (every parameterisation of them) are kept likewise, so that
+     instances with equal parameters are synthesized once (cmap_sat2's four
+     sat2_integral, which flattened did not finish in 30 min); the totals of step 6
+     still count every instance.
   3. Memories: every $mem_v2 cell is listed (width x size).  Memories with no
      write port (ROMs, e.g. constant case tables turned into ROMs by proc_rom)
      are always mapped to logic and their bits are reported as rom_bits, for
@@ -334,6 +338,8 @@ def main_flow(args, yosys):
         s.append(hier_cmd(args))
         for m in keep_mods:
             s.append("setattr -mod -set keep_hierarchy 1 %s\n" % ys_quote(m))
+        for m in args.keep_modules or []:  # the module and its derived ($paramod...\NAME) copies
+            s.append("setattr -mod -set keep_hierarchy 1 %s %s\n" % (ys_quote(m), ys_quote("$paramod*\\" + m)))
         s.append("synth -top %s -flatten -run :fine\n" % ys_quote(args.top))
         s.append("tee -q -o mem.txt dump -m t:$mem_v2 t:$mem\n")
         # --- synth's `fine` step, with our choice of which memories to map
@@ -503,6 +509,8 @@ def main(argv=None):
     ap.add_argument("--param", nargs="*", default=[], help="top-level parameter overrides NAME=VALUE")
     ap.add_argument("--blocks", nargs="*", default=[],
                     help="instance paths (a.b or a/b) of the top to report separately, as INST[=LABEL]")
+    ap.add_argument("--keep-modules", nargs="*", default=[],
+                    help="modules (every parameterisation) kept as separate modules, synthesized once")
     ap.add_argument("--memories", choices=("macro", "flops"), default="macro",
                     help="RAMs (arrays with a write port): macro = black box, bits reported "
                          "apart from GE (default); flops = map to FFs + muxes, inside GE")
