@@ -198,3 +198,27 @@ def test_filter_width_components():
     ab = G.filter_width(cfg, c, Jm, je, 8, components=True)
     w = G.filter_width(cfg, c, Jm, je, 8)
     assert (ab <= cfg.w_cap).all() and (ab.max(axis=1) <= w).all() and (ab == cfg.w_cap).any()
+
+
+def test_random_config_draws_sat2():
+    """random_config draws filter "sat2" (a quarter of the box draws whose words fit it, from a
+    generator of its own): each such draw is a valid configuration whose colour_map is the trapezoid
+    (FILTER 3) and whose filter_width gives the two components; the same draw with "sat" is valid too
+    (only the filter was replaced). The design family's random:1202 is one, so tb/colour_map and
+    tb/filter_width run a random sat2 configuration through the RTL."""
+    import hdlbuild
+    from model.hw.config import config_values, random_config
+
+    cfgs = {s: random_config(s) for s in range(200)}
+    sat2 = [s for s, c in cfgs.items() if c.filter == "sat2"]
+    assert 10 <= len(sat2) <= 40, sat2  # 22 of 200 when written
+    for s in sat2:
+        c = cfgs[s]
+        assert c.d2_w <= 61 and c.w_cap_log2 + c.f_frac <= 25
+        assert hdlbuild.block_params(c, "colour_map")["FILTER"] == 3
+        assert hdlbuild.block_params(c, "filter_width")["COMPONENTS"] == 1
+        box = variant(c, f"box{s}", filter="sat")
+        assert {k: v for k, v in config_values(box).items() if k != "filter"} == \
+               {k: v for k, v in config_values(c).items() if k != "filter"}
+    assert {c.filter for c in cfgs.values()} >= {"sat", "sat_fc", "sat2", "mip", "none"}
+    assert hdlbuild.config_of("random:1202").filter == "sat2"

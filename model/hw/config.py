@@ -651,6 +651,12 @@ def random_config(seed: int, name: str | None = None, tries: int = 1000) -> Conf
             v["fc_log_frac"] = int(r.integers(1, 7))
             v["fc_fade_log2"] = int(r.integers(0, 4))
             v["fc_knee"] = int(r.integers(-2, 6)) << v["fc_log_frac"]
+        # the trapezoid (issue 27) in place of a quarter of the box draws whose words fit it (d2_w <= 61:
+        # w_cap_log2 + f_frac <= 25), drawn from a generator of its own, so that the other keys' draws are
+        # what they were
+        if (v["filter"] == "sat" and v["w_cap_log2"] + v["f_frac"] <= 25
+                and np.random.default_rng([seed, 27]).random() < 0.25):
+            v["filter"] = "sat2"
         # drawn from a generator of its own, so that the other keys' draws are what they were
         v["fpga_regs"] = fpga_regs
         try:
