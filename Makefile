@@ -157,7 +157,7 @@ fit: gen
 	  $(if $(OUT),--out $(OUT)) $(FIT_FLAGS)
 
 # the colour-map filters against the truth (issue 15): every scene and the animations for each
-# configuration (default full and full_fc), their gate cost: docs/filters.md (FILTERS_FLAGS=)
+# configuration (default full, full_fc, full_mip, full_sat2), their gate cost: docs/filters.md (FILTERS_FLAGS=)
 filters: gen
 	$(VENV_ENV) $(PY) -m explore.filters $(FILTERS_FLAGS)
 

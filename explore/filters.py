@@ -1,11 +1,12 @@
 """docs/filters.md: the colour-map filters measured against the converged truth (issue 15 item 4).
 
-    python -m explore.filters [--configs full,full_fc] [--size 256] [--frames 8] [--anim-size 128]
+    python -m explore.filters [--configs full,full_fc,...] [--size 256] [--frames 8] [--anim-size 128]
                               [--scenes a,b] [--docs DIR] [--out DIR]
     (make filters [FILTERS_FLAGS=...])
 
-For each configuration (default `full`, the paper's box filter on the summed-area table, and
-`full_fc`, the same with frequency clamping, docs/filters.md) every scene is rendered by the
+For each configuration (default: `full`, the paper's box filter on the summed-area table;
+`full_fc`, the same with frequency clamping; the candidates `full_mip`, the colour table's MIP
+map, and `full_sat2`, the trapezoid; docs/filters.md) every scene is rendered by the
 golden model (app.render: filtered, unfiltered, the truth), and the animations of
 section 4.4 (seascape's flight to the horizon, fire's phase; app.animation) run filtered
 and unfiltered; per configuration and scene: PSNR against the truth over the whole image and
@@ -27,6 +28,9 @@ from model.cli import Parser, UserError, check_config, check_range, run_main
 from model.scene.passes import SCENES
 
 ANIMATIONS = ("seascape", "fire")
+# the filters compared: box (sat), box with frequency clamping, MIP map, trapezoid; the point lookup is
+# every configuration's "unfiltered" render
+DEFAULT_CONFIGS = ("full", "full_fc", "config/candidates/full_mip.toml", "config/candidates/full_sat2.toml")
 
 
 def _scene_rows(configs, scenes, size, out_root, progress):
@@ -62,7 +66,8 @@ def _gates(configs):
     out = {}
     for c in configs:
         cfg = load_config(c)
-        g = {"colour_map": synth_one(cfg, "colour_map")["ge_total"]}
+        cm = synth_one(cfg, "colour_map")
+        g = {"colour_map": cm["ge_total"], "table_bits": cm["storage_bits"]}
         if cfg.filter == "sat2":  # its filter_width (two components, no square root) differs too
             g["filter_width"] = synth_one(cfg, "filter_width")["ge_total"]
         if cfg.filter == "sat_fc":
@@ -126,6 +131,10 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
          "PSNR against the converged truth (model/scene/truth.py: stratified, jittered, 32x32 samples a pixel in the "
          "tiles of the band) of the golden model, which the RTL equals bit for bit (tb/frame, `make animation RTL=1`).",
          "", "## The filters", "",
+         "- **point** (`filter = \"none\"`, the \"unfiltered\" column of every table: each configuration's "
+         "render with its filter off): the colour-table entry at f, no filter.",
+         "- **`mip`** (`filter = \"mip\"`, rtl/cmap_mip.v; config/candidates/full_mip.toml): the colour table's MIP "
+         "map, the level of the filter width w, a point lookup in it (no blend between levels).",
          "- **`sat`** (the paper's, section 3.3): a box of width w = |grad f| N over the colour table, from the "
          "summed-area table. At the horizon a pixel covers many noise cells: w grows to the whole table while f "
          "stays within the noise's amplitude, and the box averages colours f never reaches; its centre, f at the "
@@ -148,7 +157,8 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
          "sum of csat, which the unit derives from the host's csat writes) it is four look-ups, "
          "[G(u + a/2 + b/2) - G(u + a/2 - b/2) - G(u - a/2 + b/2) + G(u - a/2 - b/2)] / (ab); a or b = 0 is the box "
          "of the other (bit-exact with `sat`), both 0 the point lookup. docs/numerics.md \"The trapezoid\" has its "
-         "words, its mod and clamp cases and its error bound.", "",
+         "words, its mod and clamp cases and its error bound. There is no `sat2_fc` (the trapezoid with frequency "
+         "clamping) yet: issue 27 names it, no configuration or RTL has it.", "",
          "## Whole image and horizon band, every scene", "",
          f"`make render SCENE=<scene> CONFIG=<config> SIZE={size}` (reports in out/render/): PSNR (dB) against the "
          "truth, over the textured pixels and over the band where w > N/8 entries (`band_w_gt_n8`, its pixels "
@@ -182,13 +192,14 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
           "`make synth-blocks` (synth/run.py: each block alone, Yosys and synth/cells.lib as `make synth`): the box "
           "filter is the colour_map block (with `sat2` the trapezoid's: cmap_sat2, its tables and four window ends); "
           "`sat_fc` adds fc_weight once and fc_scale once a noise term; `sat2`'s filter_width (given for it) outputs the two "
-          "screen components instead of the norm (no square root).", "",
-          "| configuration | colour_map (the filter) | filter_width | fc_weight | fc_scale (each) | noise terms | "
+          "screen components instead of the norm (no square root). The tables are RAM macros: their bits (table bits) "
+          "are apart from the GE.", "",
+          "| configuration | colour_map (the filter) | table bits | filter_width | fc_weight | fc_scale (each) | noise terms | "
           "sat_fc adds |",
-          "|---|---|---|---|---|---|---|"]
+          "|---|---|---|---|---|---|---|---|"]
     for c in configs:
         g = gates[c]
-        L.append(f"| `{_label(c)}` | {g['colour_map']:,.0f} | {_fmt(g.get('filter_width'), '{:,.0f}')} | "
+        L.append(f"| `{_label(c)}` | {g['colour_map']:,.0f} | {g['table_bits']:,} | {_fmt(g.get('filter_width'), '{:,.0f}')} | "
                  f"{_fmt(g.get('fc_weight'), '{:,.0f}')} | "
                  f"{_fmt(g.get('fc_scale'), '{:,.0f}')} | {g['noise_terms']} | {_fmt(g.get('sat_fc_adds'), '{:,.0f}')} |")
     L += ["", "Goals (issue 15): in the horizon band at least 6 dB above unfiltered on the seascape (full); flicker "
@@ -212,7 +223,7 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
 
 def main(argv=None) -> int:
     ap = Parser(prog="filters", description="docs/filters.md: the filters against the truth")
-    ap.add_argument("--configs", default="full,full_fc")
+    ap.add_argument("--configs", default=",".join(DEFAULT_CONFIGS))
     ap.add_argument("--scenes", default=",".join(SCENES))
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--frames", type=int, default=8)
