@@ -70,6 +70,9 @@ def test_testbenches_of_a_module():
     assert mu.testbenches("noise_fold") == [tb / "noise_fold"]
     assert tb / "cmap_sat2" in mu.testbenches("sat2_integral") and tb / "cmap_sat2" in mu.testbenches("sat2_table")
     assert mu.testbenches("texture_pipeline") == []
+    # the stimulus tb/noise_fold imports from tb/noise_term is part of its verdicts' cache key
+    assert mu.tb_imports([tb / "noise_fold"]) == [tb / "noise_term"]
+    assert mu.tb_imports([tb / "bitlen"]) == []
 
 
 def test_section_merges(tmp_path):

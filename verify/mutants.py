@@ -36,7 +36,7 @@ The first test that fails kills the mutant (a timeout kills it too). Survivors t
 equivalent to the original (no input can tell them apart) are listed in EQUIVALENT below by
 their id, with the reason; the report gives the share killed of all mutants and of the
 non-equivalent ones. Results are cached by mutant and by the sources its verdict depends on most (the mutated file,
-rtl/*.vh, the block's testbench, tb/pipe.py, sim/; out/mutants/cache/); a survivor is rerun
+rtl/*.vh, the block's testbench and the testbenches it imports, tb/pipe.py, sim/; out/mutants/cache/); a survivor is rerun
 whenever the run's options changed. A rerun after a new test reruns only the mutants of that
 block. An edit elsewhere (another rtl/ file, the golden model, which the RTL equals bit for bit
 on every configuration) keeps a verdict; `rm -r out/mutants/cache` measures everything again.
@@ -640,10 +640,26 @@ def prepare(work: Path, opts: Opts) -> None:
         opts.instances[name] = scopes_of(RTL, arg, tmp / f"{name}.vvp")
 
 
+def tb_imports(tbs: list[Path]) -> list[Path]:
+    """The other testbenches whose code the testbenches `tbs` import (`from tb.<name>...`:
+    shared stimulus or sets), transitively: their stimulus is the testbenches' too."""
+    seen: set[Path] = set(tbs)
+    todo = list(tbs)
+    while todo:
+        for f in sorted(todo.pop().glob("*.py")):
+            for name in re.findall(r"^\s*(?:from|import)\s+tb\.(\w+)", f.read_text(), re.M):
+                d = ROOT / "tb" / name
+                if d.is_dir() and d not in seen:
+                    seen.add(d)
+                    todo.append(d)
+    return sorted(seen - set(tbs))
+
+
 def cache_file(m: Mutant, cache: Path) -> Path:
-    """The mutant's record under the sources its verdict depends on."""
-    deps = [RTL / m.file, *sorted(RTL.glob("*.vh")), ROOT / "tb" / "pipe.py", ROOT / "sim"]
-    deps += testbenches(m.module)
+    """The mutant's record under the sources its verdict depends on: the mutated file, rtl/*.vh,
+    tb/pipe.py, sim/, the block's testbenches and the testbenches they import."""
+    tbs = testbenches(m.module)
+    deps = [RTL / m.file, *sorted(RTL.glob("*.vh")), ROOT / "tb" / "pipe.py", ROOT / "sim", *tbs, *tb_imports(tbs)]
     return cache / f"{m.id}-{source_hash(*deps)}.json"
 
 
