@@ -72,10 +72,11 @@ def run_frame(scene_name: str, config_name: str, sim: str, size: int, out_root: 
     return rep
 
 
-def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, stalls, strict, netlists=None) -> dict:
+def _prepare(scene_name, path, config_name, size, strict) -> dict:
+    """A frame's texture passes, quantized, before any simulation: {"cfg", "scene", "W", "H",
+    "pds", "approx", "t0"}; --strict violations raise UserError here."""
     from model.scene.frontend import render_passes
     from model.scene.scene import load_scene
-    from sim.frame_rtl import run_passes_rtl
 
     t0 = time.perf_counter()
     cfg = load_config(config_name)
@@ -86,13 +87,36 @@ def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, sta
     bad = strict_violations(pds) if strict else []
     if bad:
         raise UserError(f"--strict: {bad[0]}" + (f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""))
+    return {"cfg": cfg, "scene": scene, "W": W, "H": H, "pds": pds, "approx": approx, "t0": t0}
+
+
+def _rtl_passes(prep: dict) -> list:
+    """What run_passes_rtl takes of a prepared frame's passes."""
+    return [(pd.ti, pd.si, pd.Jm, pd.je) for pd in prep["pds"]]
+
+
+def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, stalls, strict, netlists=None) -> dict:
+    from sim.frame_rtl import run_passes_rtl
+
+    prep = _prepare(scene_name, path, config_name, size, strict)
+    # every pass of the frame in one simulator run (passes without pixels run nowhere)
+    rtls, info = run_passes_rtl(config_name, sim, _rtl_passes(prep), gaps=gaps, stalls=stalls, return_stats=True,
+                                netlists=netlists)
+    timing = {"cycles": sum(info["cycles"]), "sim_s": info["seconds"], "stream_s": info["stream_seconds"],
+              "starts": info["starts"]}
+    return _finish(out, prep, scene_name, config_name, sim, progress, gaps, stalls, rtls, timing, netlists)
+
+
+def _finish(out, prep, scene_name, config_name, sim, progress, gaps, stalls, rtls, timing, netlists=None,
+            batch=None) -> dict:
+    """Compare a prepared frame's RTL colours (rtls: each pass's) with the golden model, write
+    its images into `out` and return its report. timing: the frame's {"cycles", "sim_s",
+    "stream_s", "starts"}; batch: the simulator run it shared with other frames (make frames)."""
+    cfg, scene, W, H, pds, approx, t0 = (prep[k] for k in ("cfg", "scene", "W", "H", "pds", "approx", "t0"))
     bar = progress_bar(progress, total=len(pds), desc=f"{scene_name} {config_name} {sim} {W}x{H}", unit="pass")
     rtl_l, gold_l, ref_l, cref_l = [], [], [], []
     mismatches = []
-    # every pass of the frame in one simulator run (passes without pixels run nowhere)
-    rtls, info = run_passes_rtl(config_name, sim, [(pd.ti, pd.si, pd.Jm, pd.je) for pd in pds], gaps=gaps,
-                                stalls=stalls, return_stats=True, netlists=netlists)
-    cycles, sim_s, stream_s = sum(info["cycles"]), info["seconds"], info["stream_seconds"]
+    cycles, sim_s, stream_s = timing["cycles"], timing["sim_s"], timing["stream_s"]
     for pd, r in zip(pds, rtls):
         g = golden.texture_pipeline(cfg, pd.ti, pd.si, pd.Jm, pd.je)
         bad = np.nonzero(np.any(r != g, axis=-1))[0]
@@ -140,7 +164,7 @@ def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, sta
         "psnr_vs_reference_db": cr["psnr_db"], "max_abs_error_lsb": cr["max_abs_error_lsb"],
         "psnr_vs_configured_reference_db": cc["psnr_db"], "max_abs_error_vs_configured_reference_lsb": cc["max_abs_error_lsb"],
         "cycles": int(cycles), "cycles_per_pixel": round(cycles / px, 4) if px else None,
-        "sim_seconds": round(sim_s, 3), "stream_seconds": round(stream_s, 3), "simulator_starts": info["starts"],
+        "sim_seconds": round(sim_s, 3), "stream_seconds": round(stream_s, 3), "simulator_starts": timing["starts"],
         # streaming only (the HDL harness times its pixel loop); with simulator start-up apart
         "rtl_pixels_per_second": round(px / stream_s) if stream_s > 0 else None,
         "rtl_pixels_per_second_with_startup": round(px / sim_s) if sim_s > 0 else None,
@@ -148,7 +172,50 @@ def _run_into(out, scene_name, path, config_name, sim, size, progress, gaps, sta
         "first_mismatches": [m for m in mismatches if "count" not in m][:10],
         "seconds": round(time.perf_counter() - t0, 2),
     }
+    if batch is not None:  # make frames: one simulator run for every frame of the configuration
+        rep["simulator_run"] = batch
     return rep
+
+
+def run_frames(scenes, config_name: str, sim: str, size: int, out_root: Path | None = None,
+               strict: bool = False) -> list[dict]:
+    """Every scene of `scenes` through the RTL of one configuration, each into
+    <out_root>/<scene>/<config>/<sim>-<size>/ as run_frame writes it, with every pass of every
+    frame in one run_passes_rtl call: one simulator start for all of them where the harness
+    memories hold them (sim/frame_rtl.py MEMORY; more pixels are split into the fewest runs).
+    A frame's sim_seconds and stream_seconds are its share of the runs' (by pixels and by
+    clocks); its report's simulator_run gives the whole call's frames, starts and seconds."""
+    from sim.frame_rtl import run_passes_rtl
+
+    check_args(config_name, sim, size, 0, 0)
+    root = out_root or ROOT / "out" / "frames"
+    preps = []
+    for scene_arg in scenes:
+        name, path = resolve_scene(scene_arg)
+        preps.append((name, _prepare(name, path, config_name, size, strict)))
+    flat = [p for _, prep in preps for p in _rtl_passes(prep)]
+    t0 = time.perf_counter()
+    rtls, info = run_passes_rtl(config_name, sim, flat, return_stats=True)
+    batch = {"frames": len(preps), "passes": len(flat), "starts": info["starts"],
+             "seconds": round(info["seconds"], 3), "stream_seconds": round(info["stream_seconds"], 3),
+             "call_seconds": round(time.perf_counter() - t0, 3)}
+    total_cycles = max(sum(info["cycles"]), 1)
+    total_px = max(sum(len(p[1]) for p in flat), 1)
+    reps, k = [], 0
+    for name, prep in preps:
+        n = len(prep["pds"])
+        cyc = sum(info["cycles"][k:k + n])
+        px = sum(len(pd.si) for pd in prep["pds"])
+        timing = {"cycles": cyc, "sim_s": info["seconds"] * px / total_px,
+                  "stream_s": info["stream_seconds"] * cyc / total_cycles, "starts": info["starts"]}
+        target = root / name / config_label(config_name) / f"{sim}-{size}"
+        command = f"make frames FRAMES_SIZE={size}"
+        with staged(target, command) as out:
+            rep = _finish(out, prep, name, config_name, sim, False, 0, 0, rtls[k:k + n], timing, batch=batch)
+            (out / "report.json").write_text(json.dumps(rep, indent=2) + "\n")
+        reps.append(rep)
+        k += n
+    return reps
 
 
 def conformance(size: int, sim: str, out_root: Path | None = None, strict: bool = False, scenes=SCENES) -> int:
@@ -160,14 +227,20 @@ def conformance(size: int, sim: str, out_root: Path | None = None, strict: bool 
     (docs / "images").mkdir(parents=True, exist_ok=True)
     for c in CONFIG_NAMES:
         check_args(c, sim, size, 0, 0)
-    for scene in scenes:
+    # each configuration's frames in one simulator run (run_frames), reported scene by scene
+    by_config = {}
+    for c in CONFIG_NAMES:
+        by_config[c] = run_frames(scenes, c, sim, size, out_root=out_root, strict=strict)
+        b = by_config[c][0]["simulator_run"] if by_config[c] else {}
+        print(json.dumps({"config": c, **b}), flush=True)
+    for i, scene in enumerate(scenes):
         row = []
         for c in CONFIG_NAMES:
-            rep = run_frame(scene, c, sim, size, out_root=out_root, strict=strict)
+            rep = by_config[c][i]
             reps.append(rep)
             print(json.dumps({k: rep[k] for k in ("scene", "config", "bit_exact", "psnr_vs_reference_db",
                                                    "cycles_per_pixel", "rtl_pixels_per_second")}), flush=True)
-            row.append((f"{scene} {c}", read_image(root / scene / c / f"{sim}-{size}" / "rtl.png")))
+            row.append((f"{scene} {c}", read_image(root / rep["scene"] / c / f"{sim}-{size}" / "rtl.png")))
         rows.append(row)
     contact_sheet(docs / "images" / "conformance.png", [sum(rows[i:i + 2], []) for i in range(0, len(rows), 2)],
                   tile=180, title=f"make frames: RTL ({sim}) images, {size} px")

@@ -16,6 +16,8 @@
 //                       words; model/hw/regmap.py pack_pixels_u32) loaded into the harness's pixel
 //                       memory before reset, and its +NPIXTOTAL colours written back as uint32 after
 //                       done (the harness then skips its $readmemh / $writememh of those two).
+//   +EVAL_API=1         evaluate through Vframe_tb::eval() (with its bookkeeping), not the model's
+//                       scheduler directly (below; sim/bench.py steps measures both).
 //   +COVERAGE=<file>    a build with Verilator's coverage (make coverage, COVERAGE=1): write the run's
 //                       coverage points there when done.
 // A failure prints one line "frame_tb: ERROR: ..." and exits with status 1 (the harness's own
@@ -99,14 +101,36 @@ void save_colours(const std::string& file, long npix) {
     std::fclose(f);
 }
 
+}  // namespace
+
+// The model's scheduler, as Verilator generates it (Vframe_tb___024root__0.cpp): what
+// Vframe_tb::eval() runs between its once-a-call bookkeeping, VlDeleter::deleteAll (objects of
+// SystemVerilog classes: the harness has none) and Verilated::endOfEval (messages posted by the
+// worker threads of a --threads model: this one has none, so its $display's print at once).
+// That bookkeeping takes two mutexes an eval, two evals a clock: 6 to 9% of a compact frame's
+// time (perf, docs/simulation.md). tick() calls the scheduler itself; the first evaluation
+// (initial blocks, settle) goes through eval().
+void Vframe_tb___024root___eval(Vframe_tb___024root* vlSelf);
+
+namespace {
+
 // one clock: rising edge, then falling edge (inputs change between clocks, as cocotb's do on
 // the falling edge)
+bool eval_api = false;  // +EVAL_API=1: every evaluation through Vframe_tb::eval() (sim/bench.py steps)
+
+inline void eval() {
+    if (eval_api)
+        top->eval();
+    else
+        Vframe_tb___024root___eval(top->rootp);
+}
+
 inline void tick() {
     top->clk = 1;
-    top->eval();
+    eval();
     ctx->timeInc(5);
     top->clk = 0;
-    top->eval();
+    eval();
     ctx->timeInc(5);
     if (ctx->gotFinish()) fail("the harness stopped ($finish) before done");
 }
@@ -132,6 +156,7 @@ int main(int argc, char** argv) {
     const long npix = plusarg("NPIXTOTAL", 0);
     const std::string wall_file = plusarg_str("WALL");
     const bool hostmem = plusarg("HOSTMEM", 0) != 0;
+    eval_api = plusarg("EVAL_API", 0) != 0;
 
     top->clk = 0;
     top->rst = 1;

@@ -66,6 +66,7 @@ CXX_OPT = {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}
 COVERAGE_ARGS = ["--coverage-line", "--coverage-toggle"]  # COVERAGE=1 (make coverage): hdlbuild.coverage_file
 CXX_OPT_GLS = {"OPT_FAST": "-O0", "OPT_SLOW": "-O0", "OPT_GLOBAL": "-O0"}  # the netlists' build (netlists=)
 BUILD_TAG = ""  # a suffix of the Verilator build directory (sim/bench.py steps: one per set of options)
+RUN_PLUSARGS: list[str] = []  # more plusargs of every Verilator run (sim/bench.py steps: +EVAL_API=1)
 
 _built: dict[tuple[str, str, str], str] = {}
 _run_counter = itertools.count()
@@ -404,7 +405,7 @@ def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, see
             f"+TIMEOUT={timeout_cycles}", f"+NPIXTOTAL={n}", f"+WALL={files['pystats']}",
             *([f"+COVERAGE={hdlbuild.coverage_file(TOPLEVEL, config)}"] if coverage(sim) else []),
             "+HOSTMEM=1", f"+PIXBIN={files['pixels']}", f"+OUTBIN={files['out']}",
-            *([f"+RESET_AT={int(reset_at)}"] if reset_at is not None else [])])
+            *([f"+RESET_AT={int(reset_at)}"] if reset_at is not None else []), *RUN_PLUSARGS])
     else:
         _run_cocotb(sim, bdir, rdir, config, env, plusargs, seed, reset_at)
     seconds = time.perf_counter() - t0

@@ -9,6 +9,13 @@ top blocks (module:line), as Markdown tables (docs/simulation.md). Functions of 
 (Verilator's scheduler, the C++ main, the start-up's memory clearing) are grouped by name.
 Splitting the code into one function per block costs call overhead of its own (the scheduler's
 `_eval_nba` share), so the shares are of the blocks, not a prediction of the -O2 build's time.
+
+`--srcline`: the frame harness's own build (-O2, no --prof-cfuncs) with debug information
+(-g: the same code; build/sim/frame_tb/<config>-verilator-g), --runs runs of the pass under
+`perf record`, the samples by C++ source line (`perf report --sort srcline`), each line of the
+generated model given to the pipeline block (the instance under texture_pipeline) whose
+signal the statement names; Verilator's inlined helpers (verilated_funcs.h: sign extension,
+signed multiply and shift) and the start-up (memory clearing, page faults) apart.
 """
 from __future__ import annotations
 
@@ -30,10 +37,14 @@ def main(argv=None) -> int:
     ap.add_argument("--config", default="full")
     ap.add_argument("--pixels", type=int, default=65536)
     ap.add_argument("--top", type=int, default=15)
+    ap.add_argument("--srcline", action="store_true", help="the -O2 build with -g, samples by C++ line and block")
+    ap.add_argument("--runs", type=int, default=6, help="--srcline: runs of the pass recorded")
     a = ap.parse_args(argv)
     if shutil.which("perf") is None:
         print("sim.profile: perf not found (apt-get install linux-perf)", file=sys.stderr)
         return 2
+    if a.srcline:
+        return srcline(a.config, a.pixels, a.runs, a.top)
     frame_rtl.VERILATOR_ARGS = frame_rtl.VERILATOR_ARGS + ["--prof-cfuncs"]
     frame_rtl.BUILD_TAG = "-profcfuncs"
     tex, s, Jm, je = frame_rtl.synthetic_pass(a.config, a.pixels)
@@ -65,6 +76,69 @@ def main(argv=None) -> int:
         print(f"| {k} | {v:.1f} |")
     print(f"\ntop blocks (module:line of rtl/<module>.v):\n\n| block | % |\n|---|---|")
     for k, v in by_blk.most_common(a.top):
+        print(f"| {k} | {v:.1f} |")
+    return 0
+
+
+NAME = re.compile(r"frame_tb__DOT__(\w+)")
+
+
+def _owner(lines: list[str], i: int) -> str:
+    """The pipeline block whose signal the C++ statement around line i (0-based) names."""
+    j = i
+    while j > 0 and not lines[j - 1].rstrip().endswith((";", "{", "}")):
+        j -= 1
+    m = NAME.search(" ".join(lines[j:i + 1]))
+    if not m:
+        return "Verilator's temporaries and scheduler"
+    parts = m.group(1).split("__DOT__")
+    if parts[:2] != ["u_pipe", "u_pipe"]:
+        return "frame_tb (the harness)"
+    rest = parts[2:]
+    if len(rest) < 2:
+        return "texture_pipeline (its own logic)"
+    if rest[0] == "u_texture_sum" and len(rest) > 2 and rest[1] == "u_noise_leaves":
+        return "u_texture_sum.u_noise_leaves (the noise terms)"
+    return rest[0]
+
+
+def srcline(config: str, pixels: int, runs: int, top: int) -> int:
+    frame_rtl.VERILATOR_ARGS = frame_rtl.VERILATOR_ARGS + ["-CFLAGS", "-g"]
+    frame_rtl.BUILD_TAG = "-g"
+    tex, s, Jm, je = frame_rtl.synthetic_pass(config, pixels)
+    os.environ["FRAME_KEEP"] = "1"
+    frame_rtl.run_frame_rtl(config, "verilator", tex, s, Jm, je)
+    bdir = frame_rtl.build_dir(config, "verilator")
+    rdir = max((bdir / "runs").iterdir(), key=lambda p: p.stat().st_mtime)
+    cmd = (rdir / "cmdline.txt").read_text().strip()
+    data = rdir / "perf.data"
+    subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-F", "10000", "-o", str(data), "sh", "-c",
+                    f"for i in $(seq {runs}); do {cmd} >/dev/null; done"], cwd=rdir, check=True,
+                   stdout=subprocess.DEVNULL)
+    rep = subprocess.run(["perf", "report", "-i", str(data), "--stdio", "--no-children", "--sort", "srcline"],
+                         cwd=rdir, check=True, capture_output=True, text=True).stdout
+    texts: dict[str, list[str]] = {}
+    by = collections.Counter()
+    startup = ("Slow.cpp", "memset", "clear_page", "page_fault", "mm_fault", "do_anonymous", "unmap", "dl-")
+    for line in rep.splitlines():
+        m = re.match(r"\s*([\d.]+)%\s+(\S+)", line)
+        if not m:
+            continue
+        pct, where = float(m.group(1)), m.group(2)
+        f = re.match(r"(Vframe_tb___024root__\d+\.cpp):(\d+)", where)
+        if f:
+            if f.group(1) not in texts:
+                texts[f.group(1)] = (bdir / f.group(1)).read_text().splitlines()
+            by[_owner(texts[f.group(1)], int(f.group(2)) - 1)] += pct
+        elif where.startswith("verilated_funcs.h"):
+            by["verilated_funcs.h (sign extension, signed multiply and shift, inlined)"] += pct
+        elif any(k in where for k in startup):
+            by["start-up and exit (memory clearing, page faults, loading)"] += pct
+        else:
+            by["other"] += pct
+    print(f"{config}, {pixels} pixels x {runs} runs, -O2 -g, perf cpu-clock samples by block (%):\n")
+    print("| block (instance in texture_pipeline) or function | % |\n|---|---|")
+    for k, v in by.most_common(top):
         print(f"| {k} | {v:.1f} |")
     return 0
 
