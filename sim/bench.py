@@ -104,6 +104,13 @@ STEPS = [
     # evaluated through Vframe_tb::eval(), then (the default) its scheduler called directly
     ("binary pixel files, Vframe_tb::eval()", None, None, ["+EVAL_API=1"]),
     ("scheduler called directly (frame_main.cpp tick)", None, None, []),
+    # C++ options on top of that (issue 28: none paid, docs/simulation.md)
+    ("-march=native", ["-Wno-fatal", *X_FAST, "-O3", "-CFLAGS", "-march=native"],
+     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}),
+    ("C++ -O3 -march=native", ["-Wno-fatal", *X_FAST, "-O3", "-CFLAGS", "-march=native"],
+     {"OPT_FAST": "-O3", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O3"}),
+    ("--output-split 0 (one C++ file)", ["-Wno-fatal", *X_FAST, "-O3", "--output-split", "0"],
+     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}),
 ]
 
 

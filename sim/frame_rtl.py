@@ -137,10 +137,10 @@ def _verilator_build(cfg, gdir: Path, bdir: Path, netlists=None) -> None:
         f.write(" ".join(cmd) + "\n")
         f.flush()
         rc = subprocess.run(cmd, cwd=bdir, stdout=f, stderr=subprocess.STDOUT, env=env).returncode
-    if rc != 0:
+    if rc != 0 or not (bdir / TOPLEVEL).is_file():  # (a make that parsed a flag as its own exits 0, building nothing)
         tail = [x for x in log.read_text(errors="replace").splitlines() if x.strip()][-1:]
-        raise FrameRunError(f"frame_tb [{cfg.name} verilator]: build failed (exit {rc}): "
-                            f"{tail[0] if tail else '?'} (log {log})")
+        raise FrameRunError(f"frame_tb [{cfg.name} verilator]: build failed (exit {rc}"
+                            f"{'' if rc else f', no {TOPLEVEL} built'}): {tail[0] if tail else '?'} (log {log})")
 
 
 def wipe_build(bdir: Path) -> None:
