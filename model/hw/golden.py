@@ -849,13 +849,9 @@ def noise_fold(cfg: Config, tex, s):
     whatever their a (the fold gives their slots {ae, a} = 0); tex.te, tex.ae: the terms'
     exponents (formats.t_exp_w, a_exp_w). noise_fold_schedule gives the clocks."""
     s = np.asarray(s, dtype=I64)
-    f = [np.zeros(s.shape[:-1], dtype=I64)]
-    c = [np.zeros(s.shape, dtype=I64)]
-    for i in range(min(int(tex.k_used), cfg.noise_terms)):
-        an, ag = noise_term(cfg, int(tex.a[i]), tex.T[i], tex.o[i], s, int(tex.te[i]), int(tex.ae[i]))
-        f.append(an)
-        c.append(ag)
-    return sum_tree(f, cfg.f_w), (sum_tree(c, cfg.c_w) if cfg.noise_gradient else c[0])
+    # noise_leaves' term leaves (k < k_used) beside a zero quadric leaf, summed as the RTL adds
+    fl, cl = noise_leaves(cfg, tex, s, np.zeros(s.shape[:-1], dtype=I64), np.zeros(s.shape, dtype=I64))
+    return sum_tree(fl, cfg.f_w), sum_tree(cl, cfg.c_w)
 
 
 def noise_fold_schedule(cfg: Config, k_used: int, in_valid, ce, rst=None) -> dict:
