@@ -318,7 +318,13 @@ def write_doc() -> None:
           "exponent ports (2449d81, none at t_exp_w = a_exp_w = 0): the reports above are `make synth` on main "
           "1e5234a's rtl/: full 604,291 -> 601,571 (-0.45%), reduced 95,167 -> 95,454 (+0.30%), compact "
           "98,788 -> 98,784 (-0.00%); flip-flops unchanged (noise_term alone: the same 265 / 685 / 793 in "
-          "reduced / compact / full). Within 0.5%, all of it in the combinational logic ABC maps.", ""]
+          "reduced / compact / full). Within 0.5%, all of it in the combinational logic ABC maps.", "",
+          "The per-term exponents through the unit (issue 26: TERM_E and {te, T}, {ae, a} through the pipeline, "
+          "15cd2f8, 0ab6cec, f5395c3; none at t_exp_w = a_exp_w = 0) and sat2_integral's shared products "
+          "(111ffd9, filter sat2 only): the reports above are `make synth` on main 36ef353's rtl/ (be1dcd3ec12f), "
+          "against 1e5234a's: full 601,571 -> 601,357 (-0.04%), reduced 95,454 -> 95,414 (-0.04%), compact "
+          "98,784 -> 98,793 (+0.01%); sequential GE unchanged in all three (67,558.4 / 22,009.5 / 26,191.5). "
+          "Within 0.5%: ABC's mapping of the same logic.", ""]
     L += ["## Reproduce", "", "    make setup", "    make synth          # every configuration, synth/reports/",
           "    make synth-check    # fails when a configuration is over budget",
           "    make synth-blocks   # GE of each block for every configuration", ""]
