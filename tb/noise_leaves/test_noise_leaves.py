@@ -5,8 +5,9 @@ Configurations (unfolded: the K noise_term instances): full (eight terms, affine
 gradient), reduced (two terms, diagonal quadric, no noise gradient: the c leaves are 0),
 random:8 (sat_fc: each term faded by its alpha, fc_scale), random:10 (fpga_regs) and full_q12s12
 (full on s12.10 and q12.11, Icarus: the one configuration here where q's leaf is sign-extended
-into f, F_W 21 > QF_W 20; no named or random configuration has F_W > QF_W); LATENCY
-the terms' own, and (full: two, random:8: one) more (the delay lines of a slower quadric). The folded path (noise_fold's
+into f, F_W 21 > QF_W 20; no named or random configuration has F_W > QF_W); full_exp and exp1370 carry per-term exponents ({te_k, T_k} in t_all, {ae_k, a_k} in a_all: each
+term's drawn 0, the largest, or uniform); LATENCY
+the terms' own, and (full: two, random:8 and exp1370: one) more (the delay lines of a slower quadric). The folded path (noise_fold's
 sum, one leaf, passed through) is covered by tb/frame's folded configurations. random:3 has
 K = 0: the quadric's leaf alone, combinational (q_valid toggled: out_valid follows it).
 
@@ -33,9 +34,12 @@ from tb.noise_term.test_noise_term import rand_a, rand_o, rand_s, rand_T
 SOURCES = ["noise_leaves.v", "noise_term.v", "noise_params.v", "noise_xform.v", "noise_grad.v", "noise_hash.v", "noise_blend.v",
            "lerp.v", "fc_scale.v", "delay_line.v"]
 CONFIGS = (("full", 0), ("full", 2), ("reduced", 0), ("random:8", 0), ("random:8", 1), ("random:10", 0),
-           ("random:3", 0), ("full_q12s12", 0))
-# configurations of this testbench's own (a narrow s and q: q's sign extension, FX_Q > 0)
-OWN = {"full_q12s12": lambda: variant(load_config("full"), "full_q12s12", s_w=12, q_w=12)}
+           ("random:3", 0), ("full_q12s12", 0), ("full_exp", 0), ("exp1370", 1))
+# configurations of this testbench's own (a narrow s and q: q's sign extension, FX_Q > 0), and with
+# per-term exponents (tb/pipe.py exponent_configs: full_exp, full with t_exp_w = 1, a_exp_w = 2;
+# exp1370, a random configuration (unfolded, fpga_regs) with the widest exponents its shifts allow)
+OWN = {"full_q12s12": lambda: variant(load_config("full"), "full_q12s12", s_w=12, q_w=12),
+       **{n: (lambda c=c: c) for n, c in pipe.exponent_configs(1370)}}
 
 
 def config_of(config):
@@ -74,13 +78,20 @@ async def noise_leaves_bit_exact(dut):
     r = pipe.rng(71)
     ng = cfg.noise_gradient
     n_batches = max(2, pipe.n_vectors(400) // 100)
+    re = np.random.default_rng([71, 29])  # the exponents' own generator: the other draws stay as without them
+
+    def rand_e(e_max: int) -> int:
+        """A term's exponent: 0, the largest, or uniform (0 without exponents)."""
+        return 0 if not e_max else (0, e_max, int(re.integers(0, e_max + 1)))[int(re.integers(0, 3))]
+
     s_all, batches, par, exp_f, exp_c = [], [], [], [], []
     for b in range(n_batches):
         m = int(r.integers(1, 200))
         s = rand_s(cfg, r, m)
         tex = SimpleNamespace(k_used=int(r.integers(0, k + 1)), a=[rand_a(cfg, r) if r.random() > 0.15 else 0 for _ in range(k)],
                               T=[rand_T(cfg, r) for _ in range(k)], o=[rand_o(cfg, r) for _ in range(k)],
-                              te=np.zeros(k, dtype=np.int64), ae=np.zeros(k, dtype=np.int64))
+                              te=np.array([rand_e(cfg.d["te_max"]) for _ in range(k)], dtype=np.int64),
+                              ae=np.array([rand_e(cfg.d["ae_max"]) for _ in range(k)], dtype=np.int64))
         q = int(r.integers(-(1 << (cfg.qf_w - 1)), 1 << (cfg.qf_w - 1)))
         cq = r.integers(-(1 << (cfg.c_w - 1)), 1 << (cfg.c_w - 1), 3, dtype=np.int64)
         alpha = r.integers(0, (1 << cfg.fc_af) + 1, kv, dtype=np.int64)
@@ -97,8 +108,12 @@ async def noise_leaves_bit_exact(dut):
     def set_params(b):
         tex, q, cq, alpha = par[[x for x, _ in batches].index(b)]
         dut.k_used.value = tex.k_used
-        dut.a_all.value = pipe.pack(tex.a or [0], cfg.a_w)
-        dut.t_all.value = pipe.pack([int(v) for T in tex.T for v in np.asarray(T).reshape(-1)] or [0] * 9, cfg.t_w)
+        # {ae_k, a_k} and {te_k, T_k} (the exponents above the mantissas: rtl/noise_leaves.v, tex_regs' layout)
+        a_w, ts_w = cfg.a_w + cfg.a_exp_w, 9 * cfg.t_w + cfg.t_exp_w
+        dut.a_all.value = pipe.pack([(int(tex.ae[i]) << cfg.a_w) | (int(tex.a[i]) & ((1 << cfg.a_w) - 1))
+                                     for i in range(k)] or [0], a_w)
+        dut.t_all.value = pipe.pack([(int(tex.te[i]) << (9 * cfg.t_w)) | pipe.pack(np.asarray(tex.T[i]).reshape(-1), cfg.t_w)
+                                     for i in range(k)] or [0], ts_w)
         dut.o_all.value = pipe.pack([int(v) for o in tex.o for v in o] or [0] * 3, cfg.o_w)
         dut.alpha.value = pipe.pack(alpha, cfg.fc_af + 1)
         dut.q_in.value = q & ((1 << cfg.qf_w) - 1)
