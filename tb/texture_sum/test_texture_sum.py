@@ -6,7 +6,10 @@ after the input), every bit; out_valid and c_valid exactly once a vector.
 Configurations (texture_pipeline's parameters for the block, hdlbuild block_params): full
 (eight affine terms, the noise gradient: the c tree), reduced (two terms, diagonal quadric,
 no noise gradient: c is the quadric's, q waits for the terms), full_fc (sat_fc: fc_weight's
-fades and wv), reduced with fpga_regs and random:3 (no noise term: the quadric's leaf alone).
+fades and wv), reduced with fpga_regs, random:3 (no noise term: the quadric's leaf alone), and
+with per-term exponents (tb/pipe.py exponent_configs; {te_k, T_k} in t_all, {ae_k, a_k} in a_all, each
+term's drawn 0, the largest, or uniform) full_exp (full with t_exp_w = 1, a_exp_w = 2) and exp1370
+(four unfolded terms, fpga_regs, t_exp_w 3, a_exp_w 1).
 The folded terms (noise_fold's sum, a leaf passed through noise_leaves) are covered by
 tb/frame's folded configurations (compact).
 
@@ -34,7 +37,7 @@ from tb.noise_term.test_noise_term import rand_a, rand_o, rand_s, rand_T
 from tb.quadric_mac.test_quadric_mac import rand_Q
 
 CONFIGS = {"full": "full", "reduced": "reduced", "full_fc": "full_fc", "reduced_fpga": "fpga_regs:reduced",
-           "k0": "random:3"}
+           "k0": "random:3", **{n: c for n, c in pipe.exponent_configs(1370) if n in ("full_exp", "exp1370")}}
 SOURCES = ["texture_sum.v", "quadric_mac.v", "qmac_full.v", "qmac_diag.v", "qmac_diag_fold.v", "qmac_diag_pipe.v",
            "mul_pipe.v", "noise_leaves.v", "noise_term.v", "noise_params.v", "noise_xform.v", "noise_grad.v", "noise_hash.v",
            "noise_blend.v", "lerp.v", "fc_scale.v", "fc_weight.v", "bitlen.v", "sum_tree.v", "delay_line.v"]
@@ -62,14 +65,21 @@ async def _monitor(dut, rows, stop):
         rows.append((ce, iv, _int(dut.c_valid), _int(dut.c_out), _int(dut.wv_out)))
 
 
-def _batch(cfg, r, fc: bool, m: int):
-    """One pass: its parameters (a TexInt-like namespace) and m pixels (s, Jm, je)."""
+def _rand_e(re, e_max: int) -> int:
+    """A term's exponent: 0, the largest, or uniform (0 without exponents)."""
+    return 0 if not e_max else (0, e_max, int(re.integers(0, e_max + 1)))[int(re.integers(0, 3))]
+
+
+def _batch(cfg, r, fc: bool, m: int, re):
+    """One pass: its parameters (a TexInt-like namespace) and m pixels (s, Jm, je); re draws the
+    exponents (a generator of their own: the other draws stay as without them)."""
     k = cfg.noise_terms
     tex = SimpleNamespace(Q=rand_Q(cfg, r), k_used=int(r.integers(0, k + 1)) if r.random() < 0.5 else k,
                           a=np.array([rand_a(cfg, r) if r.random() > 0.15 else 0 for _ in range(k)], dtype=np.int64),
                           T=np.array([rand_T(cfg, r) for _ in range(k)], dtype=np.int64).reshape(k, 3, 3),
                           o=np.array([rand_o(cfg, r) for _ in range(k)], dtype=np.int64).reshape(k, 3),
-                          te=np.zeros(k, dtype=np.int64), ae=np.zeros(k, dtype=np.int64),
+                          te=np.array([_rand_e(re, cfg.d["te_max"]) for _ in range(k)], dtype=np.int64),
+                          ae=np.array([_rand_e(re, cfg.d["ae_max"]) for _ in range(k)], dtype=np.int64),
                           filter=bool(r.random() < 0.8), n_log2=int(r.integers(0, cfg.n_log2_max + 1)))
     # the RTL's coefficients: a diagonal quadric's B, C, F random (not to be passed on), the twin's 0
     tex.q_rtl = tex.Q.copy()
@@ -92,11 +102,12 @@ async def texture_sum_bit_exact(dut):
     lat_c = lat if cfg.noise_gradient else latency("quadric_mac", cfg)
     lat_wv = latency("fc_weight")
     r = pipe.rng(83)
+    re = np.random.default_rng([83, 29])
     vec = {"s_in": [], "jm_in": [], "je_in": []}
     batches, par, exp = [], [], []
     for _ in range(max(2, pipe.n_vectors(300) // 100)):
         m = int(r.integers(20, 120))
-        tex, s, Jm, je = _batch(cfg, r, bool(fc), m)
+        tex, s, Jm, je = _batch(cfg, r, bool(fc), m, re)
         f, c, wv = G.texture_sum(cfg, tex, s, Jm, je)
         wv = np.zeros(m, dtype=np.int64) if wv is None else wv
         start = len(vec["s_in"])
@@ -111,8 +122,12 @@ async def texture_sum_bit_exact(dut):
         tex = par[[x for x, _ in batches].index(b)]
         dut.q_coef.value = pipe.pack(tex.q_rtl, cfg.q_w)
         dut.k_used.value = tex.k_used
-        dut.a_all.value = pipe.pack(list(tex.a) or [0], cfg.a_w)
-        dut.t_all.value = pipe.pack(list(tex.T.reshape(-1)) or [0] * 9, cfg.t_w)
+        # {ae_k, a_k} and {te_k, T_k} (the exponents above the mantissas, tex_regs' layout)
+        k = len(tex.a)
+        dut.a_all.value = pipe.pack([(int(tex.ae[i]) << cfg.a_w) | (int(tex.a[i]) & ((1 << cfg.a_w) - 1))
+                                     for i in range(k)] or [0], cfg.a_w + cfg.a_exp_w)
+        dut.t_all.value = pipe.pack([(int(tex.te[i]) << (9 * cfg.t_w)) | pipe.pack(tex.T[i].reshape(-1), cfg.t_w)
+                                     for i in range(k)] or [0], 9 * cfg.t_w + cfg.t_exp_w)
         dut.o_all.value = pipe.pack(list(tex.o.reshape(-1)) or [0] * 3, cfg.o_w)
         dut.filter_en.value = int(tex.filter)
         dut.n_log2.value = tex.n_log2
