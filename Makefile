@@ -45,7 +45,7 @@ help:
 	@echo "make frame SCENE=zone_plate CONFIG=full SIM=verilator SIZE=256   RTL frame vs golden"
 	@echo "make frames          all scenes, both configurations, 512x512, docs/conformance.md"
 	@echo "make explore         the design-space sweep (Dask; EXPLORE_FLAGS=, e.g. --scheduler tcp://HOST:PORT): out/explore/results.json, docs/tradeoffs.md"
-	@echo "make fit SCENE=zone_plate DB=40 [PXCLK=0.25]   the smallest-GE configuration for those scenes (watching the fit corpus; checked on held-out views): out/fit/, rendered through the RTL"
+	@echo "make fit SCENE=zone_plate DB=40 [PXCLK=0.25] [AGAINST=truth]   the smallest-GE configuration for those scenes (watching the fit corpus; checked on held-out views): out/fit/, rendered through the RTL"
 	@echo "make filters [FILTERS_FLAGS=\"--configs full,full_fc --size 256\"]   the filters against the truth: docs/filters.md"
 	@echo "make precision       the precision test (Fig. 10): s_frac 6..16 on scenes/fig10/precision.toml, docs/precision.md (PRECISION_SIZE=)"
 	@echo "make animation SCENE=seascape [CONFIG=full] [FRAMES=16] [SIZE=128] [RTL=1]   section 4.4: frames vs truth, flicker, docs/animation.md"
@@ -151,10 +151,11 @@ explore: gen
 	$(VENV_ENV) $(PY) -m explore.sweep --jobs $(JOBS) $(EXPLORE_FLAGS)
 
 # the smallest-GE configuration whose worst PSNR on SCENE (a comma-separated list) meets DB at PXCLK
-# pixels per clock or more: out/fit/<name>.toml, rendered through the RTL (FIT_FLAGS=, e.g. --rtl-size 32)
+# pixels per clock or more (AGAINST=truth: every PSNR against the converged truth, not the float reference):
+# out/fit/<name>.toml, rendered through the RTL (FIT_FLAGS=, e.g. --rtl-size 32)
 fit: gen
 	$(VENV_ENV) $(PY) -m explore.fit --scenes $(SCENE) $(if $(DB),--db $(DB)) $(if $(PXCLK),--pxclk $(PXCLK)) \
-	  $(if $(OUT),--out $(OUT)) $(FIT_FLAGS)
+	  $(if $(AGAINST),--against $(AGAINST)) $(if $(OUT),--out $(OUT)) $(FIT_FLAGS)
 
 # the colour-map filters against the truth (issue 15): every scene and the animations for each
 # configuration (default full, full_fc, full_mip, full_sat2), their gate cost: docs/filters.md (FILTERS_FLAGS=)

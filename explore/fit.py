@@ -1,7 +1,14 @@
-"""`make fit SCENE=a[,b...] DB=<target> [PXCLK=<min>]`: the smallest-GE configuration for some scenes.
+"""`make fit SCENE=a[,b...] DB=<target> [PXCLK=<min>] [AGAINST=truth]`: the smallest-GE configuration for some scenes.
 
     python -m explore.fit --scenes marble,seascape --db 38 [--pxclk 0.25] [--size 256] [--rtl-size 64]
-                          [--features-of full] [--name NAME] [--out out/fit] [--results out/explore/results.json]
+                          [--against reference|truth] [--features-of full] [--name NAME] [--out out/fit]
+                          [--results out/explore/results.json]
+
+The target DB is the worst scene's PSNR over its textured pixels against the float reference of
+the scene as written (--against reference, the default) or against its converged truth (--against
+truth: model.scene.truth, the pixel's true average, what the eye sees; issue 27). Every figure
+the fit checks -- the sweep's points it may start from, the descent, the fit corpus, the held-out
+views -- is then measured against the same image.
 
 1. What the scenes need (app.needs): terms, transform and amplitude kinds, blend, noise
    gradient, quadric, filter. `--features-of CONFIG` fixes the features to a configuration's
@@ -71,11 +78,16 @@ def has_features(v: dict, need: dict) -> bool:
     return all(FEATURE_ORDER[k].index(v[k]) >= FEATURE_ORDER[k].index(need[k]) for k in FEATURE_ORDER if k in need)
 
 
-def _scene_ok(rec: dict, scenes, db: float, pxclk: float, size: int) -> bool:
+AGAINST = ("reference", "truth")  # what the target's PSNR is measured against
+_KEY = {"reference": "psnr_ref_db", "truth": "psnr_truth_db"}  # a sweep record's figure of each
+
+
+def _scene_ok(rec: dict, scenes, db: float, pxclk: float, size: int, against: str = "reference") -> bool:
     if rec.get("status") != "ok" or rec.get("opts", {}).get("size") != size:
         return False
     sc = rec["scenes"]
-    return all(s in sc and sc[s]["psnr_ref_db"] >= db and (sc[s]["pixels_per_clock"] or 1) >= pxclk for s in scenes)
+    return all(s in sc and sc[s].get(_KEY[against]) is not None and sc[s][_KEY[against]] >= db
+               and (sc[s]["pixels_per_clock"] or 1) >= pxclk for s in scenes)
 
 
 def stored_records(results: Path) -> list[dict]:
@@ -113,14 +125,29 @@ def shape(v: dict, need: dict, pxclk: float, fixed: bool) -> dict:
     return v
 
 
-def evaluate(v: dict, scenes, sizes) -> float | None:
-    """The worst PSNR (golden model against the float reference) of `scenes` at every frame side
-    of `sizes`, or None when the configuration is rejected or a scene does not fit it."""
-    from app.quality import scene_psnr
+def scene_db(cfg, scene: str, size: int, against: str = "reference") -> float | None:
+    """PSNR (dB, None: identical) of the golden image of `scene` (a name or a .toml path) over its
+    textured pixels, against its float reference or its converged truth (model.scene.truth at the
+    sweep's sample counts, measure.TRUTH_SS and TRUTH_BAND_SS, so that a sweep point's figure and the
+    descent's are the same; cached on disk: the first call for a scene, size and lattice renders it)."""
+    from app.quality import scene_images, scene_psnr
+    from model.imageio import compare
+    from model.scene.truth import truth_image
 
+    if against == "reference":
+        return scene_psnr(cfg, scene, size)[0]
+    im = scene_images(cfg, scene, size)
+    t = im["textured"]
+    tr = truth_image(scene, cfg, size, ss=measure.TRUTH_SS, band_ss=measure.TRUTH_BAND_SS)
+    return compare(im["golden"][t], tr[t])["psnr_db"]
+
+
+def evaluate(v: dict, scenes, sizes, against: str = "reference") -> float | None:
+    """The worst PSNR (golden model against the float reference, or the truth) of `scenes` at
+    every frame side of `sizes`, or None when the configuration is rejected or a scene does not fit it."""
     try:
         cfg = measure.point_config(v)
-        return min(scene_psnr(cfg, s, z)[0] for s in scenes for z in sizes)
+        return min(min(scene_db(cfg, s, z, against) or 200.0, 200.0) for s in scenes for z in sizes)
     except (ConfigError, FormatError):
         return None
 
@@ -153,11 +180,9 @@ def corpus_scenes(need: dict, n: int) -> list[str]:
     return out
 
 
-def corpus_p5(v: dict, paths, size: int) -> float | None:
+def corpus_p5(v: dict, paths, size: int, against: str = "reference") -> float | None:
     """The 5th-percentile PSNR of the corpus scenes (those the configuration renders)."""
     import numpy as np
-
-    from app.quality import scene_psnr
 
     if not paths:
         return None
@@ -168,7 +193,7 @@ def corpus_p5(v: dict, paths, size: int) -> float | None:
     vals = []
     for p in paths:
         try:
-            vals.append(min(scene_psnr(cfg, p, size)[0] or 200.0, 200.0))
+            vals.append(min(scene_db(cfg, p, size, against) or 200.0, 200.0))
         except FormatError:
             continue
     return float(np.percentile(vals, 5)) if vals else None
@@ -197,11 +222,9 @@ def moved_camera(scene: str, out_dir: Path) -> Path | None:
     return p
 
 
-def held_out_views(cfg, scenes, db: float, size: int, out_dir: Path) -> list[dict]:
+def held_out_views(cfg, scenes, db: float, size: int, out_dir: Path, against: str = "reference") -> list[dict]:
     """Each scene at half and 1.5 times the size and with a moved camera: PSNR against its float
-    reference, and how far below the target (0 when it holds)."""
-    from app.quality import scene_psnr
-
+    reference (or its truth), and how far below the target (0 when it holds)."""
     rows = []
     for s in scenes:
         views = [(f"{max(8, size // 2)} px", s, max(8, size // 2)), (f"{min(1024, size * 3 // 2)} px", s,
@@ -211,7 +234,7 @@ def held_out_views(cfg, scenes, db: float, size: int, out_dir: Path) -> list[dic
             views.append(("camera moved", str(mc), size))
         for label, path, z in views:
             try:
-                q = scene_psnr(cfg, path, z)[0]
+                q = scene_db(cfg, path, z, against)
                 q = 200.0 if q is None else q
                 rows.append({"scene": s, "view": label, "psnr_db": round(q, 2), "below_target_db": round(max(0.0, db - q), 2)})
             except FormatError as e:
@@ -220,10 +243,10 @@ def held_out_views(cfg, scenes, db: float, size: int, out_dir: Path) -> list[dic
 
 
 def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True, order: str = "formats",
-            corpus=(), corpus_size: int = 48) -> dict:
+            corpus=(), corpus_size: int = 48, against: str = "reference") -> dict:
     floor = None
     if corpus:
-        p0 = corpus_p5(v, corpus, corpus_size)
+        p0 = corpus_p5(v, corpus, corpus_size, against)
         floor = None if p0 is None else min(db, p0 - 1.0)
         log.append({"move": f"fit corpus: {len(corpus)} scenes at {corpus_size} px", "corpus_p5_db":
                     None if p0 is None else round(p0, 2), "corpus_floor_db": None if floor is None else round(floor, 2)})
@@ -233,12 +256,12 @@ def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True,
             return False
         if floor is None:
             return True
-        c = corpus_p5(w, corpus, corpus_size)
+        c = corpus_p5(w, corpus, corpus_size, against)
         return c is not None and c >= floor
 
     if v["div_bits"] == 0 and v["filter"] in SAT_FILTERS:
         w = dict(v, div_bits=DIV_START)
-        q = evaluate(w, scenes, sizes)
+        q = evaluate(w, scenes, sizes, against)
         if holds(w, q):
             log.append({"move": f"div_bits 0 -> {DIV_START}", "worst_db": round(q, 2)})
             v = w
@@ -248,7 +271,7 @@ def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True,
             w = {**v, **{k: v[k] + x for k, x in d.items()}}
             if label == "div_bits" and w["div_bits"] < 1:
                 break
-            q = evaluate(w, scenes, sizes)
+            q = evaluate(w, scenes, sizes, against)
             if not holds(w, q):
                 break
             log.append({"move": label, "to": {k: w[k] for k in d}, "worst_db": round(q, 2)})
@@ -260,7 +283,7 @@ def descend(v: dict, scenes, db: float, sizes, log: list, progress: bool = True,
 def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 64, features_of: str | None = None,
         name: str | None = None, out: Path | None = None, results: Path | None = None, progress: bool = True,
         also: tuple = (), order: str = "formats", fresh: bool = False, start_from: str | None = None,
-        corpus_n: int = 16, corpus_size: int = 48) -> dict:
+        corpus_n: int = 16, corpus_size: int = 48, against: str = "reference") -> dict:
     """`also`: more frame sides at which the target must hold (the record is measured at `size`);
     `fresh`: start from a named configuration, not from the sweep's points; `start_from`: start
     from this configuration (a name of config/ or a .toml path, e.g. an earlier fit's), as it is."""
@@ -277,7 +300,7 @@ def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 
         need = {k: fv[k] for k in (*FEATURE_ORDER, "noise_terms", "noise_gradient")}
     # the start: the sweep's cheapest point that qualifies, else the cheapest named configuration with the features
     cands = [] if (fresh or start_from) else [
-        r for r in stored_records(results) if has_features(r["config"], need) and _scene_ok(r, scenes, db, pxclk, size)
+        r for r in stored_records(results) if has_features(r["config"], need) and _scene_ok(r, scenes, db, pxclk, size, against)
         and (not fixed or all(r["config"][k] == need[k] for k in need))]
     if start_from:
         start = {"from": f"configuration {start_from}", "ge_total": None, "values": config_values(load_config(start_from))}
@@ -294,20 +317,20 @@ def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 
         start = {"from": f"configuration {n0}", "ge_total": ge.get(n0), "values": config_values(load_config(n0))}
     v = shape(start["values"], need, pxclk_eff, fixed)
     sizes = (size, *also)
-    q0 = evaluate(v, scenes, sizes)
+    q0 = evaluate(v, scenes, sizes, against)
     log = [{"move": "start, cut to what the scenes need", "worst_db": None if q0 is None else round(q0, 2)}]
     if q0 is None or q0 < db:
         # the cut start misses the target: the start as it was, only its units for PXCLK
         v = dict(start["values"])
-        q0 = evaluate(v, scenes, sizes)
+        q0 = evaluate(v, scenes, sizes, against)
         log.append({"move": "start as found (the cut missed the target)", "worst_db": None if q0 is None else round(q0, 2)})
         if q0 is None or q0 < db:
-            raise FitError(f"no configuration found that meets {db} dB on {', '.join(scenes)} "
+            raise FitError(f"no configuration found that meets {db} dB against the {against} on {', '.join(scenes)} "
                            f"(the start, {start['from']}, gives {q0 if q0 is None else round(q0, 2)} dB)")
     corpus = corpus_scenes(need, corpus_n)
-    v = descend(v, scenes, db, sizes, log, progress, order, corpus, corpus_size)
+    v = descend(v, scenes, db, sizes, log, progress, order, corpus, corpus_size, against)
     label = "all" if tuple(scenes) == SCENES else "-".join(scenes)
-    name = name or f"fit-{label}-{db:g}db" + (f"-{pxclk:g}px" if pxclk else "")
+    name = name or f"fit-{label}-{db:g}db" + ("-truth" if against == "truth" else "") + (f"-{pxclk:g}px" if pxclk else "")
     cfg = measure.point_config(v, name=name.replace(".", "_"))
     # the RTL check is the render below (its images written): measure() does not simulate again
     opts = {"scenes": list(scenes), "size": size, "rtl_scenes": list(scenes), "rtl_size": rtl_size, "rtl": False,
@@ -327,8 +350,8 @@ def fit(scenes, db: float, pxclk: float = 0.0, size: int = 256, rtl_size: int = 
         rec.update(status="mismatch", error=f"RTL differs from the golden model on {imgs['mismatched_pixels']} pixels")
     toml = out / f"{cfg.name}.toml"
     toml.write_text(config_toml(cfg))
-    views = held_out_views(cfg, scenes, db, size, out / cfg.name)
-    rep = {"scenes": list(scenes), "target_db": db, "min_pixels_per_clock": pxclk, "size": size,
+    views = held_out_views(cfg, scenes, db, size, out / cfg.name, against)
+    rep = {"scenes": list(scenes), "target_db": db, "against": against, "min_pixels_per_clock": pxclk, "size": size,
            "target_sizes": list(sizes), "needs": need,
            "start": {k: start[k] for k in ("from", "ge_total")}, "steps": log, "config_file": str(toml.relative_to(ROOT)) if toml.is_relative_to(ROOT) else str(toml),
            "record": rec, "rtl_render": imgs, "fit_corpus": {"scenes": len(corpus), "size": corpus_size},
@@ -351,7 +374,10 @@ class FitError(RuntimeError):
 def main(argv=None) -> int:
     ap = Parser(prog="python -m explore.fit", description="the smallest-GE configuration for some scenes (make fit)")
     ap.add_argument("--scenes", required=True, help="comma-separated scene names, or all")
-    ap.add_argument("--db", type=float, required=True, help="the worst scene's PSNR target against its float reference")
+    ap.add_argument("--db", type=float, required=True,
+                    help="the worst scene's PSNR target against its float reference (or, --against truth, its truth)")
+    ap.add_argument("--against", choices=AGAINST, default="reference",
+                    help="measure every PSNR against the float reference or the converged truth (model.scene.truth)")
     ap.add_argument("--pxclk", type=float, default=0.0, help="at least this many pixels per clock on every scene")
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--rtl-size", type=int, default=64, help="frame side of the RTL renders (px)")
@@ -390,13 +416,14 @@ def main(argv=None) -> int:
             for z in a.also_size:
                 check_range("--also-size", z, 8, 1024)
             rep = fit(scenes, a.db, a.pxclk, a.size, a.rtl_size, a.features_of, a.name, a.out, a.results, not a.quiet,
-                      tuple(a.also_size), a.order, a.fresh, a.start, a.corpus, a.corpus_size)
+                      tuple(a.also_size), a.order, a.fresh, a.start, a.corpus, a.corpus_size, a.against)
         except FitError as e:
             print(f"fit: {e}", file=sys.stderr)
             return 1
         r = rep["record"]
         print(json.dumps({"config_file": rep["config_file"], "start": rep["start"], "ge_total": r["ge_total"],
-                          "worst_psnr_db": r["worst_psnr_ref_db"], "min_pixels_per_clock": r["min_pixels_per_clock"],
+                          "against": a.against, "worst_psnr_db": r["worst_psnr_ref_db"],
+                          "worst_psnr_truth_db": r.get("worst_psnr_truth_db"), "min_pixels_per_clock": r["min_pixels_per_clock"],
                           "rtl_bit_exact": rep["rtl_render"]["bit_exact"], "rtl_pixels": rep["rtl_render"]["pixels"],
                           "fit_corpus_scenes": rep["fit_corpus"]["scenes"], "held_out_worst_db": rep["held_out_worst_db"],
                           "seconds": rep["seconds"]}, indent=1))

@@ -189,3 +189,27 @@ def test_fit_renders_bit_exact(tmp_path):
     assert {v["view"] for v in rep["held_out_views"]} == {"8 px", "24 px"}  # the zone plate is screen-space: sizes only
     assert rep["held_out_worst_db"] == min(v["psnr_db"] for v in rep["held_out_views"])
     assert (out / cfg.name / "zone_plate.png").is_file()
+
+
+def test_fit_against_truth(tmp_path):
+    """make fit AGAINST=truth (issue 27): the descent and the held-out views measured against the
+    converged truth, not the float reference (the steps the command adds around them, gates and the
+    RTL render, are test_fit_renders_bit_exact's)."""
+    from explore import fit
+    from model.hw.config import config_values, load_config
+
+    v = config_values(load_config("reduced"))
+    v.update(noise_terms=0, noise_units=1)  # the zone plate: no noise
+    log = []
+    w = fit.descend(v, ["zone_plate"], 18.0, (16,), log, progress=False, against="truth")
+    cfg = fit.measure.point_config(w)
+    t, ref = fit.scene_db(cfg, "zone_plate", 16, "truth"), fit.scene_db(cfg, "zone_plate", 16, "reference")
+    last = [st["worst_db"] for st in log if st.get("worst_db") is not None][-1]
+    assert last >= 18 and abs(last - round(t, 2)) < 0.01 and abs(last - round(ref, 2)) > 0.1, (last, t, ref)
+    views = fit.held_out_views(cfg, ["zone_plate"], 18.0, 16, tmp_path, "truth")
+    assert [r["view"] for r in views] == ["8 px", "24 px"]
+    assert all(r["psnr_db"] == round(fit.scene_db(cfg, "zone_plate", int(r["view"].split()[0]), "truth"), 2)
+               for r in views)
+    # the command takes it, and a bad value is one line, exit 2
+    r = _run([sys.executable, "-m", "explore.fit", "--scenes", "zone_plate", "--db", "30", "--against", "eye"])
+    assert r.returncode == 2 and "--against" in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
