@@ -68,8 +68,30 @@ def test_sweep_writes_tradeoffs(swept):
     md = (out / "docs" / "tradeoffs.md").read_text()
     assert "## The Pareto front" in md and "reduced div_bits-2" in md and "w_cap_log2" in md
     assert "held-out corpus: worst / 5% / share at 50 dB" in md
-    for png in ("tradeoffs.png", "tradeoffs_knobs.png"):
+    for png in ("tradeoffs.png", "tradeoffs_truth.png", "tradeoffs_knobs.png"):
         assert (out / "docs" / "images" / png).stat().st_size > 10_000
+    # issue 27: the front against the truth, and the best point for the eye at each budget and rate
+    assert "## What the eye sees: the front against the truth" in md and "### Best for the eye" in md
+    ok = [r for r in res["records"] if r["status"] == "ok" and r["ge_total"] <= 100_000 and r["min_pixels_per_clock"] >= 1]
+    best = max(ok, key=lambda r: (r["worst_psnr_truth_db"], -r["ge_total"]))  # reduced's points: 1 px/clock, < 100k
+    assert f"| 100,000 | {best['label']}: {best['worst_psnr_truth_db']:.1f} dB" in md
+
+
+def test_best_for_eye_picks_within_budget_and_rate():
+    from explore.report import BUDGETS, EYE_RATES, best_for_eye
+
+    def rec(label, ge, pxclk, truth):
+        return {"label": label, "status": "ok", "ge_total": ge, "min_pixels_per_clock": pxclk,
+                "worst_psnr_truth_db": truth}
+
+    recs = [rec("small slow", 90_000, 0.25, 36.0), rec("small fast", 95_000, 1.0, 33.0),
+            rec("big fast", 600_000, 1.0, 50.0), rec("huge", 2_000_000, 1.0, 70.0),
+            {"label": "failed", "status": "failed"}]
+    got = {(e["budget"], e["rate"]): (e["best"] or {}).get("label") for e in best_for_eye(recs)}
+    assert len(got) == len(BUDGETS) * len(EYE_RATES)
+    assert got[(100_000, "1 px/clock")] == "small fast" and got[(100_000, "1/4 px/clock")] == "small slow"
+    assert got[(100_000, "1/2 px/clock")] == "small fast" and got[(700_000, "1/4 px/clock")] == "big fast"
+    assert all(v != "huge" for v in got.values())  # over every budget
 
 
 def test_sweep_resumes_from_stored_points_on_a_named_scheduler(swept, tmp_path):
