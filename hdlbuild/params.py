@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, folded, rel_path, sum_tree_levels
+from model.hw.config import FC_KSF, ROOT, SAT_FILTERS, Config, cmap_family, folded, freq_clamp, rel_path, sum_tree_levels
 from model.hw.config import latency as config_latency
 from model.hw.regmap import REGMAP, pix_width
 
@@ -23,7 +23,7 @@ ENUMS = {
     "blend": {"linear": 0, "cubic": 1},
     "transform": {"affine": 0, "pow2": 1},
     "amplitude": {"any": 0, "pow2": 1},
-    "filter": {"none": 0, "sat": 1, "mip": 2, "sat_fc": 3, "sat2": 4},
+    "filter": {"none": 0, "sat": 1, "mip": 2, "sat_fc": 3, "sat2": 4, "sat2_fc": 5},
 }
 # configuration keys that are parameters of texture_pipeline (all of them but hash.seed, which
 # reaches it as the permutation PERM, and the exponents' widths t_exp_w, a_exp_w: exponent_params)
@@ -77,8 +77,8 @@ def top_params(cfg: Config) -> dict:
 
 
 def _fc(cfg: Config) -> bool:
-    """The terms are faded (sat_fc's frequency clamping: texture_pipeline FCL; unfolded terms only)."""
-    return cfg.filter == "sat_fc" and cfg.noise_terms > 0 and not folded(cfg)
+    """The terms are faded (sat_fc's and sat2_fc's frequency clamping: texture_pipeline FCL; unfolded terms only)."""
+    return freq_clamp(cfg) and cfg.noise_terms > 0 and not folded(cfg)
 
 
 def _pick(cfg: Config, *keys) -> dict:
@@ -108,10 +108,10 @@ def block_params(cfg: Config, module: str) -> dict:
     if module == "filter_width":
         return {"C_W": cfg.c_w, **_pick(cfg, "c_frac", "j_w", "je_w", "norm_bits", "f_frac", "w_cap_log2",
                                         "n_log2_max", "fpga_regs"),
-                **({"COMPONENTS": 1} if cfg.filter == "sat2" else {})}  # sat2: the two screen components
-    if module == "colour_map":  # sat_fc: the box filter (the fade is before it)
+                **({"COMPONENTS": 1} if cmap_family(cfg) == "sat2" else {})}  # sat2: the two screen components
+    if module == "colour_map":  # its family alone (sat_fc: the box, sat2_fc: the trapezoid; the fade is before it)
         return {"F_W": cfg.f_w, **_pick(cfg, "f_frac", "w_cap_log2", "n_log2_max", "div_bits", "fpga_regs"),
-                "FILTER": 1 if cfg.filter in SAT_FILTERS else 3 if cfg.filter == "sat2" else value(cfg, "filter")}
+                "FILTER": {"none": 0, "sat": 1, "mip": 2, "sat2": 3}[cmap_family(cfg)]}
     if module == "fc_weight":
         return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "j_w", "je_w", "t_w", "t_frac", "a_w", "a_frac", "f_frac",
                                                         "w_cap_log2", "n_log2_max", "fc_log_frac", "fc_knee",
@@ -121,7 +121,7 @@ def block_params(cfg: Config, module: str) -> dict:
         return {"AN_W": cfg.an_w, "AG_W": cfg.ag_w, "AF": cfg.fc_af, "NOISE_GRADIENT": value(cfg, "noise_gradient")}
     if module == "box_divide":  # as colour_map divides: exact, or on a div_bits-bit w
         b = cfg.div_bits
-        if cfg.filter == "sat2":  # the trapezoid's divisor 4ab, w2_w bits
+        if cmap_family(cfg) == "sat2":  # the trapezoid's divisor 4ab, w2_w bits
             if 0 < b < cfg.w2_w:
                 sat = 1 if b <= 9 else 0
                 return {"NUM_W": b + 8 + sat, "DEN_W": b, "Q_W": 8, "LANES": 4, "SAT": sat}

@@ -468,8 +468,11 @@ def fc_alpha(tex, J) -> list:
 def shade_fc(tex, s, J, perm, hash_bits=None) -> np.ndarray:
     """shade with frequency clamping (filter "sat_fc", docs/filters.md; tex.filter true):
     f = q + sum_i alpha_i a_i n_i, grad f = grad q + sum_i alpha_i a_i (dn_i/dp) T_i (with
-    tex.noise_gradient), w = max(|grad f J|, max_i (1 - alpha_i) |a_i| sigma sqrt(12)) with
-    sigma the lattice noise's standard deviation (model.hw.config.fc_sigma12), then the box."""
+    tex.noise_gradient), w = max(|grad f J|, wv), wv = max_i (1 - alpha_i) |a_i| sigma sqrt(12)
+    with sigma the lattice noise's standard deviation (model.hw.config.fc_sigma12), then the box.
+    With the trapezoid (tex.trapezoid, filter "sat2_fc") the screen components A = |grad f J_x|,
+    B = |grad f J_y| instead, the larger of the two widened to max(., wv) (A >= B: (max(A, wv),
+    B), else (A, max(B, wv))), then trapezoid_lookup."""
     from model.hw.config import fc_sigma12
 
     perm = _perm_for(perm, hash_bits)
@@ -487,6 +490,11 @@ def shade_fc(tex, s, J, perm, hash_bits=None) -> np.ndarray:
             g = g + (al * a)[..., None] * (grad @ T)
         wv = np.maximum(wv, (1.0 - al) * abs(a) * k12)
     gs = np.matmul(g[..., None, :], J)[..., 0, :]
+    if getattr(tex, "trapezoid", False):
+        A, B = np.abs(gs[..., 0]), np.abs(gs[..., 1])
+        ge = A >= B
+        return trapezoid_lookup(tex.clut, f, np.where(ge, np.maximum(A, wv), A), np.where(ge, B, np.maximum(B, wv)),
+                                tex.mode)
     w = np.maximum(np.hypot(gs[..., 0], gs[..., 1]), wv)
     return filtered_lookup(tex.clut, f, w, tex.mode)
 
@@ -495,7 +503,7 @@ def shade(tex, s, J, perm, hash_bits=None) -> np.ndarray:
     """Texture colour, float64 RGBA [..., 4] in clut units (0..255).
 
     filtered_lookup(clut, f, w, mode) if tex.filter, else unfiltered_lookup(clut, f, mode);
-    with frequency clamping (tex.fc, filter "sat_fc") shade_fc; with the trapezoid
+    with frequency clamping (tex.fc, filter "sat_fc", "sat2_fc") shade_fc; with the trapezoid
     (tex.trapezoid, filter "sat2") trapezoid_lookup on the two screen components of grad f.
     """
     if tex.filter and getattr(tex, "fc", None) is not None:

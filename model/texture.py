@@ -40,10 +40,10 @@ class TextureParams:
     clut: np.ndarray = None  # uint8 [N, 4] RGBA, N a power of two (1..2^n_log2_max)
     filter: bool = True  # antialias (box filter the colour table) or point-sample it
     noise_gradient: bool = True  # include a_i grad n_i in grad f (eq. 10)
-    # frequency clamping (filter "sat_fc", docs/filters.md): (knee, fade) in octaves of the
+    # frequency clamping (filters "sat_fc", "sat2_fc", docs/filters.md): (knee, fade) in octaves of the
     # footprint, each term faded to its mean over [knee - fade, knee]; None: the box filter alone
     fc: tuple = None
-    # the trapezoid (filter "sat2", docs/filters.md): the colour map averaged over the pixel for
+    # the trapezoid (filters "sat2", "sat2_fc", docs/filters.md): the colour map averaged over the pixel for
     # f linear across it (two boxes of the screen components of grad f) instead of one box
     trapezoid: bool = False
 

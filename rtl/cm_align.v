@@ -3,7 +3,8 @@
 // f (the adder tree's sum) and w (filter_width's) reach this block at different clocks; the
 // earlier of the two waits in a delay line for the later. With sat_fc (WV_MAX 1) w is first
 // widened to max(w, wv), wv the faded terms' spread (fc_weight's, aligned to w by the
-// caller), in one register stage (`LAT_FC_WMAX). While f waits it is carried in FC_W <= F_W
+// caller), in one register stage (`LAT_FC_WMAX); with sat2_fc (WV_MAX 1, NW 2) the larger of
+// the trapezoid's two widths {b, a} is: a >= b: {b, max(a, wv)}, else {max(b, wv), a}. While f waits it is carried in FC_W <= F_W
 // bits: colour_map reads only f mod 1 in mod mode (mode 0, the low F_FRAC bits), and in
 // clamp mode (mode 1) compares f with thresholds inside [-2^GUARD, 2^F_FRAC + 2^GUARD],
 // GUARD = W_CAP_LOG2 + F_FRAC - 1 (sat2, NW = 2: W_CAP_LOG2 + F_FRAC), so saturating f to +-2^(GUARD+1) there (and wrapping it
@@ -11,8 +12,8 @@
 // model/hw/golden.py cm_align is the twin.
 //
 // Formats: f_in, f_out s{F_W}.{F_FRAC}; w_in, wv_in, w_out u{W_W}.{F_FRAC}, W_W =
-// W_CAP_LOG2 + F_FRAC + 1 (NW = 2, filter sat2: w_in, w_out {b, a}, two such words, carried
-// together; WV_MAX must be 0); mode static during a pass (it is read as f enters).
+// W_CAP_LOG2 + F_FRAC + 1 (NW = 2, filter sat2 or sat2_fc: w_in, w_out {b, a}, two such
+// words, carried together); mode static during a pass (it is read as f enters).
 // Latency: LATENCY_F register stages from f_in to the outputs, LATENCY_W from w_in (the
 // caller's T_CM - T_F and T_CM - T_FW); LATENCY_W = (WV_MAX ? `LAT_FC_WMAX : 0) + the
 // wait of w, and one of the two waits is 0 (elaboration fails otherwise). out_valid is the
@@ -27,8 +28,8 @@ module cm_align #(
     parameter F_W        = 40,  // f word (the exact sum's width, model/hw/config.py f_w)
     parameter F_FRAC     = 16,  // f fraction bits (1.0 = the whole table)
     parameter W_CAP_LOG2 = 16,  // w saturates at 2^W_CAP_LOG2 entries
-    parameter WV_MAX     = 0,   // 1 (filter sat_fc): w_out = max(w, wv)
-    parameter NW         = 1,   // w words: 1, or 2 (filter sat2: {b, a}; its clamp guard W)
+    parameter WV_MAX     = 0,   // 1 (filters sat_fc, sat2_fc): w_out = max(w, wv) (NW 2: the larger word's)
+    parameter NW         = 1,   // w words: 1, or 2 (filters sat2, sat2_fc: {b, a}; its clamp guard W)
     parameter LATENCY_F  = 0,   // stages from f_in to the outputs (f's wait)
     parameter LATENCY_W  = 0    // stages from w_in to the outputs (the max register and w's wait)
 ) (
@@ -60,7 +61,7 @@ localparam FC_W  = (DLY_F > 0 && GUARD + 3 < F_W) ? GUARD + 3 : F_W;        // f
 // elaboration fails (unknown module) on a latency this block cannot have
 generate
     if (LAT_M != 1 && WV_MAX != 0 || DLY_F < 0 || DLY_W < 0 || (DLY_F > 0 && DLY_W > 0)
-        || (NW != 1 && (NW != 2 || WV_MAX != 0))) begin : g_bad_latency
+        || (NW != 1 && NW != 2)) begin : g_bad_latency
         cm_align_latency_must_be_one_wait_and_the_max_stage u_error ();
     end
 endgenerate
@@ -85,19 +86,30 @@ generate
     end
 endgenerate
 
-// sat_fc: w = max(w, wv), one register
+// sat_fc: w = max(w, wv); sat2_fc: the larger of {b, a} max'd with wv; one register
 wire [NW*W_W-1:0] wd_w;
 wire           wd_valid;
 generate
     if (WV_MAX) begin : g_wmax
-        reg [W_W-1:0] w_reg;
-        reg           v_reg;
+        reg [NW*W_W-1:0] w_reg;
+        reg              v_reg;
+        wire [NW*W_W-1:0] w_max;
+        if (NW == 2) begin : g_pair
+            wire [W_W-1:0] wa = w_in[0 +: W_W];
+            wire [W_W-1:0] wb = w_in[W_W +: W_W];
+            wire           a_ge = (wa >= wb);
+            wire [W_W-1:0] wl = a_ge ? wa : wb;               // the larger of the two
+            wire [W_W-1:0] wm = (wv_in > wl) ? wv_in : wl;    // ... widened to wv
+            assign w_max = a_ge ? {wb, wm} : {wm, wa};
+        end else begin : g_one
+            assign w_max = (wv_in > w_in) ? wv_in : w_in;
+        end
         always @(posedge clk) begin
             if (rst) begin
                 v_reg <= 1'b0;
             end else if (ce) begin
                 v_reg <= w_valid;
-                w_reg <= (wv_in > w_in) ? wv_in : w_in;
+                w_reg <= w_max;
             end
         end
         assign wd_w     = w_reg;

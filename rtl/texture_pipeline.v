@@ -12,6 +12,9 @@
 // sum_i alpha_i a_i n_i and c likewise, and w = max(|c^T J| N, wv), wv the faded terms' spread.
 // With "sat2" (FILTER 4, the trapezoid) w is the pair {b, a} = {|c^T J_y|, |c^T J_x|} N
 // (filter_width COMPONENTS) and colour_map averages over the trapezoid they span (cmap_sat2).
+// "sat2_fc" (FILTER 5) is the two together: sat_fc's fades and sat2's colour map, the larger
+// of {b, a} widened to max(., wv) (cm_align). The filter key is one parameter; inside, the
+// frequency clamp (FC_ON) and the colour-map family (CM_FILTER) are chosen apart.
 //
 // Formats (every width derived from the parameters below, rtl/tex_widths.vh):
 //   s      s{S_W}.{S_FRAC}, three of them {r, t, s} (s at the LSBs)
@@ -76,7 +79,8 @@ module texture_pipeline #(
     parameter AMPLITUDE      = 0,   // [amplitude] 0 any, 1 pow2
     parameter FILTER         = 1,   // [filter] 0 none (point lookup), 1 sat, 2 mip, 3 sat_fc (sat with
                                     // frequency clamping: fc_weight, fc_scale; unfolded terms only),
-                                    // 4 sat2 (the trapezoid: filter_width's two components, cmap_sat2)
+                                    // 4 sat2 (the trapezoid: filter_width's two components, cmap_sat2),
+                                    // 5 sat2_fc (sat2 with sat_fc's frequency clamping)
     parameter NOISE_GRADIENT = 1,   // [noise_gradient] 1: grad f includes the noise terms'
     parameter FPGA_REGS      = 0,   // [fpga_regs] 1: the blocks' extra register stages for an FPGA
                                     // (rtl/tex_latency.vh `LAT_*_FPGA; docs/fpga.md)
@@ -142,9 +146,11 @@ localparam CSAT_W = tw_csat_w(N_LOG2_MAX);                                     /
 localparam NL_W   = tw_bits_unsigned(N_LOG2_MAX);                              // n_log2
 localparam NLMAX  = N_LOG2_MAX;
 localparam PIX_W  = 3*S_W + 6*J_W + JE_W;                                      // pixel input word
-localparam FCL    = (FILTER == 3) && (K > 0) && !FOLD;                         // frequency clamping
-localparam CM_FILTER = (FILTER == 3) ? 1 : (FILTER == 4) ? 3 : FILTER;       // colour_map: the box, sat2 its own
-localparam NW     = (FILTER == 4) ? 2 : 1;                                     // sat2: w = {b, a}
+localparam FC_ON  = (FILTER == 3) || (FILTER == 5);                          // sat_fc, sat2_fc: the clamp
+localparam SAT2   = (FILTER == 4) || (FILTER == 5);                          // sat2, sat2_fc: the trapezoid
+localparam FCL    = FC_ON && (K > 0) && !FOLD;                                 // frequency clamping
+localparam CM_FILTER = SAT2 ? 3 : (FILTER == 3) ? 1 : FILTER;                // colour_map: the box, sat2 its own
+localparam NW     = SAT2 ? 2 : 1;                                              // sat2: w = {b, a}
 
 input  wire             clk;
 input  wire             rst;

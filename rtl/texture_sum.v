@@ -45,7 +45,7 @@ module texture_sum #(
     parameter TRANSFORM      = 0,   // 0 affine, 1 pow2
     parameter AMPLITUDE      = 0,   // 0 any, 1 pow2
     parameter NOISE_GRADIENT = 1,   // 1: c includes the noise terms' gradients
-    parameter FC             = 0,   // 1: frequency clamping (filter sat_fc; unfolded terms only)
+    parameter FC             = 0,   // 1: frequency clamping (filters sat_fc, sat2_fc; unfolded terms only)
     parameter FPGA_REGS      = 0,   // 1: the blocks' FPGA register stages (rtl/tex_latency.vh)
     parameter LATENCY        = 10,  // f's latency: must be max(LAT_QM, LAT_NS) + TREE_LEVELS (above)
     parameter S_W            = 24,  // s{S_W}.{S_FRAC}

@@ -25,7 +25,8 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from hdlbuild import ROOT, block_params, config_of
-from model.hw.config import (CONFIG_NAMES, STAMP, ConfigError, base_of, clocks_per_pixel, config_hash, is_config_file, load_config,
+from model.hw.config import (CONFIG_NAMES, STAMP, ConfigError, base_of, clocks_per_pixel, cmap_family, config_hash, freq_clamp,
+                             is_config_file, load_config,
                              noise_term_instances, rtl_source_hash)
 from model.hw.config import fc_variant as config_fc_variant
 
@@ -39,16 +40,17 @@ BLOCKS = {"quadric": "quadric_mac", "noise_term": "noise_term", "filter_width": 
           "colour_map": "colour_map"}
 TOP = "texture_pipeline"
 GLUE = ("delay_line", "tex_regs", "axis_skid", "noise_fold", "sum_tree", "cm_align", "noise_leaves", "texture_sum")  # small modules counted with the top's glue (control), not as blocks
-# the blocks of the frequency-clamping filter (filter "sat_fc"): fc_weight once, fc_scale a term
+# the blocks of the frequency-clamping filters ("sat_fc", "sat2_fc"): fc_weight once, fc_scale a term
 FC_BLOCKS = {"fc_weight": "fc_weight", "fc_scale": "fc_scale"}
 # modules kept whole inside a block (synth.py --keep-modules), so that equal instances are synthesized once:
-# cmap_sat2's four sat2_integral (filter "sat2"; flattened, colour_map did not finish in 30 min)
+# cmap_sat2's four sat2_integral (the colour-map family "sat2": filters sat2, sat2_fc; flattened, colour_map
+# did not finish in 30 min)
 KEEP_MODULES = {"sat2": ("sat2_integral",)}
 
 
 def config_blocks(cfg) -> dict:
-    """label -> module of the blocks `cfg` instantiates (the fc blocks only with sat_fc)."""
-    return {**BLOCKS, **(FC_BLOCKS if cfg.filter == "sat_fc" and cfg.noise_terms > 0 else {})}
+    """label -> module of the blocks `cfg` instantiates (the fc blocks only with sat_fc, sat2_fc)."""
+    return {**BLOCKS, **(FC_BLOCKS if freq_clamp(cfg) and cfg.noise_terms > 0 else {})}
 
 
 def _cell(v) -> str:
@@ -79,8 +81,8 @@ def synth_one(config, top: str, lib_files=(), out: Path | None = None, keep: Pat
         cmd += ["--lib-files", *lib_files]
     if keep is not None:
         cmd += ["--keep", str(keep)]
-    if not lib_files and KEEP_MODULES.get(cfg.filter):
-        cmd += ["--keep-modules", *KEEP_MODULES[cfg.filter]]
+    if not lib_files and KEEP_MODULES.get(cmap_family(cfg)):
+        cmd += ["--keep-modules", *KEEP_MODULES[cmap_family(cfg)]]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         msg = (r.stderr.strip().splitlines() or ["?"])[-1]
@@ -186,8 +188,10 @@ def keeps(name: str) -> str:
     grad = "analytic noise gradient in the filter width" if c.noise_gradient else "no noise gradient in the filter width"
     filt = {"sat": "SAT box filter with every mod/clamp edge case (exact integral, "
                    + ("exact division" if c.div_bits == 0 else f"division on a {c.div_bits}-bit normalised width")
-                   + ")", "mip": "MIP-map colour-table filter", "none": "no colour-table filter"}
-    filt = filt.get(c.filter) or (filt["sat"] + " with frequency clamping of the noise terms (fc_weight, fc_scale)")
+                   + ")", "sat2": "the trapezoid filter from a second summed-area table (cmap_sat2)",
+            "mip": "MIP-map colour-table filter", "none": "no colour-table filter"}[cmap_family(c)]
+    if freq_clamp(c):
+        filt += " with frequency clamping of the noise terms (fc_weight, fc_scale)"
     return (f"{quad}; {c.noise_terms} noise terms, {trans}, {amp}, {c.blend} blend, {grad}; {filt}; "
             f"s{c.s_w}.{c.s_frac} coordinates, Jacobian mantissas {c.j_w} bits, colour index .{c.f_frac}, "
             f"gradient .{c.c_frac}, filter width capped at 2^{c.w_cap_log2} entries (config/{name}.toml, "

@@ -26,8 +26,27 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]  # the repository (model/hw/config.py)
 CONFIG_DIR = ROOT / "config"
 CONFIG_NAMES = ("full", "reduced", "compact")
+# features.filter is one string naming two orthogonal choices: the colour-map family (the box
+# "sat", the trapezoid "sat2", "mip", the point lookup "none") and whether the noise terms are
+# frequency-clamped (the suffix "_fc": fc_weight, fc_scale, the faded terms' spread in the width)
+FILTER_KINDS = {"sat": ("sat", False), "sat_fc": ("sat", True), "sat2": ("sat2", False), "sat2_fc": ("sat2", True),
+                "mip": ("mip", False), "none": ("none", False)}
 SAT_FILTERS = ("sat", "sat_fc")  # the filters that read the summed-area table (the box)
-TABLE_FILTERS = SAT_FILTERS + ("sat2",)  # the filters whose tables include csat (sat2: and its running sum)
+SAT2_FILTERS = ("sat2", "sat2_fc")  # the trapezoid's (a second table: the running sum of csat)
+TABLE_FILTERS = SAT_FILTERS + SAT2_FILTERS  # the filters whose tables include csat (sat2: and its running sum)
+FC_FILTERS = ("sat_fc", "sat2_fc")  # the filters with frequency clamping of the noise terms
+
+
+def cmap_family(cfg_or_filter) -> str:
+    """The colour-map family of a configuration (or a filter name): "sat", "sat2", "mip" or "none"."""
+    f = cfg_or_filter if isinstance(cfg_or_filter, str) else cfg_or_filter.filter
+    return FILTER_KINDS[f][0]
+
+
+def freq_clamp(cfg_or_filter) -> bool:
+    """The configuration's (or filter name's) noise terms are frequency-clamped (sat_fc, sat2_fc)."""
+    f = cfg_or_filter if isinstance(cfg_or_filter, str) else cfg_or_filter.filter
+    return FILTER_KINDS[f][1]
 
 
 class ConfigError(ValueError):
@@ -41,7 +60,7 @@ SCHEMA = {
     "blend": ("features", str, ("cubic", "linear")),
     "transform": ("features", str, ("affine", "pow2")),
     "amplitude": ("features", str, ("any", "pow2")),
-    "filter": ("features", str, ("sat", "sat_fc", "sat2", "mip", "none")),
+    "filter": ("features", str, tuple(FILTER_KINDS)),
     "noise_gradient": ("features", bool, (False, True)),
     "noise_units": ("features", int, (1, 8)),
     "quadric_clocks": ("features", int, (1, 2)),
@@ -71,7 +90,7 @@ SCHEMA = {
     "w_cap_log2": ("formats", int, (1, 20)),
     "div_bits": ("formats", int, (0, 24)),
     "n_log2_max": ("formats", int, (0, 10)),
-    # filter "sat_fc" (frequency clamping, docs/filters.md): each term fades to its mean over
+    # filters "sat_fc", "sat2_fc" (frequency clamping, docs/filters.md): each term fades to its mean over
     # 2^fc_fade_log2 octaves of its footprint phi (noise cells a pixel), ending at phi =
     # 2^(fc_knee / 2^fc_log_frac); log2 phi in fc_log_frac fraction bits
     "fc_log_frac": ("formats", int, (1, 8)),
@@ -283,7 +302,7 @@ def _derive(c: Config) -> dict:
     # colour index u = f * N in units of 2^-f_frac entries (clamp mode: guarded by w_cap/2,
     # sat2 by w_cap: its window reaches (a + b) / 2 <= w_cap from u)
     nmax_entries = 1 << c.n_log2_max
-    d["u_guard"] = d["w_cap"] if c.filter == "sat2" else d["w_cap"] >> 1
+    d["u_guard"] = d["w_cap"] if c.filter in SAT2_FILTERS else d["w_cap"] >> 1
     umax = max(nmax_entries << c.f_frac, 0) + d["u_guard"]
     d["u_w"] = bits_signed(umax)
     # window ends x = 2u -+ w in units of 2^-(f_frac+1) entries
@@ -486,8 +505,8 @@ def _check(c: Config, p: Path) -> None:
     need(c.w_cap_log2 >= c.n_log2_max, "formats.w_cap_log2 must be >= n_log2_max (w must reach N)")
     need(c.noise_units <= max(c.noise_terms, 1), f"features.noise_units = {c.noise_units} must be <= noise_terms "
                                                  f"= {c.noise_terms} (U noise units take the K terms U a clock)")
-    need(c.filter != "sat_fc" or not (0 < c.noise_units < c.noise_terms),
-         "features.filter = \"sat_fc\" needs unfolded noise terms (noise_units = noise_terms)")
+    need(not freq_clamp(c) or not (0 < c.noise_units < c.noise_terms),
+         f"features.filter = \"{c.filter}\" needs unfolded noise terms (noise_units = noise_terms)")
     need(c.quadric_clocks == 1 or (c.quadric == "diagonal" and 0 < c.noise_units < c.noise_terms),
          "features.quadric_clocks = 2 needs a diagonal quadric and folded noise terms (noise_units < noise_terms)")
 
@@ -507,9 +526,9 @@ def _check_rtl(c: Config, p: Path) -> None:
         nq_w = c.div_bits + 8 + (1 if c.div_bits <= 9 else 0)
         need(nq_w <= c.d_w - 1, f"formats.div_bits = {c.div_bits}: the normalised quotient needs {nq_w} bits, "
                                 f"the box-filter integral has {c.d_w - 1}")
-    if c.filter == "sat2":
+    if c.filter in SAT2_FILTERS:
         # Gamma + 4ab + 2h(sh) < 2^(d2_w + 1) must fit the golden model's int64 (numpy) words
-        need(c.d2_w <= 61, f"features.filter = \"sat2\": 2 (w_cap_log2 + f_frac) = "
+        need(c.d2_w <= 61, f"features.filter = \"{c.filter}\": 2 (w_cap_log2 + f_frac) = "
                            f"{2 * (c.w_cap_log2 + c.f_frac)} must be <= 50 (the trapezoid's second difference "
                            f"has {c.d2_w} bits; at most 61)")
 
@@ -657,6 +676,11 @@ def random_config(seed: int, name: str | None = None, tries: int = 1000) -> Conf
         if (v["filter"] == "sat" and v["w_cap_log2"] + v["f_frac"] <= 25
                 and np.random.default_rng([seed, 27]).random() < 0.25):
             v["filter"] = "sat2"
+        # the trapezoid with frequency clamping in place of half the sat_fc draws whose words fit it
+        # (a generator of its own again: the other draws are what they were)
+        if (v["filter"] == "sat_fc" and v["w_cap_log2"] + v["f_frac"] <= 25
+                and np.random.default_rng([seed, 28]).random() < 0.5):
+            v["filter"] = "sat2_fc"
         # drawn from a generator of its own, so that the other keys' draws are what they were
         v["fpga_regs"] = fpga_regs
         try:

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from model.hw.config import FC_KSF, Config, clocks_per_pixel, latency
+from model.hw.config import FC_KSF, SAT2_FILTERS, Config, clocks_per_pixel, cmap_family, freq_clamp, latency
 
 MODE_MOD, MODE_CLAMP = 0, 1
 I64 = np.int64
@@ -743,7 +743,7 @@ def colour_map(cfg: Config, tex: TexInt, f, w):
     f = np.asarray(f, dtype=I64)
     w = np.asarray(w, dtype=I64)
     u = cmap_u(cfg, f, tex.mode, n_log2)
-    filt = {"none": 0, "sat": 1, "sat_fc": 1, "mip": 2, "sat2": 3}[cfg.filter]
+    filt = {"none": 0, "sat": 1, "mip": 2, "sat2": 3}[cmap_family(cfg)]
     tables = host_tables(tex)
     if filt == 3:  # the trapezoid: w [..., 2] = (a, b); filter off: both 0, the point lookup
         ab = w if tex.filter else np.zeros_like(w)
@@ -770,7 +770,7 @@ def fc_log2(x, lf: int):
 
 
 def fc_weight(cfg: Config, tex: TexInt, Jm, je):
-    """Frequency clamping (filter "sat_fc", rtl/fc_weight.v; docs/filters.md): per term i the
+    """Frequency clamping (filters "sat_fc" and "sat2_fc", rtl/fc_weight.v; docs/filters.md): per term i the
     fade alpha_i u1.{fc_af} and the width wv of the faded terms' spread (u.{f_frac} entries).
 
     The footprint of a pixel in term i's noise cells is taken axis by axis: s_k moves by up to
@@ -900,16 +900,22 @@ def noise_fold_schedule(cfg: Config, k_used: int, in_valid, ce, rst=None) -> dic
 
 
 def cm_align(cfg: Config, mode, f, w, wv=None, f_waits: bool = False):
-    """f and w as colour_map receives them (rtl/cm_align.v): with wv (sat_fc) w = max(w, wv);
+    """f and w as colour_map receives them (rtl/cm_align.v): with wv (frequency clamping) w = max(w, wv)
+    (sat_fc), or with the trapezoid's pair w [..., 2] = (a, b) (sat2_fc) the larger of the two
+    max'd with wv: a >= b: (max(a, wv), b), else (a, max(b, wv));
     while f waits (f_waits) it is carried in fc_w = guard + 3 bits where that is fewer than
     f_w (guard = w_cap_log2 + f_frac - 1, sat2: w_cap_log2 + f_frac): clamp mode (mode 1) saturates it to
     +-2^(guard+1), mod mode wraps it to fc_w bits; colour_map gives the same colour either
     way (rtl/cm_align.v). Returns (f, w)."""
     f = np.asarray(f, dtype=I64)
     w = np.asarray(w, dtype=I64)
-    if wv is not None:
+    sat2 = getattr(cfg, "filter", None) in SAT2_FILTERS  # sat2: colour_map's guard W
+    if wv is not None and sat2:  # the trapezoid: the larger component widened (sat2_fc)
+        a, b = w[..., 0], w[..., 1]
+        ge = a >= b
+        w = np.stack([np.where(ge, np.maximum(a, wv), a), np.where(ge, b, np.maximum(b, wv))], axis=-1)
+    elif wv is not None:
         w = np.maximum(w, wv)
-    sat2 = getattr(cfg, "filter", None) == "sat2"  # sat2: colour_map's guard W
     guard = cfg.w_cap_log2 + cfg.f_frac - 1 + sat2
     fc_w = guard + 3
     if f_waits and fc_w < cfg.f_w:
@@ -922,11 +928,11 @@ def cm_align(cfg: Config, mode, f, w, wv=None, f_waits: bool = False):
 def texture_sum(cfg: Config, tex: TexInt, s, Jm, je):
     """f and grad f of pixels s [..., 3] (rtl/texture_sum.v): (f, c, wv). f = q + sum a_i n_i
     and, with the noise gradient, c = dq/ds + sum a_i grad n_i, summed exactly in the adder
-    trees (sum_tree); without it c = dq/ds (the quadric's, to filter_width). With sat_fc
+    trees (sum_tree); without it c = dq/ds (the quadric's, to filter_width). With sat_fc or sat2_fc
     (unfolded terms) each term is faded by fc_weight's alpha (from Jm [..., 3, 2], je) and wv
     is the faded terms' spread; otherwise wv is None."""
     s = np.asarray(s, dtype=I64)
-    fc = cfg.filter == "sat_fc"
+    fc = freq_clamp(cfg)
     alpha, wv = fc_weight(cfg, tex, Jm, je) if fc else (None, None)
     q, cq = quadric_mac(cfg, tex.Q, s)
     fl, cl = noise_leaves(cfg, tex, s, q, cq, alpha)
@@ -944,9 +950,9 @@ def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
     (a * anything = 0 before every floor shift), so it is skipped.
     """
     f, c, wv = texture_sum(cfg, tex, s, Jm, je)
-    sat2 = cfg.filter == "sat2"  # the two screen components (a, b) instead of |grad f|
+    sat2 = cmap_family(cfg) == "sat2"  # the two screen components (a, b) instead of |grad f|
     w = filter_width(cfg, c, np.asarray(Jm, dtype=I64), je, tex.n_log2, components=sat2)
-    # the faded terms' spread widens the box (sat_fc); f whole (the RTL may carry it in
+    # the faded terms' spread widens the box (sat_fc) or the trapezoid's larger side (sat2_fc); f whole (the RTL may carry it in
     # fewer bits, the same colour)
     f_cm, w = cm_align(cfg, tex.mode, f, w, wv)
     out = {"f": f, "c": c, "w": w.max(axis=-1) if sat2 else w, "rgba": colour_map(cfg, tex, f_cm, w)}

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from model.hw import golden
-from model.hw.config import ROOT
+from model.hw.config import ROOT, cmap_family, freq_clamp
 from model.hw.quantize import FormatError, parameter_changes, quantize_pixels, quantize_texture, quantized_texture
 
 # STRICT's tolerance for rounding (docs/numerics.md, "Rounding a scene's parameters"): quantizing
@@ -56,11 +56,11 @@ def configured_texture(cfg, tex):
     from dataclasses import replace
 
     fc = None
-    if cfg.filter == "sat_fc":  # the fade in octaves of the footprint (model/hw/golden.py fc_weight)
+    if freq_clamp(cfg):  # the fade in octaves of the footprint (model/hw/golden.py fc_weight)
         fc = (cfg.fc_knee / (1 << cfg.fc_log_frac), float(1 << cfg.fc_fade_log2))
     return replace(tex, terms=list(tex.terms[:cfg.noise_terms]), blend=cfg.blend,
                    noise_gradient=bool(cfg.noise_gradient), filter=bool(tex.filter and cfg.filter != "none"), fc=fc,
-                   trapezoid=cfg.filter == "sat2")
+                   trapezoid=cmap_family(cfg) == "sat2")
 
 
 def approximations(cfg, tex, name: str) -> list[str]:
@@ -78,7 +78,8 @@ def approximations(cfg, tex, name: str) -> list[str]:
                    f"the filter width (configuration {cfg.name}: noise_gradient = {str(cfg.noise_gradient).lower()})")
     if tex.filter and cfg.filter != "sat":
         kind = {"mip": "a MIP map", "none": "point lookup", "sat_fc": "the box with frequency clamping",
-                "sat2": "the trapezoid (exact for f linear across the pixel)"}[cfg.filter]
+                "sat2": "the trapezoid (exact for f linear across the pixel)",
+                "sat2_fc": "the trapezoid with frequency clamping"}[cfg.filter]
         out.append(f"texture {name}: box filter replaced by {kind} (configuration {cfg.name}: filter = {cfg.filter})")
     return out
 

@@ -5,10 +5,13 @@ texture_pipeline: the output pairs f and w entered that many enabled clocks apar
 Parameter sets (F_W, F_FRAC, W_CAP_LOG2, WV_MAX, LATENCY_F, LATENCY_W): the f and w formats of
 full, reduced, compact and two random configurations, each with f waiting (f carried in fewer
 bits where guard + 3 < F_W), w waiting, and with sat_fc's max(w, wv) stage (w waiting or f
-waiting); a small format (F_W 12: saturation at +-2^6) and the plain wire (both 0).
+waiting); a small format (F_W 12: saturation at +-2^6) and the plain wire (both 0); the
+trapezoid's pair (NW 2, filters sat2 and sat2_fc: w = {b, a}, the clamp guard W) of full's
+formats, waiting and with sat2_fc's stage (the larger of a and b max'd with wv), and small.
 Vectors: every clock new f, w, wv, mode and the two valid bits (random, so the later path's
 valid must be the output's), ce dropped at random (the outputs must hold); f uniform over
-its word, and at +-2^(guard+1) + {-1, 0, 1} and small values; w, wv uniform over theirs.
+its word, and at +-2^(guard+1) + {-1, 0, 1} and small values; w, wv uniform over theirs (NW 2:
+a and b each, a third of them equal).
 """
 from __future__ import annotations
 
@@ -35,11 +38,17 @@ def _sets():
     small = {"F_W": 12, "F_FRAC": 4, "W_CAP_LOG2": 2}
     out["small_fwait"] = {**small, "WV_MAX": 1, "LATENCY_F": 5, "LATENCY_W": 1}
     out["wire"] = {**small, "WV_MAX": 0, "LATENCY_F": 0, "LATENCY_W": 0}
+    full = load_config("full")
+    fmt = {"F_W": full.f_w, "F_FRAC": full.f_frac, "W_CAP_LOG2": full.w_cap_log2, "NW": 2}
+    for tag, wv, lf, lw in (("fwait", 0, 3, 0), ("wwait", 0, 0, 2), ("fc", 1, 2, 1), ("fc_wwait", 1, 0, 4)):
+        out[f"sat2_{tag}"] = {**fmt, "WV_MAX": wv, "LATENCY_F": lf, "LATENCY_W": lw}
+    out["sat2_small_fc"] = {**small, "NW": 2, "WV_MAX": 1, "LATENCY_F": 5, "LATENCY_W": 1}
     return out
 
 
 # under Verilator: each kind of wait (full_wwait: w waits, out_valid from w's path; make coverage)
-test_cm_align_rtl = pipe.block_test("cm_align", _sets(), ("full_fc", "small_fwait", "full_fwait", "full_wwait"),
+test_cm_align_rtl = pipe.block_test("cm_align", _sets(), ("full_fc", "small_fwait", "full_fwait", "full_wwait",
+                                                          "sat2_fc"),
                                     __file__, sources=["cm_align.v", "delay_line.v"])
 
 
@@ -48,8 +57,9 @@ async def cm_align_bit_exact(dut):
     p = pipe.block_params()
     fw, ff, wc = p["F_W"], p["F_FRAC"], p["W_CAP_LOG2"]
     wvmax, lf, lw = p["WV_MAX"], p["LATENCY_F"], p["LATENCY_W"]
+    nw = p.get("NW", 1)
     ww = wc + ff + 1
-    cfg = SimpleNamespace(f_w=fw, f_frac=ff, w_cap_log2=wc)
+    cfg = SimpleNamespace(f_w=fw, f_frac=ff, w_cap_log2=wc, filter="sat2" if nw == 2 else "sat")
     r = pipe.rng(67)
     n = pipe.n_vectors()
     top = 1 << (wc + ff)  # 2^(guard+1)
@@ -59,12 +69,18 @@ async def cm_align_bit_exact(dut):
     small = r.random(len(f)) < 0.3
     f[small] = r.integers(-2 * top, 2 * top + 1, int(small.sum()), dtype=np.int64)
     m = len(f)
-    w = r.integers(0, 1 << ww, m, dtype=np.int64)
+    w = r.integers(0, 1 << ww, (m, nw) if nw == 2 else m, dtype=np.int64)
+    if nw == 2:  # a = b a third of the time (the tie: a is the larger)
+        tie = r.random(m) < 1 / 3
+        w[tie, 1] = w[tie, 0]
     wv = r.integers(0, 1 << ww, m, dtype=np.int64)
     mode = r.integers(0, 2, m, dtype=np.int64)
     fv = r.integers(0, 2, m, dtype=np.int64)
     wvl = r.integers(0, 2, m, dtype=np.int64)
     f_exp, w_exp = G.cm_align(cfg, mode, f, w, wv if wvmax else None, f_waits=lf > 0)
+    if nw == 2:  # as words {b, a}
+        w = w[:, 0] | (w[:, 1] << ww)
+        w_exp = w_exp[:, 0] | (w_exp[:, 1] << ww)
     lat_m = lw - (1 if wvmax else 0)  # w's own wait (the max stage is one register)
     # the later path brings the valid bit: f when w waits, else w (through the max stage)
     v_exp, lv = (fv, lf) if lat_m > 0 else (wvl, lw)
