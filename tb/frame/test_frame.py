@@ -328,6 +328,39 @@ def test_frame_sat_fc(sim, grad):
     assert seen == {"0", "1", "fade", "wv"}, f"the stimulus does not cover the fade (alpha 0, 1, between; wv > w): {sorted(seen)}"
 
 
+@pytest.mark.parametrize("sim", sorted({sim for sim, _ in hdlbuild.sim_params()}))
+def test_frame_sat2_fc(sim):
+    """The trapezoid with frequency clamping (sat2_fc: sat_fc's fc_weight and fc_scale, sat2's
+    filter_width components and cmap_sat2, cm_align widening the larger of a and b to wv) through
+    the whole pipeline: reduced_fc with filter sat2_fc and the noise gradient (its gradients
+    faded too); random textures in both modes, footprints from whole terms to gone, with gaps and
+    stalls: every pixel bit-exact, and wv above the larger width and below it both met."""
+    run_frame_rtl = _frame_rtl()
+    cfg = variant(load_config("reduced_fc"), "reduced_sat2_fc_ng", filter="sat2_fc", noise_gradient=True)
+    seed = _seed()
+    print(f"[frame {cfg.name} {sim}] SEED={seed}")
+    r = np.random.default_rng(seed + 27)
+    n = min(_n_pixels(sim), 1500)
+    from model.hw.golden import filter_width, texture_sum
+
+    seen = set()
+    for t, mode in enumerate((MODE_MOD, MODE_CLAMP)):
+        tex = random_texture(cfg, r, "real", mode=mode, filt=True)
+        tex.Q[:9] = 0  # a constant quadric (the seascape's): the faded terms' spread is the width
+        tex.k_used = max(tex.k_used, 1)
+        if tex.a[0] == 0:
+            tex.a[0] = 1 << cfg.a_frac
+        s, Jm, je = random_pixels(cfg, r, n, "real")
+        je[: n // 2] = r.integers(cfg.je_min, cfg.je_max + 1, n // 2)  # footprints of every size
+        _, c, wv = texture_sum(cfg, tex, s, Jm, je)
+        ab = filter_width(cfg, c, Jm, je, tex.n_log2, components=True)  # (a, b) before the widening
+        seen |= {"wv"} if (wv > ab.max(axis=1)).any() else set()
+        seen |= {"ab"} if ((wv > 0) & (wv <= ab.max(axis=1))).any() else set()
+        got, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed + t)
+        _compare(cfg, tex, s, Jm, je, got, f"{cfg.name} texture {t}, gaps 30% / stalls 40%")
+    assert seen == {"wv", "ab"}, f"the stimulus does not widen a trapezoid and keep another: {sorted(seen)}"
+
+
 def _fpga_params():
     """(sim, base): reduced and compact with features.fpga_regs = true, under Verilator (SIM=
     narrows; CONFIG= picks one base)."""
