@@ -34,7 +34,6 @@ FILTER_KINDS = {"sat": ("sat", False), "sat_fc": ("sat", True), "sat2": ("sat2",
 SAT_FILTERS = ("sat", "sat_fc")  # the filters that read the summed-area table (the box)
 SAT2_FILTERS = ("sat2", "sat2_fc")  # the trapezoid's (a second table: the running sum of csat)
 TABLE_FILTERS = SAT_FILTERS + SAT2_FILTERS  # the filters whose tables include csat (sat2: and its running sum)
-FC_FILTERS = ("sat_fc", "sat2_fc")  # the filters with frequency clamping of the noise terms
 
 
 def cmap_family(cfg_or_filter) -> str:

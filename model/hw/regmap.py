@@ -192,7 +192,7 @@ def write_sequence(cfg: Config, tex: TexInt) -> list[tuple[int, int]]:
     Every parameter register is written (noise terms beyond len(tex.a) get zeros; with
     per-term exponents, cfg.t_exp_w or a_exp_w > 0, each term's TERM_E word too: te_k, ae_k),
     so a pass never depends on the previous one. The colour tables written are the
-    ones the configuration's filter reads: clut always, csat for "sat", "sat_fc" and "sat2" (sat2's
+    ones the configuration's filter reads: clut always, csat for "sat", "sat_fc", "sat2" and "sat2_fc" (sat2's
     running sum of csat is derived by the unit from the csat writes, in ascending order), mip for "mip".
     """
     if cfg.d["o_w"] > 32 or cfg.q_w > 32 or cfg.a_w > 32 or cfg.t_w > 32 or cfg.csat_w > 32:

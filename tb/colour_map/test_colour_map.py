@@ -38,7 +38,7 @@ from cocotb.triggers import RisingEdge
 
 import hdlbuild
 from model.hw import golden
-from model.hw.config import TABLE_FILTERS, load_config, variant
+from model.hw.config import TABLE_FILTERS, cmap_family, load_config, variant
 from tb import pipe
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -247,7 +247,7 @@ async def colour_map_vs_golden(dut):
         filt = np.concatenate([he, re_])
         perm = r.permutation(len(f))
         f, w, mode, filt = f[perm], w[perm], mode[perm], filt[perm]
-        if cfg.filter == "sat2":  # w = (a, b): b the same widths in another order
+        if cmap_family(cfg) == "sat2":  # w = (a, b): b the same widths in another order
             w = np.stack([w, w[r.permutation(len(w))]], axis=-1)
         exp = expected(cfg, n_log2, clut, f, w, mode, filt)
         fl, ml, el = f.tolist(), mode.tolist(), filt.tolist()

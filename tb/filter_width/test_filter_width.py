@@ -33,6 +33,7 @@ import cocotb
 
 import hdlbuild
 from model.hw import golden as G
+from model.hw.config import cmap_family
 from tb import pipe
 
 SOURCES = ["filter_width.v", "isqrt.v", "bitlen.v", "delay_line.v", "mul_pipe.v"]
@@ -317,7 +318,7 @@ async def reset_outputs(dut):
     cfg = pipe.cfg()
     await pipe.start(dut)
     assert str(dut.out_valid.value) == "0"
-    nw = 2 if cfg.filter == "sat2" else 1  # sat2: {b, a}
+    nw = 2 if cmap_family(cfg) == "sat2" else 1  # sat2, sat2_fc: {b, a}
     assert str(dut.w_out.value) == "0" * (nw * cfg.w_w), f"w_out after reset: {dut.w_out.value}"
 
 
@@ -371,7 +372,7 @@ async def vectors_bit_exact(dut):
     await pipe.start(dut)
     got = await pipe.run_vectors(dut, apply, sample, n, latency=latency(cfg), seed=int(os.environ.get("SEED", "1")))
     got = np.array(got, dtype=np.int64)
-    if cfg.filter == "sat2":  # COMPONENTS: w_out = {b, a}
+    if cmap_family(cfg) == "sat2":  # COMPONENTS: w_out = {b, a}
         ab = np.zeros((n, 2), dtype=np.int64)
         for k in np.unique(nl):
             m = nl == k

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import hdlbuild
-from model.hw.config import clocks_per_pixel, load_config, variant
+from model.hw.config import clocks_per_pixel, freq_clamp, load_config, variant
 from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt, texture_stages
 
 ROOT_CFG = hdlbuild.ROOT / "config" / "candidates"  # candidate configurations (full_bfp)
@@ -452,7 +452,7 @@ def test_frame_exponents(tmp_path, sim, name):
             tex.ae[:] = np.where(np.arange(cfg.noise_terms) % 2 == 0, 0, cfg.d["ae_max"])
             tex.a[tex.a == 0] = 1 << (cfg.a_w - 3)
         s, Jm, je = random_pixels(cfg, r, n, pkind)
-        if cfg.filter == "sat_fc":  # footprints of every size: every term from whole to gone
+        if freq_clamp(cfg):  # footprints of every size: every term from whole to gone
             je[: n // 2] = r.integers(cfg.je_min, cfg.je_max + 1, n // 2)
         got, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed + t,
                                        extra_writes=junk_writes(cfg, r))

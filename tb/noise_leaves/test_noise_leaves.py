@@ -27,7 +27,7 @@ import cocotb
 
 import hdlbuild
 from model.hw import golden as G
-from model.hw.config import folded, latency, load_config, variant
+from model.hw.config import folded, freq_clamp, latency, load_config, variant
 from tb import pipe
 from tb.noise_term.test_noise_term import rand_a, rand_o, rand_s, rand_T
 
@@ -49,7 +49,7 @@ def config_of(config):
 def params(cfg, extra: int) -> dict:
     """texture_pipeline's parameters for noise_leaves (LATENCY: the terms' own plus `extra`)."""
     nt = {k: v for k, v in hdlbuild.block_params(cfg, "noise_term").items() if k != "PARAM_PIPE"}
-    fc = 1 if cfg.filter == "sat_fc" and cfg.noise_terms > 0 else 0
+    fc = 1 if freq_clamp(cfg) and cfg.noise_terms > 0 else 0
     lat = latency("noise_term", cfg) + (latency("fc_scale") if fc else 0) + extra
     return {**nt, "QUADRIC": 1 if cfg.quadric == "diagonal" else 0, "Q_W": cfg.q_w, "Q_FRAC": cfg.q_frac,
             "NOISE_TERMS": cfg.noise_terms, "NOISE_UNITS": cfg.noise_units, "FC": fc,
