@@ -53,6 +53,25 @@ def pack(values, width: int) -> int:
     return out
 
 
+def pack_a_all(cfg, a, ae) -> int:
+    """The terms' amplitudes as texture_pipeline's a_all: term k's {ae_k, a_k} at k (a_w + a_exp_w)
+    (the exponent above the mantissa; none with a_exp_w = 0: tex_regs' layout)."""
+    return pack([(int(ae_k) << cfg.a_w) | (int(a_k) & ((1 << cfg.a_w) - 1)) for a_k, ae_k in zip(a, ae)],
+                cfg.a_w + cfg.a_exp_w)
+
+
+def pack_t_all(cfg, T, te) -> int:
+    """The terms' transforms as texture_pipeline's t_all: term k's {te_k, T_k} at k (9 t_w + t_exp_w),
+    T_k[j][m] at (3 j + m) t_w in it."""
+    return pack([(int(te_k) << (9 * cfg.t_w)) | pack(np.asarray(T_k).reshape(-1), cfg.t_w) for T_k, te_k in zip(T, te)],
+                9 * cfg.t_w + cfg.t_exp_w)
+
+
+def rand_exp(rng, e_max: int) -> int:
+    """A term's exponent: 0, the largest, or uniform in 0..e_max, equally likely (0 without exponents)."""
+    return 0 if not e_max else (0, e_max, int(rng.integers(0, e_max + 1)))[int(rng.integers(0, 3))]
+
+
 def unpack(word: int, width: int, count: int, signed: bool = True):
     m = (1 << width) - 1
     out = []

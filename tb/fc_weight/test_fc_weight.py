@@ -159,11 +159,8 @@ def make_pixels(cfg, r, tex, n: int):
 
 
 def _drive_pass(dut, cfg, tex):
-    # term k: {ae_k, a_k} and {te_k, T_k} (the exponents only with t_exp_w, a_exp_w > 0)
-    dut.a_all.value = pipe.pack([pipe.pack([a], cfg.a_w) | (int(e) << cfg.a_w) for a, e in zip(tex.a, tex.ae)],
-                                cfg.a_w + cfg.a_exp_w)
-    dut.t_all.value = pipe.pack([pipe.pack(np.asarray(T).reshape(-1), cfg.t_w) | (int(e) << (9 * cfg.t_w))
-                                 for T, e in zip(tex.T, tex.te)], 9 * cfg.t_w + cfg.t_exp_w)
+    dut.a_all.value = pipe.pack_a_all(cfg, tex.a, tex.ae)
+    dut.t_all.value = pipe.pack_t_all(cfg, tex.T, tex.te)
     dut.k_used.value = tex.k_used
     dut.filter_en.value = int(tex.filter)
     dut.n_log2.value = tex.n_log2

@@ -143,11 +143,8 @@ async def noise_fold_bit_exact(dut):
         sides = [rr.getrandbits(side_w) for _ in s_words]
         iv, ce, rst, sch = _streams(cfg, b, rr)
         dut.k_used.value = b["k_used"]
-        # term k: {ae, a} and {te, T} (the exponents only with t_exp_w, a_exp_w > 0)
-        dut.a_all.value = pipe.pack([(a & ((1 << cfg.a_w) - 1)) | ae << cfg.a_w for a, ae in zip(b["a"], b["ae"])],
-                                    cfg.a_w + cfg.a_exp_w)
-        dut.t_all.value = pipe.pack([pipe.pack(np.asarray(T).reshape(-1), cfg.t_w) | te << (9 * cfg.t_w)
-                                     for T, te in zip(b["T"], b["te"])], 9 * cfg.t_w + cfg.t_exp_w)
+        dut.a_all.value = pipe.pack_a_all(cfg, b["a"], b["ae"])
+        dut.t_all.value = pipe.pack_t_all(cfg, b["T"], b["te"])
         dut.o_all.value = pipe.pack([int(v) for o in b["o"] for v in o], cfg.o_w)
         taken = 0
         for t in range(len(iv)):

@@ -79,19 +79,14 @@ async def noise_leaves_bit_exact(dut):
     ng = cfg.noise_gradient
     n_batches = max(2, pipe.n_vectors(400) // 100)
     re = np.random.default_rng([71, 29])  # the exponents' own generator: the other draws stay as without them
-
-    def rand_e(e_max: int) -> int:
-        """A term's exponent: 0, the largest, or uniform (0 without exponents)."""
-        return 0 if not e_max else (0, e_max, int(re.integers(0, e_max + 1)))[int(re.integers(0, 3))]
-
     s_all, batches, par, exp_f, exp_c = [], [], [], [], []
     for b in range(n_batches):
         m = int(r.integers(1, 200))
         s = rand_s(cfg, r, m)
         tex = SimpleNamespace(k_used=int(r.integers(0, k + 1)), a=[rand_a(cfg, r) if r.random() > 0.15 else 0 for _ in range(k)],
                               T=[rand_T(cfg, r) for _ in range(k)], o=[rand_o(cfg, r) for _ in range(k)],
-                              te=np.array([rand_e(cfg.d["te_max"]) for _ in range(k)], dtype=np.int64),
-                              ae=np.array([rand_e(cfg.d["ae_max"]) for _ in range(k)], dtype=np.int64))
+                              te=np.array([pipe.rand_exp(re, cfg.d["te_max"]) for _ in range(k)], dtype=np.int64),
+                              ae=np.array([pipe.rand_exp(re, cfg.d["ae_max"]) for _ in range(k)], dtype=np.int64))
         q = int(r.integers(-(1 << (cfg.qf_w - 1)), 1 << (cfg.qf_w - 1)))
         cq = r.integers(-(1 << (cfg.c_w - 1)), 1 << (cfg.c_w - 1), 3, dtype=np.int64)
         alpha = r.integers(0, (1 << cfg.fc_af) + 1, kv, dtype=np.int64)
@@ -108,12 +103,8 @@ async def noise_leaves_bit_exact(dut):
     def set_params(b):
         tex, q, cq, alpha = par[[x for x, _ in batches].index(b)]
         dut.k_used.value = tex.k_used
-        # {ae_k, a_k} and {te_k, T_k} (the exponents above the mantissas: rtl/noise_leaves.v, tex_regs' layout)
-        a_w, ts_w = cfg.a_w + cfg.a_exp_w, 9 * cfg.t_w + cfg.t_exp_w
-        dut.a_all.value = pipe.pack([(int(tex.ae[i]) << cfg.a_w) | (int(tex.a[i]) & ((1 << cfg.a_w) - 1))
-                                     for i in range(k)] or [0], a_w)
-        dut.t_all.value = pipe.pack([(int(tex.te[i]) << (9 * cfg.t_w)) | pipe.pack(np.asarray(tex.T[i]).reshape(-1), cfg.t_w)
-                                     for i in range(k)] or [0], ts_w)
+        dut.a_all.value = pipe.pack_a_all(cfg, tex.a, tex.ae)
+        dut.t_all.value = pipe.pack_t_all(cfg, tex.T, tex.te)
         dut.o_all.value = pipe.pack([int(v) for o in tex.o for v in o] or [0] * 3, cfg.o_w)
         dut.alpha.value = pipe.pack(alpha, cfg.fc_af + 1)
         dut.q_in.value = q & ((1 << cfg.qf_w) - 1)

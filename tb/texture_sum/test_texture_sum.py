@@ -65,11 +65,6 @@ async def _monitor(dut, rows, stop):
         rows.append((ce, iv, _int(dut.c_valid), _int(dut.c_out), _int(dut.wv_out)))
 
 
-def _rand_e(re, e_max: int) -> int:
-    """A term's exponent: 0, the largest, or uniform (0 without exponents)."""
-    return 0 if not e_max else (0, e_max, int(re.integers(0, e_max + 1)))[int(re.integers(0, 3))]
-
-
 def _batch(cfg, r, fc: bool, m: int, re):
     """One pass: its parameters (a TexInt-like namespace) and m pixels (s, Jm, je); re draws the
     exponents (a generator of their own: the other draws stay as without them)."""
@@ -78,8 +73,8 @@ def _batch(cfg, r, fc: bool, m: int, re):
                           a=np.array([rand_a(cfg, r) if r.random() > 0.15 else 0 for _ in range(k)], dtype=np.int64),
                           T=np.array([rand_T(cfg, r) for _ in range(k)], dtype=np.int64).reshape(k, 3, 3),
                           o=np.array([rand_o(cfg, r) for _ in range(k)], dtype=np.int64).reshape(k, 3),
-                          te=np.array([_rand_e(re, cfg.d["te_max"]) for _ in range(k)], dtype=np.int64),
-                          ae=np.array([_rand_e(re, cfg.d["ae_max"]) for _ in range(k)], dtype=np.int64),
+                          te=np.array([pipe.rand_exp(re, cfg.d["te_max"]) for _ in range(k)], dtype=np.int64),
+                          ae=np.array([pipe.rand_exp(re, cfg.d["ae_max"]) for _ in range(k)], dtype=np.int64),
                           filter=bool(r.random() < 0.8), n_log2=int(r.integers(0, cfg.n_log2_max + 1)))
     # the RTL's coefficients: a diagonal quadric's B, C, F random (not to be passed on), the twin's 0
     tex.q_rtl = tex.Q.copy()
@@ -122,12 +117,8 @@ async def texture_sum_bit_exact(dut):
         tex = par[[x for x, _ in batches].index(b)]
         dut.q_coef.value = pipe.pack(tex.q_rtl, cfg.q_w)
         dut.k_used.value = tex.k_used
-        # {ae_k, a_k} and {te_k, T_k} (the exponents above the mantissas, tex_regs' layout)
-        k = len(tex.a)
-        dut.a_all.value = pipe.pack([(int(tex.ae[i]) << cfg.a_w) | (int(tex.a[i]) & ((1 << cfg.a_w) - 1))
-                                     for i in range(k)] or [0], cfg.a_w + cfg.a_exp_w)
-        dut.t_all.value = pipe.pack([(int(tex.te[i]) << (9 * cfg.t_w)) | pipe.pack(tex.T[i].reshape(-1), cfg.t_w)
-                                     for i in range(k)] or [0], 9 * cfg.t_w + cfg.t_exp_w)
+        dut.a_all.value = pipe.pack_a_all(cfg, tex.a, tex.ae)
+        dut.t_all.value = pipe.pack_t_all(cfg, tex.T, tex.te)
         dut.o_all.value = pipe.pack(list(tex.o.reshape(-1)) or [0] * 3, cfg.o_w)
         dut.filter_en.value = int(tex.filter)
         dut.n_log2.value = tex.n_log2
