@@ -5,7 +5,8 @@
     (make filters [FILTERS_FLAGS=...])
 
 For each configuration (default: `full`, the paper's box filter on the summed-area table;
-`full_fc`, the same with frequency clamping; the candidates `full_mip`, the colour table's MIP
+`full_fc`, the same with frequency clamping; the candidates `full_narrow`, the box on the narrow
+formats `full` had until issue 26, and on those formats `full_mip`, the colour table's MIP
 map, `full_sat2`, the trapezoid, and `full_sat2_fc`, the trapezoid with frequency clamping;
 docs/filters.md) every scene is rendered by the
 golden model (app.render: filtered, unfiltered, the truth), and the animations of
@@ -31,8 +32,9 @@ from model.scene.passes import SCENES
 ANIMATIONS = ("seascape", "fire")
 # the filters compared: box (sat), box with frequency clamping, MIP map, trapezoid, trapezoid with frequency
 # clamping; the point lookup is every configuration's "unfiltered" render
-DEFAULT_CONFIGS = ("full", "full_fc", "config/candidates/full_mip.toml", "config/candidates/full_sat2.toml",
-                   "config/candidates/full_sat2_fc.toml")
+# (full_mip, full_sat2 and full_sat2_fc are on full_narrow's formats, full's until issue 26: full_narrow is their box)
+DEFAULT_CONFIGS = ("full", "full_fc", "config/candidates/full_narrow.toml", "config/candidates/full_mip.toml",
+                   "config/candidates/full_sat2.toml", "config/candidates/full_sat2_fc.toml")
 
 
 def _scene_rows(configs, scenes, size, out_root, progress):

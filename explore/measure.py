@@ -68,15 +68,21 @@ def source_hash() -> str:
     return _hash(*[(str(p.relative_to(ROOT)), p.read_bytes()) for p in files])[:16]
 
 
+# the keys a point does not name: full_narrow's (full until issue 26: fixed point, no per-term exponents),
+# so a point's values give the Config they gave before full took block floating point
+POINT_BASE = ROOT / "config" / "candidates" / "full_narrow.toml"
+
+
 def point_config(values: dict, name: str | None = None):
-    """The Config of a point's keys (checked like a file: ConfigError names the key). Its name is
-    a hash of the values, so that builds of two points never share a directory."""
+    """The Config of a point's keys over POINT_BASE (checked like a file: ConfigError names the key).
+    Its name is a hash of the values, so that builds of two points never share a directory."""
     name = name or "x" + _hash(sorted(values.items()))[:10]
-    return variant(load_config("full"), name, **values)
+    return variant(load_config(str(POINT_BASE)), name, **values)
 
 
 def point_key(values: dict, opts: dict, src: str) -> str:
-    return _hash(sorted(values.items()), sorted(opts.items()), src)[:20]
+    """A point's record name: its values, the options (not where the corpus was written) and the source."""
+    return _hash(sorted(values.items()), sorted((k, v) for k, v in opts.items() if k != "corpus_root"), src)[:20]
 
 
 # ---------------------------------------------------------------------------- gates
@@ -263,7 +269,8 @@ def measure(values: dict, opts: dict) -> dict:
         if opts.get("corpus"):
             from explore.validate import corpus_quality
 
-            rec["corpus"] = corpus_quality(cfg, n=opts["corpus"]["n"], size=opts["corpus"]["size"])
+            rec["corpus"] = corpus_quality(cfg, n=opts["corpus"]["n"], size=opts["corpus"]["size"],
+                                           root=Path(opts["corpus_root"]) if opts.get("corpus_root") else None)
         rec.update(gates(cfg))
         if opts.get("rtl", True):
             with _output_to(LOG_DIR / f"{cfg.name}.log"):

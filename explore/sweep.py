@@ -97,8 +97,11 @@ def sweep(size: int = 256, rtl_size: int = 32, points: int | None = None, scenes
     if corpus_n:  # every point also on the held-out corpus (written once here, read by every worker)
         from explore.validate import HELDOUT_SEED, corpus_dir
 
-        corpus_dir(HELDOUT_SEED, corpus_n, True)
+        # beside the sweep's output (out/corpus by default): a sweep elsewhere never rewrites out/corpus
+        croot = out.parent / "corpus"
+        corpus_dir(HELDOUT_SEED, corpus_n, True, croot)
         opts["corpus"] = {"n": corpus_n, "size": corpus_size}
+        opts["corpus_root"] = str(out.parent)
     src = measure.source_hash()
     pts = space.plan(plan)
     pts = pts[:points] if points else pts

@@ -168,20 +168,39 @@ always @(posedge clk) begin
     end
 end
 
-// the terms as noise_term takes them: {ae, a} and {te, T} (without exponents the registers)
-genvar gk;
+// the terms as noise_term takes them: {ae, a} and {te, T} (without exponents the registers),
+// each joined by one function in one assign (per-term assigns would drive a_all piecewise);
+// the functions' words hold the exponent registers (AE_W, TE_W: AS_W, TS_W when there are exponents)
+localparam ASX_W = A_W + AE_W;
+localparam TSX_W = 9*T_W + TE_W;
+function [KV*ASX_W-1:0] join_a;
+    input [KV*AE_W-1:0] e;
+    input [KV*A_W-1:0]  m;
+    integer k;
+    begin
+        for (k = 0; k < KV; k = k + 1)
+            join_a[k*ASX_W +: ASX_W] = {e[k*AE_W +: AE_W], m[k*A_W +: A_W]};
+    end
+endfunction
+
+function [KV*TSX_W-1:0] join_t;
+    input [KV*TE_W-1:0]  e;
+    input [KV*9*T_W-1:0] m;
+    integer k;
+    begin
+        for (k = 0; k < KV; k = k + 1)
+            join_t[k*TSX_W +: TSX_W] = {e[k*TE_W +: TE_W], m[k*9*T_W +: 9*T_W]};
+    end
+endfunction
+
 generate
     if (A_EXP_W > 0) begin : g_ae
-        for (gk = 0; gk < KV; gk = gk + 1) begin : g_k
-            assign a_all[gk*AS_W +: AS_W] = {ae_reg[gk*AE_W +: AE_W], a_reg[gk*A_W +: A_W]};
-        end
+        assign a_all = join_a(ae_reg, a_reg);
     end else begin : g_a
         assign a_all = a_reg;
     end
     if (T_EXP_W > 0) begin : g_te
-        for (gk = 0; gk < KV; gk = gk + 1) begin : g_k
-            assign t_all[gk*TS_W +: TS_W] = {te_reg[gk*TE_W +: TE_W], t_reg[gk*9*T_W +: 9*T_W]};
-        end
+        assign t_all = join_t(te_reg, t_reg);
     end else begin : g_t
         assign t_all = t_reg;
     end

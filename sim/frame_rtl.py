@@ -510,14 +510,19 @@ def synthetic_pass(cfg_name: str, pixels: int, seed: int = 1):
     a = np.zeros(K, dtype=np.int64)
     T = np.zeros((K, 3, 3), dtype=np.int64)
     o = r.integers(0, 1 << cfg.d["o_w"], size=(K, 3), dtype=np.int64)
+    # with per-term exponents every term at the largest (T_i = T 2^(te_max - t_frac), a_i = a 2^(ae_max - a_frac)):
+    # the mantissas' fraction bits are then t_frac - te_max and a_frac - ae_max (te_max = ae_max = 0 without)
+    te_max, ae_max = cfg.d["te_max"], cfg.d["ae_max"]
+    t_fb, a_fb = cfg.t_frac - te_max, cfg.a_frac - ae_max
     for i in range(K):
-        a[i] = (1 << cfg.a_frac) >> (i + 1)
+        a[i] = (1 << a_fb) >> (i + 1)
         for j in range(3):
-            T[i, j, j] = (1 << cfg.t_frac) << min(i + 1, cfg.t_w - cfg.t_frac - 2)
+            T[i, j, j] = (1 << t_fb) << min(i + 1, cfg.t_w - t_fb - 2)
     n_log2 = min(6, cfg.n_log2_max)
     ramp = np.linspace(0, 255, 1 << n_log2)
     clut = np.stack([ramp, ramp[::-1], np.full_like(ramp, 128), np.full_like(ramp, 255)], axis=-1).astype(np.int64)
-    tex = TexInt(Q=Q, a=a, T=T, o=o, mode=MODE_MOD, n_log2=n_log2, filter=True, clut=clut)
+    tex = TexInt(Q=Q, a=a, T=T, o=o, mode=MODE_MOD, n_log2=n_log2, filter=True, clut=clut,
+                 te=np.full(K, te_max, dtype=np.int64), ae=np.full(K, ae_max, dtype=np.int64))
     side = int(np.ceil(np.sqrt(pixels)))
     y, x = np.divmod(np.arange(pixels), side)
     u, v = (x + 0.5) / side, (y + 0.5) / side

@@ -162,7 +162,7 @@ def configs(*seeds, colour_edges: bool = False):
 def exponent_configs(*seeds):
     """[(name, Config)] with per-term exponents (formats.t_exp_w, a_exp_w; docs/numerics.md "Block
     floating point"), for the blocks that take them: full_bfp (config/candidates/full_bfp.toml),
-    "full_exp" (full with t_exp_w = 1 and a_exp_w = 2: the exponents as wide as its shifts allow,
+    "full_exp" (full_narrow, full's formats until issue 26, with t_exp_w = 1 and a_exp_w = 2: the exponents as wide as its shifts allow,
     te_max = TS_SHIFT and ae_max = AN_SHIFT, so the largest exponent leaves a shift of 0), and per
     seed "exp<seed>": random_config(seed) (redrawn with seed + 1000 k until both exponents fit) made
     affine with amplitude any, with the widest exponents (at most 3 bits) its shifts allow."""
@@ -172,7 +172,8 @@ def exponent_configs(*seeds):
         return max((e for e in range(4) if (1 << e) - 1 <= limit), default=0)
 
     out = [("full_bfp", load_config(str(ROOT / "config" / "candidates" / "full_bfp.toml"))),
-           ("full_exp", variant(load_config("full"), "full_exp", t_exp_w=1, a_exp_w=2))]
+           ("full_exp", variant(load_config(str(ROOT / "config" / "candidates" / "full_narrow.toml")), "full_exp",
+                                t_exp_w=1, a_exp_w=2))]
     for seed in seeds:
         for k in range(100):
             c = random_config(seed + 1000 * k)

@@ -197,7 +197,8 @@ BAD = {
                          ("render", "frame")),
     "a = 9": (lambda t: {"SCENE": _scene_file(t, "a = 0.5", "a = 9")}, "texture.t.noise[0].a: expected a number in [-8, "
               "7.9997559] (the widest configuration, full_wide s16.12), got 9", ("render", "frame")),
-    "T = 64 (above full_wide's s17.10)": (lambda t: {"SCENE": _scene_file(t, "T = 2.0", "T = 64.0")}, "full_wide s17.10",
+    "T = 64 (above the widest T)": (lambda t: {"SCENE": _scene_file(t, "T = 2.0", "T = 64.0")},
+                                    "entries in [-64, 63.999512] (the widest configuration, full s18.18 x 2^[0..7]), got 64",
                                      ("render", "frame")),
     "T = 32 on reduced (s12.6)": (lambda t: {"SCENE": _scene_file(t, "T = 2.0", "T = 32.0"), "CONFIG": "reduced"},
                                   "noise[0].T[0, 0] = 32 does not fit s12.6", ("render", "frame")),

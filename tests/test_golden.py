@@ -54,7 +54,7 @@ def test_configs_load_and_widths_fit_int64(cfg):
     ],
 )
 def test_bad_config_one_line_error(tmp_path, text, needle):
-    good = (load_config("full").path)
+    good = (load_config("full_wide").path)  # a file that names every key (full names only its formats)
     base = open(good).read()
     p = tmp_path / "bad.toml"
     # replace or append the offending section text on top of a valid file
@@ -88,7 +88,7 @@ def test_parameter_out_of_format_is_rejected_with_name_value_range(cfg):
         quantize_texture(cfg, TextureParams(Q=[1000.0] + [0] * 9, clut=np.zeros((4, 4), np.uint8)))
     msg = str(e.value)
     assert "quadric.A" in msg and "1000" in msg and "range" in msg and f"s{cfg.q_w}.{cfg.q_frac}" in msg
-    big_a = 2.0 ** (cfg.a_w - cfg.a_frac)
+    big_a = 2.0 ** (cfg.a_w - cfg.a_frac + cfg.d["ae_max"])  # with exponents a = A 2^(ae - a_frac), ae <= ae_max
     with pytest.raises(FormatError, match=r"noise\[0\]\.a"):
         quantize_texture(cfg, TextureParams(Q=np.zeros(10), terms=[NoiseTerm(big_a, np.eye(3), [0, 0, 0])]))
     with pytest.raises(FormatError, match="clut"):

@@ -20,12 +20,12 @@ SAT2_FC = load_config(ROOT_CFG / "full_sat2_fc.toml")
 
 
 def test_filter_kinds_and_the_configuration():
-    """The filter key names a colour-map family and the clamp, each on its own; full_sat2_fc is full
-    with "sat2_fc"; sat2_fc needs unfolded terms (as sat_fc) and the trapezoid's words (as sat2)."""
+    """The filter key names a colour-map family and the clamp, each on its own; full_sat2_fc is
+    full_narrow with "sat2_fc"; sat2_fc needs unfolded terms (as sat_fc) and the trapezoid's words (as sat2)."""
     assert {f: (cmap_family(f), freq_clamp(f)) for f in FILTER_KINDS} == {
         "sat": ("sat", False), "sat_fc": ("sat", True), "sat2": ("sat2", False), "sat2_fc": ("sat2", True),
         "mip": ("mip", False), "none": ("none", False)}
-    full = load_config("full")
+    full = load_config(ROOT_CFG / "full_narrow.toml")
     assert SAT2_FC.filter == "sat2_fc" and cmap_family(SAT2_FC) == "sat2" and freq_clamp(SAT2_FC)
     assert SAT2_FC.u_guard == SAT2_FC.w_cap and SAT2_FC.d2_w == load_config(ROOT_CFG / "full_sat2.toml").d2_w
     for k in ("s_w", "noise_terms", "noise_units", "f_frac", "fc_knee", "div_bits"):

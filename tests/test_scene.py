@@ -115,16 +115,16 @@ CASES = {
     "range_colour": (lambda s: s.replace("[0.5, 255, 0, 0, 255]", "[0.5, 256, 0, 0, 255]"), "texture.t.colormap[1][1]", "[0, 255]"),
     "range_stop_pos": (lambda s: s.replace("[1.0, 255, 255, 255, 255]", "[1.5, 255, 255, 255, 255]"), "texture.t.colormap[2][0]", "[0, 1]"),
     "range_a": (lambda s: s.replace("a = 0.5", "a = 9.0"), "texture.t.noise[0].a", "[-8, 7.9997559] (the widest configuration, full_wide s16.12)"),
-    "range_T": (lambda s: s.replace("T = 2.0", "T = 200.0"), "texture.t.noise[0].T", "[-64, 63.999023] (the widest configuration, full_wide s17.10)"),
+    "range_T": (lambda s: s.replace("T = 2.0", "T = 200.0"), "texture.t.noise[0].T", "[-64, 63.999512] (the widest configuration, full s18.18 x 2^[0..7])"),
     # issue 16: |T| in [64, 128) passed the parser although no configuration holds it
-    "range_T_64": (lambda s: s.replace("T = 2.0", "T = 64.0"), "texture.t.noise[0].T", "full_wide s17.10"),
+    "range_T_64": (lambda s: s.replace("T = 2.0", "T = 64.0"), "texture.t.noise[0].T", "full s18.18 x 2^[0..7]"),
     # issue 16: fractional colour-table entries were rounded silently
     "entries_fraction": (lambda s: s.replace("size = 16\ncolormap = [[0.0, 0, 0, 0, 255], [0.5, 255, 0, 0, 255], "
                                              "[1.0, 255, 255, 255, 255]]", "entries = [[127.5, 0, 0, 255]]"),
                          "texture.t.entries[0][0]", "not rounded"),
     "background_fraction": (lambda s: s.replace("background = [10, 20, 30, 255]", "background = [10.5, 20, 30, 255]"),
                             "scene.background[0]", "integer 0..255"),
-    "range_quadric": (lambda s: s.replace("quadric = [1.0,", "quadric = [500.0,"), "texture.t.quadric[0]", "[-128, 127.99998] (the widest configuration, full_wide s24.16)"),
+    "range_quadric": (lambda s: s.replace("quadric = [1.0,", "quadric = [500.0,"), "texture.t.quadric[0]", "[-128, 127.999996185] (the widest configuration, full s26.18)"),
     "range_background": (lambda s: s.replace("background = [10, 20, 30, 255]", "background = [10, 20, 30, 999]"),
                          "scene.background[3]", "255"),
     "stop_order": (lambda s: s.replace("[0.5, 255, 0, 0, 255], [1.0,", "[0.5, 255, 0, 0, 255], [0.25,"),

@@ -389,8 +389,9 @@ def fc_variant(base: Config) -> Config:
 
 
 def _read_raw(p: Path, seen: tuple = ()) -> dict:
-    """A configuration file's table; `base = "<name>"` takes every key of config/<name>.toml
-    that the file does not set itself (a variant names only what it changes)."""
+    """A configuration file's table; `base = "<name>"` takes every key of config/<name>.toml (or, when
+    config/ has no such file, config/candidates/<name>.toml) that the file does not set itself (a variant
+    names only what it changes)."""
     try:
         raw = tomllib.loads(p.read_text())
     except tomllib.TOMLDecodeError as e:
@@ -398,9 +399,11 @@ def _read_raw(p: Path, seen: tuple = ()) -> dict:
     base = raw.pop("base", None)
     if base is None:
         return raw
-    bp = CONFIG_DIR / f"{base}.toml"
-    if not isinstance(base, str) or not bp.exists():
-        raise ConfigError(f"{p}: base = {base!r}: no such configuration in config/")
+    bp = CONFIG_DIR / f"{base}.toml" if isinstance(base, str) else None
+    if bp is not None and not bp.exists():  # a candidate may build on another candidate
+        bp = CONFIG_DIR / "candidates" / f"{base}.toml"
+    if bp is None or not bp.exists():
+        raise ConfigError(f"{p}: base = {base!r}: no such configuration in config/ or config/candidates/")
     if bp.resolve() in seen or bp.resolve() == p.resolve():
         raise ConfigError(f"{p}: base = {base!r}: a cycle of bases")
     out = _read_raw(bp, seen + (p.resolve(),))
@@ -631,7 +634,7 @@ def random_config(seed: int, name: str | None = None, tries: int = 1000) -> Conf
     """
     r = np.random.default_rng(seed)
     fpga_regs = bool(np.random.default_rng([seed, 17]).integers(0, 2))
-    base = load_config("full")
+    base = load_config("full_wide")  # the keys not drawn (fc_*, no per-term exponents): full's before issue 26
     for _ in range(tries):
         v = config_values(base)
         v["quadric"] = str(r.choice(["full", "diagonal"]))

@@ -425,9 +425,16 @@ def colormap_to_clut(stops: np.ndarray, n: int) -> np.ndarray:
     return np.clip(np.floor(out + 0.5), 0, 255).astype(np.uint8)
 
 
+def _top(x: float) -> str:
+    """x, the largest value of a format, in 8 significant digits, unless they round it up to the
+    power of two the format stops below (s26.18's 127.99999618 as "128", a value it does not hold)."""
+    t = f"{x:.8g}"
+    return f"{x:.12g}" if float(t) > x and float(t) == int(float(t)) else t
+
+
 def _parse_T(file, key, v):
     lo, hi, fmt = _limits()["T"]
-    desc = (f"a number, a list of 3 numbers (diagonal) or a 3x3 matrix, entries in [{lo:.8g}, {hi:.8g}] "
+    desc = (f"a number, a list of 3 numbers (diagonal) or a 3x3 matrix, entries in [{lo:.8g}, {_top(hi)}] "
             f"(the widest configuration, {fmt})")
     if _is_num(v):
         x = _check_num(v, lambda: key, file, lo, hi, False, False, desc)
@@ -448,7 +455,7 @@ def _parse_texture(file, name, tv):
     tv.check_keys({"quadric", "blend", "mode", "filter", "noise_gradient", "colormap", "size", "entries", "noise"})
     L = _limits()
     qlo, qhi, qfmt = L["quadric"]
-    qdesc = f"in [{qlo:.8g}, {qhi:.8g}] (the widest configuration, {qfmt})"
+    qdesc = f"in [{qlo:.8g}, {_top(qhi)}] (the widest configuration, {qfmt})"
     Q = tv.vec("quadric", 10, what=f"a list of 10 quadric coefficients A..J, each {qdesc}")
     if np.any((Q < qlo) | (Q > qhi)):
         k = int(np.argmax((Q < qlo) | (Q > qhi)))
@@ -470,7 +477,7 @@ def _parse_texture(file, name, tv):
         nv = _V(file, nt, tv.key("noise") + f"[{i}]")
         nv.check_keys({"a", "T", "o"})
         alo, ahi, afmt = L["a"]
-        a = nv.num("a", lo=alo, hi=ahi, what=f"a number in [{alo:.8g}, {ahi:.8g}] (the widest configuration, {afmt})")
+        a = nv.num("a", lo=alo, hi=ahi, what=f"a number in [{alo:.8g}, {_top(ahi)}] (the widest configuration, {afmt})")
         T = _parse_T(file, nv.key("T"), nv.get("T", "a number, a list of 3 numbers or a 3x3 matrix"))
         o = nv.vec("o", 3, [0.0, 0.0, 0.0])
         terms.append(NoiseTerm(a, T, o))

@@ -78,9 +78,9 @@ async def cm_align_bit_exact(dut):
     fv = r.integers(0, 2, m, dtype=np.int64)
     wvl = r.integers(0, 2, m, dtype=np.int64)
     f_exp, w_exp = G.cm_align(cfg, mode, f, w, wv if wvmax else None, f_waits=lf > 0)
-    if nw == 2:  # as words {b, a}
-        w = w[:, 0] | (w[:, 1] << ww)
-        w_exp = w_exp[:, 0] | (w_exp[:, 1] << ww)
+    if nw == 2:  # as words {b, a}, Python ints (2 ww may pass 64 bits)
+        w = [int(a) | (int(b) << ww) for a, b in w]
+        w_exp = [int(a) | (int(b) << ww) for a, b in w_exp]
     lat_m = lw - (1 if wvmax else 0)  # w's own wait (the max stage is one register)
     # the later path brings the valid bit: f when w waits, else w (through the max stage)
     v_exp, lv = (fv, lf) if lat_m > 0 else (wvl, lw)

@@ -22,7 +22,6 @@ import hdlbuild
 from model.hw.config import clocks_per_pixel, freq_clamp, load_config, variant
 from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt, texture_stages
 
-ROOT_CFG = hdlbuild.ROOT / "config" / "candidates"  # candidate configurations (full_bfp)
 
 
 def _seed() -> int:
@@ -409,22 +408,20 @@ def test_frame_fpga_regs(sim, base):
 
 def _exponent_params():
     """(sim, name): configurations with per-term exponents (formats.t_exp_w, a_exp_w > 0) under
-    Verilator (SIM= narrows): full_bfp (config/candidates/full_bfp.toml: eight unfolded terms, the
-    box filter) and exp1351 (tb.pipe.exponent_configs: three terms folded on two units, fpga_regs,
+    Verilator (SIM= narrows): full (config/full.toml since issue 26: eight unfolded terms, the box
+    filter) and exp1351 (tb.pipe.exponent_configs: three terms folded on two units, fpga_regs,
     mip, no noise gradient: noise_fold's parameter selection with {te, T} and {ae, a}); make
-    test-long (VECTORS >= 100000) adds full_bfp_fc (its terms faded, sat_fc: fc_weight at the top)."""
+    test-long (VECTORS >= 100000) adds full_fc (its terms faded, sat_fc: fc_weight at the top)."""
     sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["verilator"]
-    names = ["full_bfp", "exp1351"] + (["full_bfp_fc"] if int(os.environ.get("VECTORS", "0")) >= 100000 else [])
+    names = ["full", "exp1351"] + (["full_fc"] if int(os.environ.get("VECTORS", "0")) >= 100000 else [])
     return [(sim, n) for sim in sims for n in names]
 
 
 def _exponent_config(name: str):
-    from model.hw.config import fc_variant
     from tb import pipe
 
-    if name.startswith("full_bfp"):
-        cfg = load_config(str(ROOT_CFG / "full_bfp.toml"))
-        return fc_variant(cfg) if name.endswith("_fc") else cfg
+    if name.startswith("full"):
+        return load_config(name)
     return dict(pipe.exponent_configs(1351))[name]
 
 
@@ -434,7 +431,7 @@ def test_frame_exponents(tmp_path, sim, name):
     noise_term; fc_weight with sat_fc): random textures whose terms each draw te and ae (0, the
     largest, or uniform; the first texture every term with an extreme pair: te_max and ae 0, 0 and
     ae_max) and streams with random input gaps and output stalls, junk writes to the
-    ignored addresses, every pixel bit-exact against the golden model; on full_bfp also the
+    ignored addresses, every pixel bit-exact against the golden model; on full also the
     rotated marble of the held-out corpus (model/scene/corpus.py rotated_marble: four rotated
     terms, the scene of issue 26) at 16x16 through sim.frame, bit-exact."""
     run_frame_rtl = _frame_rtl()
@@ -458,14 +455,13 @@ def test_frame_exponents(tmp_path, sim, name):
                                        extra_writes=junk_writes(cfg, r))
         _compare(cfg, tex, s, Jm, je, got, f"{cfg.name} texture {t} ({tkind}/{pkind}), te {tex.te.tolist()} "
                                            f"ae {tex.ae.tolist()}, gaps 30% / stalls 40%")
-    if name == "full_bfp":
+    if name == "full":
         from model.scene.corpus import rotated_marble
         from sim.frame import run_frame
 
         scene, text = rotated_marble()
         path = tmp_path / f"{scene}.toml"
         path.write_text(text)
-        rep = run_frame(str(path), str(ROOT_CFG / "full_bfp.toml"), sim, 16, out_root=tmp_path / "frames",
-                        progress=False)
+        rep = run_frame(str(path), "full", sim, 16, out_root=tmp_path / "frames", progress=False)
         assert rep["pixels_streamed"] > 0
-        assert rep["bit_exact"], f"{scene} full_bfp {sim}: {rep['mismatched_pixels']} pixels differ"
+        assert rep["bit_exact"], f"{scene} full {sim}: {rep['mismatched_pixels']} pixels differ"
