@@ -3,6 +3,8 @@
     python -m explore.validate corpus [--seed S] [--n N] [--hard]      (make corpus SEED= N=)
     python -m explore.validate run --config NAME|PATH [--n N] [--size PX] [--rtl K] [--rtl-size PX]
                                   [--jobs J] [--scheduler ADDR] [--no-doc]   (make validate CONFIG=)
+    python -m explore.validate steps --config NAME|PATH --step KEY=V[,KEY=V] ...
+    python -m explore.validate derive --config NAME|PATH --db D [--n N] [--size PX] [--out F.toml]
 
 `corpus` writes a scene corpus (model/scene/corpus.py) under out/corpus/seed<S>/. `run` renders
 every scene of the held-out corpus (seed HELDOUT_SEED, N random scenes plus the hard cases)
@@ -34,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from model.hw.config import ROOT, STAMP, ConfigError, config_hash, load_config, rel_path
+from model.hw.config import ROOT, SCHEMA, STAMP, ConfigError, config_hash, load_config, rel_path
 from model.scene.corpus import FIT_SEED, HELDOUT_SEED, load_index, write_corpus
 
 CORPUS_DIR = ROOT / "out" / "corpus"
@@ -42,6 +44,7 @@ DOC = ROOT / "docs" / "validation.md"
 SUMMARY_DIR = ROOT / "docs" / "validation"
 DEFAULT_N = 200
 DEFAULT_SIZE = 48
+SCHEMA_LO = {k: v[2][0] for k, v in SCHEMA.items() if v[1] is int}  # each key's least value
 
 
 def promised(r: dict) -> bool:
@@ -472,6 +475,91 @@ def steps(config: str, step_texts: list[str], seed: int, n: int, size: int, prog
     return out
 
 
+# The descent of `derive`: each precision key starts at least this wide (the configuration's own
+# value, if wider) and is narrowed one bit at a time by the moves of DERIVE_ORDER, best first. A
+# fixed-point pair (s, q) moves its fraction with the width: its integer bits, the range the
+# configuration accepts, stay the file's (a range is a promise to the scene format, not a
+# precision to trade). The file's own words are the floor: they were fitted to the eight paper
+# scenes, whose noise the corpus scenes a narrow configuration accepts need not exercise
+# (reduced accepts 60 of the 800 fit scenes, 57 of them without a noise term), so a descent on
+# the corpus alone would narrow the noise words to nothing; the corpus can only widen a word.
+DERIVE_START = {"s_frac": 14, "q_frac": 18, "j_w": 10, "p_frac": 14, "n_frac": 14, "f_frac": 16, "c_frac": 10,
+                "norm_bits": 10}
+DERIVE_ORDER = [("c_frac",), ("f_frac",), ("n_frac",), ("p_frac",), ("norm_bits",), ("j_w",),
+                ("q_frac", "q_w"), ("s_frac", "s_w")]
+
+
+def derive(config: str, db: float, seed: int = FIT_SEED, n: int = 800, size: int = 48, max_steps: int = 200,
+           root: Path | None = None, progress: bool = True) -> dict:
+    """Re-derive a configuration's precisions on a corpus (the fit corpus by default): from DERIVE_START,
+    a best-first descent: each step tries every move of DERIVE_ORDER (one bit less) and takes, of those
+    that keep (a) as many accepted scenes as at the start and (b) a share of the covered scenes of at
+    least the configuration's promised share (1.0 without a promise) at `db` dB or more against the
+    float reference, the one whose worst covered scene loses least (then the median); no key goes
+    below the file's own value (see DERIVE_START); a move that fails is dropped (one the configuration
+    checks refuse, a key below what another key needs, is tried again at the next step); it stops when no move keeps (a) and (b) (or after `max_steps`). `db` is the promise
+    plus the margin the held-out corpus needs (the fit corpus is what the descent was tuned on).
+    Returns the start, every step tried (taken or not, with its figures) and the final keys."""
+    from model.hw.config import config_values, variant
+
+    base = load_config(config)
+    share = (base.promise or {}).get("share", 1.0)
+    vals = config_values(base)
+    cur = {k: max(int(vals[k]), v) for k, v in DERIVE_START.items()}
+    for w, f in (("s_w", "s_frac"), ("q_w", "q_frac")):  # the file's integer bits, the fraction widened
+        cur[w] = int(vals[w]) - int(vals[f]) + cur[f]
+    floor = {k: int(vals[k]) for k in cur}  # the file's own words: never narrower (see DERIVE_START)
+
+    def measure(keys):
+        return corpus_quality(variant(base, f"{base.name}-derive", **keys), seed, n, size, db, root)
+
+    t0 = time.time()
+    start = measure(cur)
+    if not start["covered"]:
+        raise ValueError(f"derive {base.name}: no covered scene on corpus seed {seed} n {n}")
+    tried = []
+
+    def ok(m):
+        return m["accepted"] == start["accepted"] and m["share_at_db"] is not None and m["share_at_db"] >= share
+
+    live = list(DERIVE_ORDER)  # a move that failed once is not tried again (narrowing never helps it)
+    for step in range(1, max_steps + 1):
+        best = None
+        for keys in list(live):
+            nxt = dict(cur)
+            for k in keys:
+                nxt[k] -= 1
+            if any(nxt[k] < floor[k] for k in keys):
+                live.remove(keys)
+                continue
+            try:
+                m = measure(nxt)
+            except (ConfigError, ValueError) as e:  # a key below what another needs now: tried again next step
+                tried.append({"step": step, "move": "/".join(keys), "taken": False, "error": str(e)})
+                continue
+            row = {"step": step, "move": "/".join(keys), "keys": {k: nxt[k] for k in keys}, "taken": False,
+                   **{x: m[x] for x in ("accepted", "covered", "min", "p5", "median", "share_at_db")}}
+            row["keeps"] = ok(m)
+            tried.append(row)
+            if not row["keeps"]:
+                live.remove(keys)
+            elif best is None or (m["min"], m["median"]) > (best[1]["min"], best[1]["median"]):
+                best = (nxt, m, row)
+        if best is None:
+            break
+        cur, m, row = best
+        row["taken"] = True
+        if progress:
+            print(f"derive {base.name} step {step}: {row['move']} -> {', '.join(f'{k} {v}' for k, v in row['keys'].items())}: "
+                  f"min {m['min']} dB, median {m['median']} dB, share at {db} dB {m['share_at_db']} "
+                  f"({len(live)} moves live, {time.time() - t0:.0f} s)", file=sys.stderr, flush=True)
+    final = measure(cur)
+    return {"config": base.name, "config_path": rel_path(base.path), "seed": seed, "n": n, "size": size, "db": db,
+            "share": share, "start": start, "final": final, "keys": cur,
+            "changed": {k: (int(vals[k]), v) for k, v in cur.items() if int(vals[k]) != v},
+            "tried": tried, "seconds": round(time.time() - t0, 1)}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m explore.validate", description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -499,12 +587,44 @@ def main(argv=None) -> int:
     st.add_argument("--n", type=int, default=DEFAULT_N)
     st.add_argument("--size", type=int, default=DEFAULT_SIZE)
     st.add_argument("--quiet", action="store_true")
+    st.add_argument("--root", type=Path, default=None, help="output root holding corpus/ (default out/)")
     st.add_argument("--write", action="store_true",
                     help="keep the table as docs/validation/steps/<config>.json (docs/validation.md shows it)")
+    dv = sub.add_parser("derive", help="re-derive a configuration's formats on the fit corpus (a descent)")
+    dv.add_argument("--config", required=True)
+    dv.add_argument("--db", type=float, required=True, help="the PSNR (dB, vs the float reference) to keep")
+    dv.add_argument("--seed", type=int, default=FIT_SEED, help="the corpus (default the fit corpus)")
+    dv.add_argument("--n", type=int, default=800)
+    dv.add_argument("--size", type=int, default=DEFAULT_SIZE)
+    dv.add_argument("--max-steps", type=int, default=200)
+    dv.add_argument("--root", type=Path, default=None, help="output root holding corpus/ (default out/)")
+    dv.add_argument("--out", type=Path, default=None, help="write the result as JSON here")
+    dv.add_argument("--quiet", action="store_true")
     a = ap.parse_args(argv)
+    if a.cmd == "derive":
+        if not 8 <= a.size <= 1024 or not 1 <= a.max_steps <= 1000 or not 0 < a.db < 200 or not 1 <= a.n <= 100000:
+            print(f"validate derive: --size {a.size} --max-steps {a.max_steps} --db {a.db} --n {a.n}: expected size 8..1024, "
+                  f"max-steps 1..1000, db in (0, 200), n 1..100000", file=sys.stderr)
+            return 2
+        try:
+            d = derive(a.config, a.db, a.seed, a.n, a.size, a.max_steps, a.root, not a.quiet)
+        except (ConfigError, ValueError) as e:
+            print(f"validate derive: {e}", file=sys.stderr)
+            return 2
+        if a.out:
+            a.out.parent.mkdir(parents=True, exist_ok=True)
+            a.out.write_text(json.dumps(d, indent=1) + "\n")
+        st, fi = d["start"], d["final"]
+        print(f"derive {d['config']} on corpus seed {d['seed']} (n {d['n']}, {d['size']} px) to {d['db']} dB on "
+              f"{d['share']:.0%}: {fi['accepted']} accepted, {fi['covered']} covered; start min/p5/median "
+              f"{st['min']}/{st['p5']}/{st['median']} dB, final {fi['min']}/{fi['p5']}/{fi['median']} dB, "
+              f"share at {d['db']} dB {fi['share_at_db']} ({d['seconds']} s)")
+        print("changed from the file: " + (", ".join(f"{k} {a0} -> {b0}" for k, (a0, b0) in d["changed"].items())
+                                          or "nothing"))
+        return 0
     if a.cmd == "steps":
         try:
-            rows = steps(a.config, a.step, a.seed, a.n, a.size, not a.quiet)
+            rows = steps(a.config, a.step, a.seed, a.n, a.size, not a.quiet, a.root)
         except (ConfigError, ValueError) as e:
             print(f"validate steps: {e}", file=sys.stderr)
             return 2

@@ -216,7 +216,7 @@ def test_fixed_point_violations_reports():
     sc = parse_scene(txt, "<lim>")
     v = fixed_point_violations(sc, load_config("reduced"), render_passes(sc))
     joined = "\n".join(v)
-    assert "quadric.A = 70 does not fit s15.8" in joined and "noise[0].a = 5" in joined, joined
+    assert "quadric.A = 70 does not fit s23.16" in joined and "noise[0].a = 5" in joined, joined
     assert "power of two" in joined and "pass " in joined and "pixel s" in joined, joined
     assert all(x.startswith(("texture.t: ", "pass ")) and "\n" not in x for x in v), v
 

@@ -188,3 +188,30 @@ def test_stamp_round_trip():
     st = read_stamp("# doc\n\n" + doc_stamp(cfgs) + "\n")
     assert st["full"] == config_hash(cfgs[0]) and st["reduced"] != config_hash(load_config("reduced"))
     assert len(st["rtl"]) == 12 and read_stamp("no stamp") is None
+
+
+def test_derive_descends_to_where_no_move_keeps_the_promise(tmp_path):
+    """explore.validate derive on a small fit corpus (the held-out one's seed: it has the hard cases;
+    16 px): the result keeps the criterion (accepted count, share at the target), every taken move
+    kept it, no key went below the file's, and every move from the result is at that floor or was
+    refused (the descent stopped because none was left, not early); the result's keys are one bit
+    apart per taken move."""
+    from explore import validate as V
+    from model.scene.corpus import HELDOUT_SEED
+
+    d = V.derive("reduced", 30.0, seed=HELDOUT_SEED, n=6, size=16, root=tmp_path, progress=False)
+    fi, st = d["final"], d["start"]
+    assert fi["accepted"] == st["accepted"] > 0 and fi["share_at_db"] >= d["share"]
+    taken = [t for t in d["tried"] if t["taken"]]
+    assert taken and all(t["share_at_db"] >= d["share"] and t["accepted"] == st["accepted"] for t in taken)
+    floor = load_config("reduced").__dict__
+    assert all(d["keys"][k] >= floor[k] for k in d["keys"])  # the file is the floor
+    for move in V.DERIVE_ORDER:  # it stopped because no move was left: each at the floor or refused
+        below = {k: d["keys"][k] - 1 for k in move}
+        assert (any(below[k] < floor[k] for k in move)
+                or any(not t["taken"] and t.get("keys") == below for t in d["tried"])), move
+    moved = sum(len(t["keys"]) for t in taken)  # each taken move narrows its keys by one bit
+    start = {k: max(v, load_config("reduced").__dict__[k]) for k, v in V.DERIVE_START.items()}
+    start["s_w"] = load_config("reduced").s_w - load_config("reduced").s_frac + start["s_frac"]
+    start["q_w"] = load_config("reduced").q_w - load_config("reduced").q_frac + start["q_frac"]
+    assert sum(start[k] - d["keys"][k] for k in start) == moved

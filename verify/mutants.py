@@ -237,10 +237,6 @@ EQUIVALENT: dict[str, str] = {
 
 # Survivors neither killed nor shown equivalent, with what was found (listed as open in the report).
 OPEN: dict[str, str] = {
-    "b217f56c": "not equivalent: H_SHIFT <= TE_MAX also refuses H_SHIFT = TE_MAX, a parameter set that "
-                "model/hw/config.py allows (it needs H_SHIFT >= TE_MAX); no configuration the tests build has "
-                "exponents with H_SHIFT = TE_MAX exactly (e.g. full with s24.16 and t_exp_w = 3: H_SHIFT = 7 = "
-                "TE_MAX), so none fails to elaborate; a test on that configuration would kill it (not added: stop 33's time)",
     "80e34b7e": "not equivalent, unreachable: with || a C_W or J_W above 35 (mul_pipe's two parts) takes mul_pipe "
                 "when the other is at most 35; no configuration has one (C_W at most 33, J_W at most 13 over the "
                 "named, candidate and random:0..299 configurations)",

@@ -39,7 +39,7 @@ KEYS = ("T_W", "T_FRAC", "A_W", "A_FRAC", "P_FRAC", "N_FRAC", "C_FRAC", "TRANSFO
 
 
 def _sets():
-    from model.hw.config import load_config
+    from model.hw.config import ROOT, load_config
 
     full, compact = load_config("full"), load_config("compact")
     cfgs = [("full", full), ("compact", compact), ("full_linear", variant(full, "full_linear", blend="linear")),
@@ -48,6 +48,11 @@ def _sets():
             ("compact_fpga", variant(compact, "compact_fpga", fpga_regs=True))]
     cfgs += [(n, c) for n, c in pipe.configs(1331, 1332, 1333) if n.startswith("random") and c.noise_gradient]
     cfgs += [(n, c) for n, c in pipe.exponent_configs(1341, 1342) if c.noise_gradient]
+    # the edge of the exponent check (H_SHIFT = n_frac + t_frac - c_frac >= TE_MAX): full_narrow with a
+    # 1-bit T exponent, t_frac 1 and c_frac 11, so H_SHIFT = TE_MAX = 1 exactly (kills mutant b217f56c)
+    narrow = load_config(str(ROOT / "config" / "candidates" / "full_narrow.toml"))
+    cfgs.append(("full_hte", variant(narrow, "full_hte", t_exp_w=1, t_frac=1, t_w=narrow.t_w - narrow.t_frac + 1,
+                                     c_frac=narrow.n_frac)))
     out = {}
     for name, cfg in cfgs:
         p = block_params(cfg, "noise_term")
