@@ -4,7 +4,7 @@
     python -m explore.validate run --config NAME|PATH [--n N] [--size PX] [--rtl K] [--rtl-size PX]
                                   [--jobs J] [--scheduler ADDR] [--no-doc]   (make validate CONFIG=)
     python -m explore.validate steps --config NAME|PATH --step KEY=V[,KEY=V] ...
-    python -m explore.validate derive --config NAME|PATH --db D [--n N] [--size PX] [--out F.toml]
+    python -m explore.validate derive --config NAME|PATH --db D [--n N] [--size PX] [--out F.json]
 
 `corpus` writes a scene corpus (model/scene/corpus.py) under out/corpus/seed<S>/. `run` renders
 every scene of the held-out corpus (seed HELDOUT_SEED, N random scenes plus the hard cases)
@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from model.hw.config import ROOT, SCHEMA, STAMP, ConfigError, config_hash, load_config, rel_path
+from model.hw.config import ROOT, STAMP, ConfigError, config_hash, load_config, rel_path
 from model.scene.corpus import FIT_SEED, HELDOUT_SEED, load_index, write_corpus
 
 CORPUS_DIR = ROOT / "out" / "corpus"
@@ -44,7 +44,6 @@ DOC = ROOT / "docs" / "validation.md"
 SUMMARY_DIR = ROOT / "docs" / "validation"
 DEFAULT_N = 200
 DEFAULT_SIZE = 48
-SCHEMA_LO = {k: v[2][0] for k, v in SCHEMA.items() if v[1] is int}  # each key's least value
 
 
 def promised(r: dict) -> bool:
@@ -497,7 +496,8 @@ def derive(config: str, db: float, seed: int = FIT_SEED, n: int = 800, size: int
     least the configuration's promised share (1.0 without a promise) at `db` dB or more against the
     float reference, the one whose worst covered scene loses least (then the median); no key goes
     below the file's own value (see DERIVE_START); a move that fails is dropped (one the configuration
-    checks refuse, a key below what another key needs, is tried again at the next step); it stops when no move keeps (a) and (b) (or after `max_steps`). `db` is the promise
+    checks refuse, a key below what another key needs, is tried again at the next step); it stops
+    when no move keeps (a) and (b) (or after `max_steps`). `db` is the promise
     plus the margin the held-out corpus needs (the fit corpus is what the descent was tuned on).
     Returns the start, every step tried (taken or not, with its figures) and the final keys."""
     from model.hw.config import config_values, variant
@@ -514,7 +514,7 @@ def derive(config: str, db: float, seed: int = FIT_SEED, n: int = 800, size: int
         return corpus_quality(variant(base, f"{base.name}-derive", **keys), seed, n, size, db, root)
 
     t0 = time.time()
-    start = measure(cur)
+    start = cur_m = measure(cur)
     if not start["covered"]:
         raise ValueError(f"derive {base.name}: no covered scene on corpus seed {seed} n {n}")
     tried = []
@@ -548,12 +548,13 @@ def derive(config: str, db: float, seed: int = FIT_SEED, n: int = 800, size: int
         if best is None:
             break
         cur, m, row = best
+        cur_m = m
         row["taken"] = True
         if progress:
             print(f"derive {base.name} step {step}: {row['move']} -> {', '.join(f'{k} {v}' for k, v in row['keys'].items())}: "
                   f"min {m['min']} dB, median {m['median']} dB, share at {db} dB {m['share_at_db']} "
                   f"({len(live)} moves live, {time.time() - t0:.0f} s)", file=sys.stderr, flush=True)
-    final = measure(cur)
+    final = cur_m  # the figures of the last move taken (or the start): not measured again
     return {"config": base.name, "config_path": rel_path(base.path), "seed": seed, "n": n, "size": size, "db": db,
             "share": share, "start": start, "final": final, "keys": cur,
             "changed": {k: (int(vals[k]), v) for k, v in cur.items() if int(vals[k]) != v},
