@@ -7,7 +7,8 @@ Three parts (docs/tradeoffs.md restates them):
    `compact` (every noise term of the scenes on few units): noise units U (clocks a pixel),
    the blend, and the quadric's clocks: 4 x 2 x 2 points.
 3. **One-at-a-time steps** from each named configuration: every feature switched (the filters
-   too: sat2 and sat_fc, measured against the truth like every point), and every
+   too: sat2 and sat_fc, and sub-pixel samples, 2 and 4 a pixel: clocks for quality; measured
+   against the truth like every point), and every
    format a few bits either way. A precision step keeps the range: the word and its fraction
    move together (s_w with s_frac, ...), so a step changes precision, not what fits.
 4. **A refinement around the Pareto front** (`refine`): each front point of the first three
@@ -58,15 +59,16 @@ FEATURE_STEPS = {
                 ("filter=mip", {"filter": "mip"}), ("filter=none", {"filter": "none"}),
                 ("filter=sat2", {"filter": "sat2"}),
                 ("noise_gradient=false", {"noise_gradient": False}), ("noise_terms=4", {"noise_terms": 4}),
-                ("div_bits=0", {"div_bits": 0}), ("hash_bits=8", {"hash_bits": 8})],
+                ("div_bits=0", {"div_bits": 0}), ("hash_bits=8", {"hash_bits": 8}), ("samples=2", {"samples": 2})],
     "reduced": [("noise_terms=4", {"noise_terms": 4, "noise_units": 4}), ("blend=cubic", {"blend": "cubic"}),
                 ("noise_gradient=true", {"noise_gradient": True}), ("noise_units=1", {"noise_units": 1}),
                 ("quadric=full", {"quadric": "full"}), ("filter=sat2", {"filter": "sat2"}),
-                ("filter=sat_fc", {"filter": "sat_fc"})],
+                ("filter=sat_fc", {"filter": "sat_fc"}), ("samples=2", {"samples": 2}), ("samples=4", {"samples": 4}),
+                ("filter=sat2 samples=4", {"filter": "sat2", "samples": 4})],
     # a step of full's noise term costs Yosys about 5 minutes: the one that says most; the filters
     # (issue 27: what the eye sees) change the colour map only, its noise terms come from the cache
     "full": [("pow2 T and a", {"transform": "pow2", "amplitude": "pow2"}), ("filter=sat2", {"filter": "sat2"}),
-             ("filter=sat_fc", {"filter": "sat_fc"})],
+             ("filter=sat_fc", {"filter": "sat_fc"}), ("samples=2", {"samples": 2}), ("samples=4", {"samples": 4})],
 }
 # the format steps taken from each base (full's formats are swept by `make fit`'s search, which
 # synthesizes only what it keeps: a full-width noise term takes Yosys about 5 minutes)

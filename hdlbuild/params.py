@@ -66,10 +66,18 @@ def exponent_params(cfg: Config) -> dict:
     return {k.upper(): value(cfg, k) for k in ("t_exp_w", "a_exp_w") if getattr(cfg, k)}
 
 
+def sample_params(cfg: Config) -> dict:
+    """SAMPLES (features.samples: sub-pixel samples a pixel, sample_expand and sample_average)
+    only where it is not 1 (a one-sample configuration's generated top and caches stay as they
+    were; 1 is texture_pipeline's default)."""
+    return {"SAMPLES": cfg.samples} if cfg.samples != 1 else {}
+
+
 def top_params(cfg: Config) -> dict:
     """texture_pipeline's parameters for `cfg` (name -> integer, PERM a Verilog literal)."""
     out = {k.upper(): value(cfg, k) for k in TOP_KEYS}
     out.update(exponent_params(cfg))
+    out.update(sample_params(cfg))
     # derived from the blend (model/hw/config.py fc_sigma12): sigma sqrt(12) in u.FC_KSF
     out["FC_KS"], out["FC_KSF"] = cfg.fc_ks, FC_KSF
     out["PERM"] = perm_literal(cfg)
@@ -136,6 +144,10 @@ def block_params(cfg: Config, module: str) -> dict:
     if module == "tex_regs":
         return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "q_w", "a_w", "t_w", "hash_bits", "p_frac", "n_log2_max"),
                 **exponent_params(cfg)}
+    if module == "sample_expand":
+        return {"SAMPLES": cfg.samples, **_pick(cfg, "s_w", "s_frac", "j_w", "je_w")}
+    if module == "sample_average":
+        return {"SAMPLES": cfg.samples}
     if module == "axis_skid":
         return {"DATA_W": 32}
     if module == "isqrt":

@@ -505,7 +505,31 @@ def shade(tex, s, J, perm, hash_bits=None) -> np.ndarray:
     filtered_lookup(clut, f, w, mode) if tex.filter, else unfiltered_lookup(clut, f, mode);
     with frequency clamping (tex.fc, filter "sat_fc", "sat2_fc") shade_fc; with the trapezoid
     (tex.trapezoid, filter "sat2") trapezoid_lookup on the two screen components of grad f.
+    With sub-pixel samples (tex.samples > 1) the mean of shade_samples' samples.
     """
+    if getattr(tex, "samples", 1) > 1:
+        return shade_samples(tex, s, J, perm, hash_bits)
+    return _shade_one(tex, s, J, perm, hash_bits)
+
+
+def shade_samples(tex, s, J, perm, hash_bits=None) -> np.ndarray:
+    """The mean colour of a pixel's tex.samples sub-pixel samples (features.samples): sample k at
+    s + J d_k, d_k = model.hw.config.SAMPLE_OFFSETS[samples][k] / 4 pixel (J's columns: one pixel
+    step in x and in y), each shaded with the footprint J / sqrt(samples)."""
+    from model.hw.config import SAMPLE_OFFSETS
+
+    n = tex.samples
+    s = np.asarray(s, dtype=np.float64)
+    J = np.asarray(J, dtype=np.float64)
+    Jk = J / np.sqrt(n)
+    out = 0.0
+    for dx, dy in SAMPLE_OFFSETS[n]:
+        out = out + _shade_one(tex, s + (dx * J[..., 0] + dy * J[..., 1]) / 4.0, Jk, perm, hash_bits)
+    return out / n
+
+
+def _shade_one(tex, s, J, perm, hash_bits=None) -> np.ndarray:
+    """shade at one sample a pixel (the pixel's centre s, its footprint J)."""
     if tex.filter and getattr(tex, "fc", None) is not None:
         return shade_fc(tex, s, J, perm, hash_bits)
     f = texture_f(tex, s, perm, hash_bits)

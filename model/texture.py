@@ -46,6 +46,10 @@ class TextureParams:
     # the trapezoid (filters "sat2", "sat2_fc", docs/filters.md): the colour map averaged over the pixel for
     # f linear across it (two boxes of the screen components of grad f) instead of one box
     trapezoid: bool = False
+    # sub-pixel samples (features.samples, docs/filters.md "Sub-pixel samples"): the pixel's colour the
+    # average of `samples` samples at s + J d_k (model.hw.config.SAMPLE_OFFSETS), each with the footprint
+    # J / sqrt(samples); 1: the pixel's centre with its whole footprint
+    samples: int = 1
 
     def __post_init__(self):
         self.Q = np.asarray(self.Q, dtype=np.float64).reshape(10)

@@ -40,6 +40,8 @@
 `define LAT_FC_SCALE          1
 // cm_align: sat_fc's max(w, wv) register stage
 `define LAT_FC_WMAX           1
+// sample_average: the average of a pixel's sub-pixel samples (features.samples > 1)
+`define LAT_SAMPLE_AVERAGE    1
 // sum_tree: an adder tree of this arity, its latency the levels down to one node
 // (tw_tree_levels in rtl/tex_widths.vh, model/hw/config.py sum_tree_levels)
 `define SUM_TREE_ARITY        4

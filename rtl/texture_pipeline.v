@@ -43,18 +43,23 @@
 // parallel with the terms), then colour_map. f (in fewer bits) or w waits for the other
 // before colour_map (cm_align); Jm, je and tlast travel in delay lines (delay_line) beside
 // the data. Every register of the datapath shares one clock enable
-//   ce = rst | !cm_valid | skid_ready
-// (the colour_map output is the last pipeline stage; it may advance whenever it is empty or
-// the output skid buffer can take it). The output skid buffer (axis_skid: two registers, the
+//   ce = rst | !out_valid | skid_ready
+// (the colour_map output, or with SAMPLES > 1 sample_average's, is the last pipeline stage; it
+// may advance whenever it is empty or the output skid buffer can take it). The output skid buffer (axis_skid: two registers, the
 // pattern of alexforencich/verilog-axis axis_register, REG_TYPE = 2) has a registered input ready, so
 // no combinational path runs from m_axis_tready to s_axis_tready or ce, and a stall on
-// m_axis_tready never loses, duplicates or reorders a pixel. s_axis_tready = ce (& !rst):
-// a pixel enters whenever the pipeline advances.
+// m_axis_tready never loses, duplicates or reorders a pixel. s_axis_tready = ce (& !rst)
+// and the front's ready: a pixel enters whenever the pipeline advances and the front can take it.
 //
 // Latency: LATENCY = T_CM + LAT_COLOUR_MAP enabled clocks from s_axis to the colour_map output,
 // T_CM = max(T_F, T_WD) = max(LAT_FRONT + TREE_LEVELS, DLY_J + LAT_FILTER_WIDTH) (below; sat_fc:
 // LAT_FC_SCALE more in the terms and LAT_FC_WMAX after filter_width), plus one clock in the
-// skid buffer. Throughput: one pixel per clock while m_axis_tready is held high.
+// skid buffer; with SAMPLES > 1, from the pixel's last sample, plus LAT_SAMPLE_AVERAGE.
+// Throughput: one pixel per SAMPLES x ceil(k_used / NOISE_UNITS) clocks (at least QUADRIC_CLOCKS a
+// sample; one pixel a clock unfolded at SAMPLES = 1) while m_axis_tready is held high.
+// SAMPLES > 1 (sample_expand, sample_average): the pixel's SAMPLES sub-pixel samples enter one
+// after the other (s_axis_tready with the last), each filtered with the footprint J / sqrt(SAMPLES),
+// and their colours are averaged (docs/filters.md "Sub-pixel samples").
 // Reset: synchronous, active high; clears every valid bit, the output registers, the
 // parameter registers and the staging register (no output is X after reset).
 
@@ -84,6 +89,8 @@ module texture_pipeline #(
     parameter NOISE_GRADIENT = 1,   // [noise_gradient] 1: grad f includes the noise terms'
     parameter FPGA_REGS      = 0,   // [fpga_regs] 1: the blocks' extra register stages for an FPGA
                                     // (rtl/tex_latency.vh `LAT_*_FPGA; docs/fpga.md)
+    parameter SAMPLES        = 1,   // [samples] sub-pixel samples a pixel, 1, 2 or 4 (sample_expand,
+                                    // sample_average): SAMPLES x the clocks of one sample a pixel
     parameter S_W            = 24,  // [s_w] texture coordinates s{S_W}.{S_FRAC}
     parameter S_FRAC         = 16,  // [s_frac]
     parameter Q_W            = 24,  // [q_w] quadric coefficients s{Q_W}.{Q_FRAC}
@@ -197,7 +204,7 @@ localparam T_CM        = (T_WD > T_F) ? T_WD : T_F;                       // col
 // total latency to the colour_map output (the skid buffer adds one more clock); for readers
 // and waveform viewers only, nothing below needs it
 /* verilator lint_off UNUSEDPARAM */
-localparam LATENCY     = T_CM + LAT_CM;
+localparam LATENCY     = T_CM + LAT_CM + ((SAMPLES > 1) ? `LAT_SAMPLE_AVERAGE : 0);
 /* verilator lint_on UNUSEDPARAM */
 
 localparam JM_W = 6*J_W;
@@ -205,14 +212,16 @@ localparam JM_W = 6*J_W;
 // ---------------------------------------------------------------------------
 // Flow control
 
-wire cm_valid;          // colour_map output (last pipeline stage) holds a pixel
+wire cm_valid;          // colour_map output holds a sample's colour
+wire out_valid;         // the last pipeline stage (colour_map, or SAMPLES > 1 sample_average) holds a pixel
 wire skid_ready;        // the output skid buffer can take a pixel this clock (a register)
-wire advance = !cm_valid || skid_ready;
+wire advance = !out_valid || skid_ready;
 wire ce      = rst || advance;  // rst: every block's reset sees an enabled clock
 
-wire fold_ready;         // the front can take a pixel (always, unless the terms are folded)
-assign s_axis_tready = advance && !rst && fold_ready;
-wire in_valid = s_axis_tvalid && !rst;
+wire fold_ready;         // the front can take a sample (always, unless the terms are folded)
+wire smp_ready;          // the pixel's last sample is taken (SAMPLES = 1: fold_ready)
+assign s_axis_tready = advance && !rst && smp_ready;
+wire pix_valid = s_axis_tvalid && !rst;
 
 // ---------------------------------------------------------------------------
 // Parameter registers and colour-table write staging (tex_regs: the register map, decoded
@@ -267,9 +276,35 @@ end
 // ---------------------------------------------------------------------------
 // Input fields
 
-wire [3*S_W-1:0]  in_s  = s_axis_tdata[0 +: 3*S_W];
-wire [JM_W-1:0]   in_jm = s_axis_tdata[3*S_W +: JM_W];
-wire [JE_W-1:0]   in_je = s_axis_tdata[3*S_W + JM_W +: JE_W];
+wire [3*S_W-1:0]  pix_s  = s_axis_tdata[0 +: 3*S_W];
+wire [JM_W-1:0]   pix_jm = s_axis_tdata[3*S_W +: JM_W];
+wire [JE_W-1:0]   pix_je = s_axis_tdata[3*S_W + JM_W +: JE_W];
+
+// The sample at the front's input (in_*): the pixel itself, or (SAMPLES > 1) its sub-pixel
+// samples one after the other (sample_expand: offset s, footprint J / sqrt(SAMPLES)); each
+// sample carries the pixel's tlast, and sample_average takes the last sample's
+wire              in_valid;
+wire [3*S_W-1:0]  in_s;
+wire [JM_W-1:0]   in_jm;
+wire [JE_W-1:0]   in_je;
+
+generate
+    if (SAMPLES > 1) begin : g_samples
+        sample_expand #(
+            .SAMPLES(SAMPLES), .S_W(S_W), .S_FRAC(S_FRAC), .J_W(J_W), .JE_W(JE_W)
+        ) u_sample_expand (
+            .clk(clk), .rst(rst), .ce(ce),
+            .in_valid(pix_valid), .in_ready(smp_ready), .s_in(pix_s), .jm_in(pix_jm), .je_in(pix_je),
+            .out_valid(in_valid), .out_ready(fold_ready), .s_out(in_s), .jm_out(in_jm), .je_out(in_je)
+        );
+    end else begin : g_one_sample
+        assign smp_ready = fold_ready;
+        assign in_valid  = pix_valid;
+        assign in_s      = pix_s;
+        assign in_jm     = pix_jm;
+        assign in_je     = pix_je;
+    end
+endgenerate
 
 // The pixel at the front (px_*): the input itself, or (FOLD) the pixel noise_fold issues,
 // at its last issue clock (px_valid); the quadric, the delay lines of Jm, je and tlast and
@@ -431,11 +466,32 @@ colour_map #(
 );
 
 // ---------------------------------------------------------------------------
+// The pixel's colour: colour_map's, or (SAMPLES > 1) the average of its samples' (sample_average,
+// one more register stage)
+
+wire [31:0] out_rgba;
+wire        out_last;
+
+generate
+    if (SAMPLES > 1) begin : g_average
+        sample_average #(.SAMPLES(SAMPLES)) u_sample_average (
+            .clk(clk), .rst(rst), .ce(ce),
+            .in_valid(cm_valid), .in_rgba(cm_rgba), .in_last(cm_last),
+            .out_valid(out_valid), .out_rgba(out_rgba), .out_last(out_last)
+        );
+    end else begin : g_colour
+        assign out_valid = cm_valid;
+        assign out_rgba  = cm_rgba;
+        assign out_last  = cm_last;
+    end
+endgenerate
+
+// ---------------------------------------------------------------------------
 // Output skid buffer (axis_skid: registered input ready, one clock)
 
 axis_skid #(.DATA_W(32)) u_skid (
     .clk(clk), .rst(rst),
-    .s_axis_tdata(cm_rgba), .s_axis_tvalid(cm_valid), .s_axis_tready(skid_ready), .s_axis_tlast(cm_last),
+    .s_axis_tdata(out_rgba), .s_axis_tvalid(out_valid), .s_axis_tready(skid_ready), .s_axis_tlast(out_last),
     .m_axis_tdata(m_axis_tdata), .m_axis_tvalid(m_axis_tvalid), .m_axis_tready(m_axis_tready),
     .m_axis_tlast(m_axis_tlast)
 );

@@ -51,6 +51,8 @@ TOP = "texture_pipeline"
 GLUE = ("delay_line", "tex_regs", "axis_skid", "noise_fold", "sum_tree", "cm_align", "noise_leaves", "texture_sum")  # small modules counted with the top's glue (control), not as blocks
 # the blocks of the frequency-clamping filters ("sat_fc", "sat2_fc"): fc_weight once, fc_scale a term
 FC_BLOCKS = {"fc_weight": "fc_weight", "fc_scale": "fc_scale"}
+# the blocks of sub-pixel samples (features.samples > 1): the sample sequencer at the front, the average at the end
+SAMPLE_BLOCKS = {"sample_expand": "sample_expand", "sample_average": "sample_average"}
 # modules kept whole inside a block (synth.py --keep-modules), so that equal instances are synthesized once:
 # cmap_sat2's four sat2_integral (the colour-map family "sat2": filters sat2, sat2_fc; flattened, colour_map
 # did not finish in 30 min)
@@ -58,8 +60,10 @@ KEEP_MODULES = {"sat2": ("sat2_integral",)}
 
 
 def config_blocks(cfg) -> dict:
-    """label -> module of the blocks `cfg` instantiates (the fc blocks only with sat_fc, sat2_fc)."""
-    return {**BLOCKS, **(FC_BLOCKS if freq_clamp(cfg) and cfg.noise_terms > 0 else {})}
+    """label -> module of the blocks `cfg` instantiates (the fc blocks only with sat_fc, sat2_fc; the
+    sample blocks only with samples > 1)."""
+    return {**BLOCKS, **(FC_BLOCKS if freq_clamp(cfg) and cfg.noise_terms > 0 else {}),
+            **(SAMPLE_BLOCKS if cfg.samples > 1 else {})}
 
 
 def _cell(v) -> str:
@@ -113,7 +117,7 @@ def combine(config: str, cfg, res: dict) -> dict:
     """The pipeline's figures from its pieces' reports (`res`: label -> synth.py report): each
     block times its instance count, plus the glue."""
     count = {"quadric": 1, "noise_term": noise_term_instances(cfg), "filter_width": 1, "colour_map": 1, "control": 1,
-             "fc_weight": 1, "fc_scale": cfg.noise_terms}
+             "fc_weight": 1, "fc_scale": cfg.noise_terms, "sample_expand": 1, "sample_average": 1}
     blocks = {}
     for k, r in res.items():
         label = "noise_terms" if k == "noise_term" else k
@@ -428,6 +432,30 @@ def blocks_table() -> int:
     return 0
 
 
+def samples_table() -> int:
+    """What sub-pixel samples add to each named configuration (features.samples 2 and 4): the GE of
+    sample_expand and sample_average on its formats (the glue's change, a wider latency delay line
+    of one bit, is left out); the clocks a pixel multiply by the sample count."""
+    from model.hw.config import variant
+
+    rows = {}
+    with ThreadPoolExecutor(max_workers=2) as ex:
+        futs = {(c, n, mod): ex.submit(synth_one, variant(load_config(c), f"{c}_s{n}", samples=n), mod)
+                for c in CONFIG_NAMES for n in (2, 4) for mod in SAMPLE_BLOCKS.values()}
+        for key, f in futs.items():
+            rows[key] = f.result()
+    print(f"{'samples':<10}{'block':<18}" + "".join(f"{c:>12}" for c in CONFIG_NAMES))
+    for n in (2, 4):
+        for mod in SAMPLE_BLOCKS.values():
+            print(f"{n:<10}{mod:<18}" + "".join(f"{rows[(c, n, mod)]['ge_total']:>12,.0f}" for c in CONFIG_NAMES))
+        print(f"{n:<10}{'adds':<18}" + "".join(
+            f"{sum(rows[(c, n, m)]['ge_total'] for m in SAMPLE_BLOCKS.values()):>12,.0f}" for c in CONFIG_NAMES))
+    print(json.dumps({f"{c}_s{n}": {m: {"ge": rows[(c, n, m)]["ge_total"], "ge_seq": rows[(c, n, m)]["ge_seq"],
+                                        "logic_depth": rows[(c, n, m)]["logic_depth"]} for m in SAMPLE_BLOCKS.values()}
+                      for c in CONFIG_NAMES for n in (2, 4)}, indent=1))
+    return 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m synth.run")
     ap.add_argument("--config", help="a configuration of config/ (named, or a variant file such as full_fc), or a "
@@ -435,6 +463,7 @@ def main(argv=None) -> int:
     ap.add_argument("--all", action="store_true")
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--blocks", action="store_true")
+    ap.add_argument("--samples", action="store_true", help="the GE sub-pixel samples (2, 4) add to each named configuration")
     ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", 2)))
     a = ap.parse_args(argv)
     path_cfg = a.config is not None and (a.config.endswith(".toml") or os.sep in a.config)
@@ -451,6 +480,8 @@ def main(argv=None) -> int:
         return check()
     if a.blocks:
         return blocks_table()
+    if a.samples:
+        return samples_table()
     cfgs = CONFIG_NAMES if a.all or not a.config else (a.config,)
     for c in cfgs:
         rep = synth_config(c, a.jobs, ROOT / "out" / "synth" if path_cfg else None)

@@ -18,7 +18,8 @@ alternatives, from random.Random(SEED); sites are drawn without replacement.
 
 Each mutant is screened with Icarus first: the design is compiled for every configuration that
 instantiates the mutated module (full, compact, reduced, full_fc, and the variants compact on two
-noise units, compact with four terms, full with filter mip and none, compact with fpga_regs) and compared with the
+noise units, compact with four terms, full with filter mip and none, compact with fpga_regs, compact with 4 and
+reduced with 2 sub-pixel samples) and compared with the
 unmutated compile. A mutant that compiles in none of them is stillborn (not counted; the next one
 drawn takes its place); one that compiles in some only is killed (any testbench building the others
 fails); the configurations whose compiled design differs are the ones its frames run on (none
@@ -494,14 +495,17 @@ def frame_configs(work: Path) -> dict[str, str]:
     """{name: what sim.frame's --config takes}: the named configurations a mutant's frame may run
     on, in order, and the variants that reach the rest of rtl/ (compact on two noise units, compact
     with four terms so that marble's four use every one (k_used = K on folded units: 00d3bc02),
-    filter mip and none, fpga_regs), written to configuration files under work/."""
+    filter mip and none, fpga_regs, sub-pixel samples: compact with 4, reduced with 2), written to
+    configuration files under work/."""
     out = {n: n for n in ("full", "compact", "reduced", "full_fc")}
     full, compact = load_config("full"), load_config("compact")
     for name, cfg in (("compact_u2", variant(compact, "compact_u2", noise_units=2)),
                       ("compact_k4", variant(compact, "compact_k4", noise_terms=4)),
                       ("full_mip", variant(full, "full_mip", filter="mip")),
                       ("full_none", variant(full, "full_none", filter="none")),
-                      ("compact_fpga", variant(compact, "compact_fpga", fpga_regs=True))):
+                      ("compact_fpga", variant(compact, "compact_fpga", fpga_regs=True)),
+                      ("compact_s4", variant(compact, "compact_s4", samples=4)),
+                      ("reduced_s2", variant(load_config("reduced"), "reduced_s2", samples=2))):
         p = work / "configs" / f"{name}.toml"
         p.parent.mkdir(parents=True, exist_ok=True)
         text = config_toml(cfg)

@@ -64,6 +64,10 @@ SCHEMA = {
     "noise_units": ("features", int, (1, 8)),
     "quadric_clocks": ("features", int, (1, 2)),
     "fpga_regs": ("features", bool, (False, True)),
+    # sub-pixel samples a pixel (issue 27): 1, 2 or 4 texture samples at stratified offsets inside the
+    # pixel (rtl/sample_expand.v, docs/filters.md "Sub-pixel samples"), each filtered with the
+    # footprint J / sqrt(samples), averaged (rtl/sample_average.v); samples x the clocks of one
+    "samples": ("features", int, (1, 4)),
     "s_w": ("formats", int, (4, 32)),
     "s_frac": ("formats", int, (0, 24)),
     "q_w": ("formats", int, (4, 32)),
@@ -101,7 +105,12 @@ SCHEMA = {
 
 # keys a file may leave out, with the value it then has; config_values leaves them out at that value
 # (so the hash of a configuration that does not use them is unchanged)
-OPTIONAL_KEYS = {"t_exp_w": 0, "a_exp_w": 0}
+OPTIONAL_KEYS = {"t_exp_w": 0, "a_exp_w": 0, "samples": 1}
+SAMPLE_COUNTS = (1, 2, 4)  # features.samples: the values the sample blocks implement
+# the sub-pixel samples' offsets d_k = (dx, dy) / 4 pixel, in quarter pixels, in the order the unit
+# takes them (rtl/sample_expand.v: dx from the sample index's bit 0, dy from its bit 1, or bit 0 for 2)
+SAMPLE_OFFSETS = {1: ((0, 0),), 2: ((-1, -1), (1, 1)), 4: ((-1, -1), (1, -1), (-1, 1), (1, 1))}
+RSQRT2_U8 = 181  # 1/sqrt 2 in u0.8 (0.70703): two samples' footprint J / sqrt 2 (sample_expand)
 
 
 def bits_signed(maxabs: int) -> int:
@@ -165,6 +174,7 @@ class Config:
     seed: int
     t_exp_w: int = 0
     a_exp_w: int = 0
+    samples: int = 1
     path: str = ""
     # the file's [promise] (PROMISE_KEYS; None for a configuration that states none): what the
     # configuration keeps on the held-out corpus (explore.validate); not a parameter of the RTL
@@ -179,12 +189,19 @@ class Config:
         raise AttributeError(item)
 
 
-def clocks_per_pixel(cfg: Config, k_used: int | None = None) -> int:
-    """Clocks the pipeline takes a pixel for a texture of k_used terms (default: all K):
-    ceil(k_used / noise_units), at least quadric_clocks (noise_units = noise_terms,
-    quadric_clocks = 1: one pixel a clock)."""
+def clocks_per_sample(cfg: Config, k_used: int | None = None) -> int:
+    """Clocks the pipeline takes one texture sample for a texture of k_used terms (default: all
+    K): ceil(k_used / noise_units), at least quadric_clocks (noise_units = noise_terms,
+    quadric_clocks = 1: one sample a clock); noise_fold's issue clocks."""
     k = cfg.noise_terms if k_used is None else k_used
     return max(1, cfg.quadric_clocks, -(-k // cfg.noise_units))
+
+
+def clocks_per_pixel(cfg: Config, k_used: int | None = None) -> int:
+    """Clocks the pipeline takes a pixel: features.samples sub-pixel samples of
+    clocks_per_sample each (samples = 1, noise_units = noise_terms, quadric_clocks = 1: one
+    pixel a clock)."""
+    return cfg.samples * clocks_per_sample(cfg, k_used)
 
 
 def latency(module: str, cfg: Config | None = None) -> int:
@@ -509,6 +526,7 @@ def _check(c: Config, p: Path) -> None:
                                                  f"= {c.noise_terms} (U noise units take the K terms U a clock)")
     need(not freq_clamp(c) or not (0 < c.noise_units < c.noise_terms),
          f"features.filter = \"{c.filter}\" needs unfolded noise terms (noise_units = noise_terms)")
+    need(c.samples in SAMPLE_COUNTS, f"features.samples = {c.samples}: expected one of {list(SAMPLE_COUNTS)}")
     need(c.quadric_clocks == 1 or (c.quadric == "diagonal" and 0 < c.noise_units < c.noise_terms),
          "features.quadric_clocks = 2 needs a diagonal quadric and folded noise terms (noise_units < noise_terms)")
 

@@ -18,7 +18,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from model.hw.config import FC_KSF, SAT2_FILTERS, Config, clocks_per_pixel, cmap_family, freq_clamp, latency
+from model.hw.config import (FC_KSF, RSQRT2_U8, SAMPLE_OFFSETS, SAT2_FILTERS, Config, clocks_per_sample, cmap_family,
+                             freq_clamp, latency)
 
 MODE_MOD, MODE_CLAMP = 0, 1
 I64 = np.int64
@@ -857,7 +858,7 @@ def noise_fold(cfg: Config, tex, s):
 def noise_fold_schedule(cfg: Config, k_used: int, in_valid, ce, rst=None) -> dict:
     """The handshake of rtl/noise_fold.v per clock of a stream: in_valid[t], ce[t], rst[t] the
     inputs during clock t (k_used static). A pixel is taken on an enabled edge with in_valid and
-    in_ready; it then has P = clocks_per_pixel(cfg, k_used) enabled issue clocks, px_valid high on the last
+    in_ready; it then has P = clocks_per_sample(cfg, k_used) enabled issue clocks, px_valid high on the last
     (its exit: the next pixel may be taken on that edge); its sums appear (sum_valid) after the
     LATENCY-th enabled edge counted from that last one, LATENCY = latency noise_term + noise_fold
     (rtl/tex_latency.vh). rst empties the fold: the held pixel and every sum in flight are dropped.
@@ -868,7 +869,7 @@ def noise_fold_schedule(cfg: Config, k_used: int, in_valid, ce, rst=None) -> dic
     n = len(in_valid)
     ce = np.ones(n, dtype=bool) if ce is None else np.asarray(ce, dtype=bool)
     rst = np.zeros(n, dtype=bool) if rst is None else np.asarray(rst, dtype=bool)
-    P = clocks_per_pixel(cfg, k_used)
+    P = clocks_per_sample(cfg, k_used)
     lat = latency("noise_term", cfg) + latency("noise_fold", cfg)
     out = {k: np.zeros(n, dtype=I64) for k in ("in_ready", "px_valid", "px", "take", "sum_valid", "sum_px")}
     busy, j, held, taken, enabled = False, 0, -1, 0, 0
@@ -961,6 +962,43 @@ def texture_stages(cfg: Config, tex: TexInt, s, Jm, je):
     return out
 
 
+def sample_expand(cfg: Config, s, Jm, je, k: int):
+    """Sub-pixel sample k of pixels s [..., 3], Jm [..., 3, 2], je [...] (rtl/sample_expand.v):
+    (s_k, Jm_k, je_k). s_k = sat(s + round(J d_k)), d_k = SAMPLE_OFFSETS[samples][k] / 4 pixel,
+    round(J d_k) = floor(m 2^(je - 2 + s_frac) + 1/2) with m = dx Jm[r][0] + dy Jm[r][1],
+    saturated to s's range; the footprint J / sqrt(samples): 4 samples je - 1 (at je's least
+    value je), 2 samples Jm_k = floor((181 Jm + 128) / 256)."""
+    s = np.asarray(s, dtype=I64)
+    Jm = np.asarray(Jm, dtype=I64)
+    je = np.asarray(je, dtype=I64)
+    dx, dy = SAMPLE_OFFSETS[cfg.samples][k]
+    m = dx * Jm[..., 0] + dy * Jm[..., 1]  # [..., 3]
+    e = (je - 2 + cfg.s_frac)[..., None]
+    # the RTL caps the shifts where the result no longer changes: left past s_w + 1 it saturates,
+    # right past j_w + 2 every m rounds to 0; the same caps keep int64 exact here
+    shl = np.minimum(np.maximum(e, 0), cfg.s_w + 1)
+    shr = np.minimum(np.maximum(-e, 0), cfg.j_w + 2)
+    off = np.where(e >= 0, m << shl, (m + ((I64(1) << shr) >> 1)) >> shr)
+    lo, hi = -(1 << (cfg.s_w - 1)), (1 << (cfg.s_w - 1)) - 1
+    s_k = np.clip(s + off, lo, hi)
+    if cfg.samples == 4:
+        je_min = -(1 << (cfg.je_w - 1))
+        return s_k, Jm, np.where(je > je_min, je - 1, je)
+    return s_k, (Jm * RSQRT2_U8 + 128) >> 8, je
+
+
+def sample_average(cfg: Config, rgba):
+    """The average of a pixel's samples' colours (rtl/sample_average.v): rgba [samples, ..., 4]
+    RGBA8 -> [..., 4], floor((sum + samples / 2) / samples) per channel."""
+    n = cfg.samples
+    return (np.sum(np.asarray(rgba, dtype=I64), axis=0) + n // 2) // n
+
+
 def texture_pipeline(cfg: Config, tex: TexInt, s, Jm, je):
-    """RGBA8 [..., 4] for pixels s [..., 3], Jm [..., 3, 2], je [...]: the RTL top's twin."""
-    return texture_stages(cfg, tex, s, Jm, je)["rgba"]
+    """RGBA8 [..., 4] for pixels s [..., 3], Jm [..., 3, 2], je [...]: the RTL top's twin
+    (features.samples > 1: each pixel's sub-pixel samples, sample_expand, through the pipeline,
+    their colours averaged, sample_average)."""
+    if cfg.samples == 1:
+        return texture_stages(cfg, tex, s, Jm, je)["rgba"]
+    outs = [texture_stages(cfg, tex, *sample_expand(cfg, s, Jm, je, k))["rgba"] for k in range(cfg.samples)]
+    return sample_average(cfg, outs)

@@ -60,7 +60,7 @@ def configured_texture(cfg, tex):
         fc = (cfg.fc_knee / (1 << cfg.fc_log_frac), float(1 << cfg.fc_fade_log2))
     return replace(tex, terms=list(tex.terms[:cfg.noise_terms]), blend=cfg.blend,
                    noise_gradient=bool(cfg.noise_gradient), filter=bool(tex.filter and cfg.filter != "none"), fc=fc,
-                   trapezoid=cmap_family(cfg) == "sat2")
+                   trapezoid=cmap_family(cfg) == "sat2", samples=cfg.samples)
 
 
 def approximations(cfg, tex, name: str) -> list[str]:
@@ -81,6 +81,9 @@ def approximations(cfg, tex, name: str) -> list[str]:
                 "sat2": "the trapezoid (exact for f linear across the pixel)",
                 "sat2_fc": "the trapezoid with frequency clamping"}[cfg.filter]
         out.append(f"texture {name}: box filter replaced by {kind} (configuration {cfg.name}: filter = {cfg.filter})")
+    if cfg.samples > 1:
+        out.append(f"texture {name}: {cfg.samples} sub-pixel samples a pixel, each filtered with the footprint J / "
+                   f"sqrt({cfg.samples}) (configuration {cfg.name}: samples = {cfg.samples})")
     return out
 
 

@@ -20,7 +20,7 @@ import pytest
 
 import hdlbuild
 from model.hw.config import clocks_per_pixel, freq_clamp, load_config, variant
-from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt, texture_stages
+from model.hw.golden import MODE_CLAMP, MODE_MOD, TexInt, texture_pipeline, texture_stages
 
 
 
@@ -147,6 +147,8 @@ def junk_writes(cfg, r) -> list[tuple[int, int]]:
 
 def _compare(cfg, tex, s, Jm, je, got, what: str):
     exp = texture_stages(cfg, tex, s, Jm, je)
+    if cfg.samples > 1:  # the pixel's colour averages its samples' (f, c, w: the pixel centre's, for the message)
+        exp["rgba"] = texture_pipeline(cfg, tex, s, Jm, je)
     bad = np.nonzero(np.any(got != exp["rgba"].astype(np.uint8), axis=-1))[0]
     if bad.size:
         i = int(bad[0])
@@ -276,15 +278,24 @@ def test_frame_noise_units(sim, base, units):
     s, Jm, je = random_pixels(cfg, r, n, "real")
     got, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed)
     _compare(cfg, tex, s, Jm, je, got, f"{cfg.name}, gaps 30% / stalls 40%")
-    got0, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, seed=seed + 1)
+    _check_clocks_and_reset(cfg, sim, tex, s, Jm, je, got, r, seed + 1, f"{tex.k_used} terms on {units} units")
+
+
+def _check_clocks_and_reset(cfg, sim, tex, s, Jm, je, got, r, seed: int, what: str):
+    """The stream `got` came from with gaps and stalls, run again without them (the same pixels, in
+    clocks_per_pixel clocks a pixel) and with a reset in the middle of the frame (every pixel after
+    it equal to the golden model)."""
+    run_frame_rtl = _frame_rtl()
+    n = len(s)
+    got0, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, seed=seed)
     assert np.array_equal(got, got0), "gaps/stalls changed the pixels"
     p = clocks_per_pixel(cfg, tex.k_used)
-    print(f"  {tex.k_used} terms on {units} units: {cycles} cycles for {n} px ({p} clocks a pixel expected)")
+    print(f"  {what}: {cycles} cycles for {n} px ({p} clocks a pixel expected)")
     assert p * n <= cycles < p * n + 100, f"{cycles} cycles for {n} pixels, expected {p} a pixel"
     from model.hw.regmap import write_sequence
 
     reset_at = len(write_sequence(cfg, tex)) + 2 + int(r.integers(p * n // 4, p * n // 2))
-    got_r, _, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=10, stalls=10, seed=seed + 2, reset_at=reset_at)
+    got_r, _, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=10, stalls=10, seed=seed + 1, reset_at=reset_at)
     _compare(cfg, tex, s, Jm, je, got_r, f"{cfg.name}, after a mid-frame reset")
 
 
@@ -358,6 +369,40 @@ def test_frame_sat2_fc(sim):
         got, cycles, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed + t)
         _compare(cfg, tex, s, Jm, je, got, f"{cfg.name} texture {t}, gaps 30% / stalls 40%")
     assert seen == {"wv", "ab"}, f"the stimulus does not widen a trapezoid and keep another: {sorted(seen)}"
+
+
+def _sample_params():
+    """(sim, base, samples, filter): sub-pixel samples (sample_expand, sample_average) on full
+    (one clock a sample), compact (folded terms: 5 clocks a sample) and reduced with the trapezoid,
+    under Verilator; reduced under Icarus too (the 4-state check of the new blocks). SIM= narrows."""
+    sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["icarus", "verilator"]
+    cases = [("verilator", "full", 2, None), ("verilator", "compact", 4, None), ("verilator", "reduced", 4, "sat2"),
+             ("icarus", "reduced", 2, None)]
+    return [c for c in cases if c[0] in sims]
+
+
+@pytest.mark.parametrize("sim,base,samples,filt", _sample_params())
+def test_frame_samples(sim, base, samples, filt):
+    """features.samples = 2 or 4 through the whole pipeline: each pixel's samples (s + J d_k, the
+    footprint J / sqrt(samples)) and their average, bit-exact with the golden model's
+    texture_pipeline on random textures and pixels (the hard cases of random_pixels: s at its ends,
+    where the offsets saturate; J = 0; je at its ends), with random input gaps and output stalls,
+    then without them (samples x clocks_per_sample clocks a pixel), then with a mid-frame reset."""
+    run_frame_rtl = _frame_rtl()
+    b = load_config(base)
+    cfg = variant(b, f"{base}-s{samples}{'-' + filt if filt else ''}", samples=samples, **({"filter": filt} if filt else {}))
+    seed = _seed()
+    print(f"[frame {cfg.name} {sim}] SEED={seed}")
+    r = np.random.default_rng(seed + 31)
+    n = min(_n_pixels(sim), 1500)
+    for t, (tkind, pkind, over) in enumerate((("real", "real", dict(mode=MODE_MOD, filt=True)),
+                                              ("real", "full", dict(mode=MODE_CLAMP)))):
+        tex = random_texture(cfg, r, tkind, **over)
+        s, Jm, je = random_pixels(cfg, r, n, pkind)
+        got, _, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed + t)
+        _compare(cfg, tex, s, Jm, je, got, f"{cfg.name} texture {t}, gaps 30% / stalls 40%")
+        if t == 0:
+            _check_clocks_and_reset(cfg, sim, tex, s, Jm, je, got, r, seed + 7, f"{samples} samples, {tex.k_used} terms")
 
 
 def _fpga_params():

@@ -36,7 +36,7 @@ from cocotb.triggers import ReadOnly, RisingEdge, Timer
 
 import hdlbuild
 from model.hw import golden as G
-from model.hw.config import ROOT, clocks_per_pixel, load_config, variant
+from model.hw.config import ROOT, clocks_per_sample, load_config, variant
 from tb import pipe
 from tb.noise_term.test_noise_term import rand_a, rand_o, rand_s, rand_T
 
@@ -89,7 +89,7 @@ def _streams(cfg, b: dict, rr: random.Random) -> tuple[list, list, list, dict]:
     m, style = len(b["s"]), b["style"]
     stall_on, stall_stay, gap = {"plain": (0.2, 0.6, 0.3), "back2back": (0.0, 0.0, 0.0),
                                  "stalled": (0.5, 0.7, 0.2), "reset": (0.2, 0.5, 0.3)}[style]
-    n = 4 * (m * clocks_per_pixel(cfg, b["k_used"]) + 40)
+    n = 4 * (m * clocks_per_sample(cfg, b["k_used"]) + 40)
     while True:
         ce, stalled = [], False
         for _ in range(n):
