@@ -33,12 +33,12 @@ ANIMATIONS = ("seascape", "fire")
 # the filters compared: box (sat), box with frequency clamping, MIP map, trapezoid, trapezoid with frequency
 # clamping; the point lookup is every configuration's "unfiltered" render
 # (full_mip, full_sat2 and full_sat2_fc are on full_narrow's formats, full's until issue 26: full_narrow is their box)
-# full_s2, full_s4: full with 2 and 4 sub-pixel samples a pixel (1/2 and 1/4 pixel a clock); full_sat2_s4: full_sat2
-# with 4 (issue 27: samples as the clocks-for-quality knob)
+# full_s2, full_s4: full with 2 and 4 sub-pixel samples a pixel (1/2 and 1/4 pixel a clock); full_sat2_s4 and
+# full_sat2_fc_s4: full_sat2 and full_sat2_fc with 4 (issue 27: samples as the clocks-for-quality knob)
 DEFAULT_CONFIGS = ("full", "full_fc", "config/candidates/full_narrow.toml", "config/candidates/full_mip.toml",
                    "config/candidates/full_sat2.toml", "config/candidates/full_sat2_fc.toml",
                    "config/candidates/full_s2.toml", "config/candidates/full_s4.toml",
-                   "config/candidates/full_sat2_s4.toml")
+                   "config/candidates/full_sat2_s4.toml", "config/candidates/full_sat2_fc_s4.toml")
 
 
 def _scene_rows(configs, scenes, size, out_root, progress):
@@ -223,7 +223,7 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
          "max(w, wv), with wv = 0 it is `sat2`.",
          "- **Sub-pixel samples** (`features.samples` = 2 or 4, issue 27; rtl/sample_expand.v, rtl/sample_average.v; "
          "model/hw/golden.py sample_expand, sample_average; model/reference.py shade_samples; "
-         "config/candidates/full_s2.toml, full_s4.toml, full_sat2_s4.toml): any of the filters above, taken at "
+         "config/candidates/full_s2.toml, full_s4.toml, full_sat2_s4.toml, full_sat2_fc_s4.toml): any of the filters above, taken at "
          "`samples` points of the pixel instead of its centre: sample k at s + J d_k (d_k: 2 samples (-1, -1) / 4 and "
          "(+1, +1) / 4 of a pixel, 4 samples the 2x2 grid (+-1/4, +-1/4)), each filtered with the footprint "
          "J / sqrt(samples), the pixel the mean of their colours (rounded half up). Where noise makes f curve inside "
