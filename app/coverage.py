@@ -14,7 +14,13 @@ coverage_file; the frame harness's C++ main writes them too), then
     docs/verification.md's "Coverage" section: each module's lines % and toggles %, the totals,
     and every line point no test reached with its reason (app/coverage_reasons.toml, written by
     hand from the annotated sources: which parameter makes the point unreachable, or "reachable,
-    not tested"; a point with no entry shows as not analysed).
+    not tested"; a point with no entry shows as not analysed);
+  - lists what rtl/ leaves out of coverage: every `/* verilator coverage_off */ ...
+    /* verilator coverage_on */` region (Verilator makes no point of the code or the
+    declarations inside one) with its reason, app/coverage_reasons.toml's [[excluded]]: only
+    what is constant by construction (or runs at elaboration only), never what a test could
+    toggle; every region needs an entry and every entry a region (exclusion_errors,
+    tests/test_coverage.py).
 
     python -m app.coverage [--tests tb] [--jobs 2] [--out out/coverage] [--no-doc] [--reuse]
 
@@ -140,6 +146,54 @@ def load_reasons(path: Path = REASONS) -> list[dict]:
     return _load(path)["uncovered"]
 
 
+def load_exclusions(path: Path = REASONS) -> list[dict]:
+    """app/coverage_reasons.toml's [[excluded]] entries: module, text (found in a line inside one of
+    the module's coverage_off regions), reason (why what the region holds is constant by
+    construction)."""
+    return _load(path)["excluded"]
+
+
+OFF_RE = re.compile(r"(/\*|//)\s*verilator\s+coverage_off\b")
+ON_RE = re.compile(r"(/\*|//)\s*verilator\s+coverage_on\b")
+
+
+def coverage_off_regions(rtl: Path | None = None) -> list[dict]:
+    """Every coverage_off region of rtl/*.v: {"module", "first", "last" (the pragmas' line numbers),
+    "lines": [the source lines between them]}, in file and line order. ValueError on a region
+    left open or a coverage_on with no region (Verilator would leave the rest of the file out)."""
+    out = []
+    for f in sorted((rtl or RTL).glob("*.v")):
+        start = None
+        src = f.read_text().splitlines()
+        for i, line in enumerate(src, 1):
+            if OFF_RE.search(line):
+                if start is not None:
+                    raise ValueError(f"{f.name}:{i}: coverage_off inside the region opened at line {start}")
+                start = i
+            elif ON_RE.search(line):
+                if start is None:
+                    raise ValueError(f"{f.name}:{i}: coverage_on with no coverage_off before it")
+                out.append({"module": f.stem, "first": start, "last": i, "lines": src[start:i - 1]})
+                start = None
+        if start is not None:
+            raise ValueError(f"{f.name}:{start}: coverage_off never switched on again")
+    return out
+
+
+def _matches(e: dict, reg: dict) -> bool:
+    return e["module"] == reg["module"] and any(e["text"] in line for line in reg["lines"])
+
+
+def exclusion_errors(regions: list[dict], entries: list[dict]) -> list[str]:
+    """What is wrong between rtl/'s coverage_off regions and the [[excluded]] entries: a region no
+    entry names (an exclusion without a reason), an entry that names no region (stale)."""
+    errs = [f"rtl/{r['module']}.v:{r['first']}-{r['last']}: coverage_off region with no [[excluded]] reason"
+            for r in regions if not any(_matches(e, r) for e in entries)]
+    errs += [f"[[excluded]] {e['module']}: {e['text']!r} is in no coverage_off region of rtl/{e['module']}.v"
+             for e in entries if not any(_matches(e, r) for r in regions)]
+    return errs
+
+
 def load_toggle_notes(path: Path = REASONS) -> dict[str, str]:
     """app/coverage_reasons.toml's [[toggles]] entries: {module: why its bits do not all toggle}."""
     return {e["module"]: e["reason"] for e in _load(path)["toggles"]}
@@ -147,13 +201,14 @@ def load_toggle_notes(path: Path = REASONS) -> dict[str, str]:
 
 def _load(path: Path) -> dict[str, list[dict]]:
     if not path.exists():
-        return {"uncovered": [], "toggles": []}
+        return {"uncovered": [], "toggles": [], "excluded": []}
     try:
         data = tomllib.loads(path.read_text())
     except tomllib.TOMLDecodeError as e:
         raise UserError(f"{path.name}: {e}") from None
     out = {}
-    for table, keys in (("uncovered", ("module", "text", "reason")), ("toggles", ("module", "reason"))):
+    for table, keys in (("uncovered", ("module", "text", "reason")), ("toggles", ("module", "reason")),
+                        ("excluded", ("module", "text", "reason"))):
         out[table] = data.get(table, [])
         for i, e in enumerate(out[table]):
             miss = [k for k in keys if not isinstance(e.get(k), str) or not e[k]]
@@ -214,10 +269,13 @@ def _cell(text: str, limit: int = 70) -> str:
     return "`" + text.replace("|", "\\|").replace("`", "'") + "`"
 
 
-def doc_body(summ: dict, reasons: list[dict] | None = None, toggle_notes: dict | None = None) -> str:
+def doc_body(summ: dict, reasons: list[dict] | None = None, toggle_notes: dict | None = None,
+             exclusions: list[dict] | None = None, regions: list[dict] | None = None) -> str:
     mods = summ["modules"]
     reasons = load_reasons() if reasons is None else reasons
     toggle_notes = load_toggle_notes() if toggle_notes is None else toggle_notes
+    exclusions = load_exclusions() if exclusions is None else exclusions
+    regions = coverage_off_regions() if regions is None else regions
     pct = lambda v: "-" if v is None else f"{v:.1f}"  # noqa: E731
     tot = totals(mods)
     short = [m for m, v in mods.items() if not meets_goal(v)]
@@ -265,6 +323,16 @@ def doc_body(summ: dict, reasons: list[dict] | None = None, toggle_notes: dict |
         L += ["| module | lines | point | first line | reason |", "|---|---|---|---|---|", *rows]
     else:
         L.append("- none")
+    L += ["", f"Excluded from coverage, constant by construction: {len(regions)} `/* verilator coverage_off */ ... "
+          "/* verilator coverage_on */` regions of rtl/ (Verilator makes no coverage point of what is inside one; "
+          "the figures above are without them), each with its reason (app/coverage_reasons.toml's [[excluded]]; "
+          "tests/test_coverage.py fails on a region with no reason). Nothing a test could toggle is excluded.", ""]
+    for e in exclusions:
+        regs = [r for r in regions if _matches(e, r)]
+        where = ", ".join(f"{r['first']}-{r['last']}" for r in regs) or "no region"
+        L.append(f"- {e['module']} (lines {where}): `{e['text']}`: {e['reason']}")
+    if not exclusions:
+        L.append("- none")
     L += ["", doc_stamp(CONFIG_NAMES)]
     return "\n".join(L)
 
@@ -287,6 +355,12 @@ def main(argv=None) -> int:
                 raise UserError(f"--tests {t}: no such file or directory")
         tool()
         _load(REASONS)  # a malformed reasons file fails before the run, not after it
+        try:
+            errs = exclusion_errors(coverage_off_regions(), load_exclusions())
+        except ValueError as e:
+            errs = [str(e)]
+        if errs:  # an exclusion without a reason fails before the run
+            raise UserError(errs[0] + (f" (and {len(errs) - 1} more)" if len(errs) > 1 else ""))
         out = Path(a.out) if a.out else ROOT / "out" / "coverage"
         dat_dir = out / "dat"
         if a.reuse:

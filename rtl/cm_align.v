@@ -71,8 +71,11 @@ wire [FC_W-1:0] f_carry;
 generate
     if (FC_W < F_W) begin : g_fsat
         wire signed [F_W-1:0] f_s   = f_in;
+        // (constants: no coverage points)
+        /* verilator coverage_off */
         wire signed [F_W-1:0] f_top = {{(F_W-GUARD-2){1'b0}}, 1'b1, {(GUARD+1){1'b0}}};  //  2^(GUARD+1)
         wire signed [F_W-1:0] f_bot = -f_top;                                              // -2^(GUARD+1)
+        /* verilator coverage_on */
         // above FC_W: sign copies of a value that fits FC_W (not read)
         /* verilator lint_off UNUSEDSIGNAL */
         wire [F_W-1:0] f_clip = (f_s > f_top) ? f_top : (f_s < f_bot) ? f_bot : f_in;

@@ -76,9 +76,12 @@ mip_index #(.FILTER(2), .U_W(U_W), .W_W(W_W), .FF(F_FRAC), .NMAX(NMAX), .NL_W(NL
 
 // ---- stage 4: table reads
 wire [31:0]       clut_a, mip_data;
+// (colour_table drives these 0 with FILTER 2: constant, no coverage points)
 /* verilator lint_off UNUSEDSIGNAL */
+/* verilator coverage_off */
 wire [31:0]       unused_clut_b;
 wire [4*CS_W-1:0] unused_csat_a, unused_csat_b, unused_total;
+/* verilator coverage_on */
 /* verilator lint_on UNUSEDSIGNAL */
 colour_table #(.FILTER(2), .NMAX(NMAX), .CS_W(CS_W), .NL_W(NL_W)) u_table (
     .clk(clk), .ce(ce),

@@ -129,7 +129,9 @@ reg [CW-1:0]  f_c;       // f sign-extended to CW
 reg [CW-1:0]  gsh;       // guard >> n_log2
 reg [CW-1:0]  lo_thr;    // -(guard >> n_log2)
 reg [CW-1:0]  hi_thr;    // 1.0 + (guard >> n_log2)
+/* verilator coverage_off */  // a constant: no coverage points
 reg [U_W-1:0] guard_u;   // guard
+/* verilator coverage_on */
 reg [U_W-1:0] n_u;       // N << FF
 reg [U_W-1:0] u_mod;
 reg [U_W-1:0] u_sh;      // f N (clamp, between the thresholds)

@@ -81,6 +81,8 @@ endgenerate
 
 // FIRST[t]: iteration t > 0 is the first of its stage; LAST[t]: iteration
 // t < R_W - 1 is the last of its stage (LAST[t] = FIRST[t + 1])
+// (evaluated at elaboration only: no coverage points)
+/* verilator coverage_off */
 function [R_W-1:0] first_mask;
     input integer lat;
     integer i;
@@ -91,6 +93,7 @@ function [R_W-1:0] first_mask;
         end
     end
 endfunction
+/* verilator coverage_on */
 
 localparam [R_W-1:0] FIRST = first_mask(LATENCY);
 localparam [R_W-1:0] LAST  = FIRST >> 1;
@@ -105,7 +108,11 @@ reg [S_NN*X_W-1:0] x_reg, x_d;        // radicand bits not yet consumed, MSBs fi
 reg [R_W-1:0]      root_o;            // the root after the last iteration
 
 reg [R_W-1:0]  root, rem;
+// x: a scratch word (shifted up iteration by iteration); Verilator samples it at the end of
+// the evaluation, when its low bits are 0 (no coverage points)
+/* verilator coverage_off */
 reg [X_W-1:0]  x;
+/* verilator coverage_on */
 reg [R_W+1:0]  rs;
 /* verilator lint_off UNUSEDSIGNAL */
 // the two MSBs of diff are zero when used: the new remainder is <= 2 root < 2^R_W

@@ -67,22 +67,28 @@ generate
         for (gi = 0; gi < NN; gi = gi + 1) begin : g_node
             localparam B  = ARITY*gi;                           // first child
             localparam NC = (NP - B < ARITY) ? NP - B : ARITY;  // children (1..4)
-            // children 1..3, 0 where absent
-            wire [LW-1:0] k1, k2, k3;
+            // children 1..3 (g_k<i>.k), 0 where absent (each arm of a pair has the block's one
+            // name: only one is built; an absent child is a constant, no coverage points)
             if (NC > 1) begin : g_k1
-                assign k1 = g_kid[B+1].v;
-            end else begin : g_z1
-                assign k1 = {LW{1'b0}};
+                wire [LW-1:0] k = g_kid[B+1].v;
+            end else begin : g_k1
+                /* verilator coverage_off */
+                wire [LW-1:0] k = {LW{1'b0}};
+                /* verilator coverage_on */
             end
             if (NC > 2) begin : g_k2
-                assign k2 = g_kid[B+2].v;
-            end else begin : g_z2
-                assign k2 = {LW{1'b0}};
+                wire [LW-1:0] k = g_kid[B+2].v;
+            end else begin : g_k2
+                /* verilator coverage_off */
+                wire [LW-1:0] k = {LW{1'b0}};
+                /* verilator coverage_on */
             end
             if (NC > 3) begin : g_k3
-                assign k3 = g_kid[B+3].v;
-            end else begin : g_z3
-                assign k3 = {LW{1'b0}};
+                wire [LW-1:0] k = g_kid[B+3].v;
+            end else begin : g_k3
+                /* verilator coverage_off */
+                wire [LW-1:0] k = {LW{1'b0}};
+                /* verilator coverage_on */
             end
             wire [LW-1:0] k0 = g_kid[B].v;
             reg  [LW-1:0] s_reg;
@@ -90,7 +96,7 @@ generate
             always @(posedge clk) begin
                 if (ce)
                     for (j = 0; j < LANES; j = j + 1)
-                        s_reg[j*W +: W] <= k0[j*W +: W] + k1[j*W +: W] + k2[j*W +: W] + k3[j*W +: W];
+                        s_reg[j*W +: W] <= k0[j*W +: W] + g_k1.k[j*W +: W] + g_k2.k[j*W +: W] + g_k3.k[j*W +: W];
             end
         end
     end

@@ -2,7 +2,8 @@
 the doc section on a written example; app/coverage_reasons.toml against rtl/ (every reason names
 a line that is there, in a known category); and a tiny run (one block testbench under Verilator
 with COVERAGE=1) that must leave the merged file, the annotated sources and a summary whose
-figures parse, summarized again by --reuse without a test run."""
+figures parse, summarized again by --reuse without a test run; every coverage_off region of rtl/
+has its reason."""
 from __future__ import annotations
 
 import json
@@ -13,7 +14,8 @@ from pathlib import Path
 import pytest
 
 import app.coverage as cov
-from app.coverage import CATEGORIES, doc_body, load_reasons, load_toggle_notes, parse_dat, summarize, totals
+from app.coverage import (CATEGORIES, coverage_off_regions, doc_body, exclusion_errors, load_exclusions, load_reasons,
+                          load_toggle_notes, parse_dat, summarize, totals)
 from model.cli import UserError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -54,8 +56,12 @@ def test_parse_summarize_and_doc(tmp_path, monkeypatch):
     assert totals(s) == {"lines": [2, 4], "toggles": [1, 4], "lines_pct": 50.0, "toggles_pct": 25.0}
     reasons = [{"module": "foo", "text": "if (q)", "reason": "unreachable: q is 0 when P = 0"},
                {"module": "foo", "text": "a | b", "point": "block", "reason": "reachable, not tested: wrong point"}]
+    regions = [{"module": "foo", "first": 3, "last": 5, "lines": ["reg [7:0] rom [0:3];"]}]
     body = doc_body({"tests": ["tb/x"], "runs": 1, "seconds": 1.0, "pytest_status": 0, "modules": s,
-                     "command": "make coverage JOBS=1"}, reasons, {"foo": "b is a constant when P = 0."})
+                     "command": "make coverage JOBS=1"}, reasons, {"foo": "b is a constant when P = 0."},
+                    [{"module": "foo", "text": "rom", "reason": "a ROM written at time 0."}], regions)
+    assert "Excluded from coverage, constant by construction: 1 `/* verilator coverage_off */" in body
+    assert "- foo (lines 3-5): `rom`: a ROM written at time 0." in body
     assert "Written by `make coverage JOBS=1`" in body
     assert "| foo | 2/4 | 50.0 | 1/4 | 25.0 | no |" in body and "| **total** | 2/4 | 50.0 | 1/4 | 25.0 | 0 of 1 modules |" in body
     assert "| foo | 14 | if | `if (q) z <= 0;  // 14` | unreachable: q is 0 when P = 0 |" in body
@@ -79,6 +85,43 @@ def test_reasons_name_lines_in_rtl():
         assert src.is_file() and e["text"] in src.read_text(), f"stale coverage reason: {e['module']}: {e['text']!r}"
 
 
+def test_every_coverage_off_region_has_a_reason():
+    """Every /* verilator coverage_off */ region of rtl/ has an [[excluded]] entry in
+    app/coverage_reasons.toml (an exclusion needs its reason) and every entry names a region
+    (a stale one fails too)."""
+    regions = coverage_off_regions()
+    assert regions, "no coverage_off region found in rtl/ (the parser sees none?)"
+    assert exclusion_errors(regions, load_exclusions()) == []
+    for e in load_exclusions():
+        assert len(e["reason"]) > 20, e
+
+
+def test_exclusion_check_catches_a_region_without_reason(tmp_path):
+    rtl = tmp_path / "rtl"
+    rtl.mkdir()
+    (rtl / "foo.v").write_text("module foo;\n/* verilator coverage_off */\nreg [3:0] rom [0:3];\n"
+                               "/* verilator coverage_on */\nwire a;\n// verilator coverage_off\nwire b;\n"
+                               "// verilator coverage_on\nendmodule\n")
+    regions = coverage_off_regions(rtl)
+    assert [(r["module"], r["first"], r["last"], r["lines"]) for r in regions] == [
+        ("foo", 2, 4, ["reg [3:0] rom [0:3];"]), ("foo", 6, 8, ["wire b;"])]
+    rom = {"module": "foo", "text": "rom [0:3]", "reason": "a ROM."}
+    errs = exclusion_errors(regions, [rom])
+    assert errs == ["rtl/foo.v:6-8: coverage_off region with no [[excluded]] reason"]
+    # a text outside every region (wire a is between them), or in another module: stale
+    for bad in ({"module": "foo", "text": "wire a;", "reason": "x"}, {"module": "bar", "text": "wire b;", "reason": "x"}):
+        errs = exclusion_errors(regions, [rom, {"module": "foo", "text": "wire b", "reason": "y"}, bad])
+        assert errs == [f"[[excluded]] {bad['module']}: {bad['text']!r} is in no coverage_off region of "
+                        f"rtl/{bad['module']}.v"]
+    assert exclusion_errors(regions, [rom, {"module": "foo", "text": "wire b", "reason": "y"}]) == []
+    (rtl / "foo.v").write_text("/* verilator coverage_off */\nwire a;\n")
+    with pytest.raises(ValueError, match="never switched on again"):
+        coverage_off_regions(rtl)
+    (rtl / "foo.v").write_text("wire a;\n/* verilator coverage_on */\n")
+    with pytest.raises(ValueError, match="coverage_on with no coverage_off"):
+        coverage_off_regions(rtl)
+
+
 def test_bad_reasons_file(tmp_path):
     p = tmp_path / "r.toml"
     p.write_text('[[uncovered]]\nmodule = "foo"\ntext = "x"\nreason = "because"\n')
@@ -87,6 +130,9 @@ def test_bad_reasons_file(tmp_path):
     p.write_text('[[uncovered]]\nmodule = "foo"\nreason = "unreachable: P = 0"\n')
     with pytest.raises(UserError, match=r"\[\[uncovered\]\] entry 1: missing text"):
         load_reasons(p)
+    p.write_text('[[excluded]]\nmodule = "foo"\ntext = "rom"\n')
+    with pytest.raises(UserError, match=r"\[\[excluded\]\] entry 1: missing reason"):
+        load_exclusions(p)
     p.write_text('[[toggles]]\nmodule = "foo"\n')
     with pytest.raises(UserError, match=r"\[\[toggles\]\] entry 1: missing reason"):
         load_toggle_notes(p)
@@ -107,6 +153,10 @@ def test_tiny_coverage_run(tmp_path):
     assert summ["command"] == "make coverage JOBS=1 COVERAGE_TESTS=tb/bitlen/test_bitlen.py::test_bitlen_rtl[verilator-w52]"
     b = summ["modules"]["bitlen"]
     assert 0 < b["lines_pct"] <= 100 and 0 < b["toggles_pct"] <= 100 and b["lines"][1] > 0
+    # the coverage_off region around g_search's scratch word v leaves no point of it (and pos has its own)
+    names = {kv.get("o", "").rsplit(":", 1)[0] for kv, _ in parse_dat(out / "merged.dat")
+             if kv.get("f", "").endswith("rtl/bitlen.v")}
+    assert any(n.startswith("g_search.pos[") for n in names) and not any(n.startswith("g_search.v[") for n in names)
     assert summ["totals"]["lines"] == [sum(m["lines"][i] for m in summ["modules"].values()) for i in (0, 1)]
     (out / "merged.dat").unlink()
     r = subprocess.run([*args, "--reuse"], cwd=ROOT, capture_output=True, text=True, timeout=120)
