@@ -99,8 +99,9 @@ def _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, tr, 
     bar = progress_bar(progress, total=len(pds) * 3, desc=f"{scene_name} {config_name} {W}x{H}")
     gold, unf, ref, cref, widths = [], [], [], [], np.zeros((H, W))
     for pd in pds:
-        st = golden.texture_stages(cfg, pd.ti, pd.si, pd.Jm, pd.je)
-        gold.append((pd.mask, st["rgba"]))
+        st = golden.texture_stages(cfg, pd.ti, pd.si, pd.Jm, pd.je)  # (the width at the pixel's centre)
+        # the pixel's colour: its samples' average with features.samples > 1 (texture_pipeline)
+        gold.append((pd.mask, st["rgba"] if cfg.samples == 1 else golden.texture_pipeline(cfg, pd.ti, pd.si, pd.Jm, pd.je)))
         n = 1 << pd.ti.n_log2
         widths[pd.mask] = np.maximum(widths[pd.mask], st["w"] / float(1 << cfg.f_frac) / n)
         bar.update()

@@ -69,8 +69,14 @@ def _anim_rows(configs, frames, size, out_root, progress):
 
 def _gates(configs):
     from model.hw.config import cmap_family, freq_clamp, load_config
+    from explore.measure import synth_block
     from model.hw.config import clocks_per_pixel
-    from synth.run import FC_BLOCKS, SAMPLE_BLOCKS, synth_one
+    from synth.run import FC_BLOCKS, SAMPLE_BLOCKS
+
+    stats = {"synthesized": 0, "cached": 0}
+
+    def synth_one(cfg, module):  # each block once per parameter set and sources (make explore's block cache)
+        return synth_block(cfg, module, module, (), stats)
 
     out = {}
     for c in configs:

@@ -89,7 +89,7 @@ def measure_scene(config: str, path: str, size: int) -> dict:
     from model.hw.quantize import FormatError
     from model.imageio import compare
     from model.scene.frontend import render_passes
-    from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations
+    from model.scene.passes import composite, frame_size, prepare_passes, scene_departures
     from model.scene.scene import load_scene
     from model.scene.truth import truth
 
@@ -103,9 +103,9 @@ def measure_scene(config: str, path: str, size: int) -> dict:
         pds = prepare_passes(cfg, passes)
     except FormatError as e:
         return {**out, "rejected": str(e)}
-    # the configuration's own filter is its point (sat_fc, mip): not a rejection; its promise says
-    # what it is measured against
-    feat = [a for a in scene_approximations(pds, quantized=False) if " box filter replaced by " not in a]
+    # the configuration's own filter and samples are its point (sat_fc, mip, samples): not a rejection;
+    # its promise says what it is measured against
+    feat = scene_departures(pds)
     if feat:
         return {**out, "rejected": feat[0]}
     gold, ref = [], []
@@ -374,7 +374,7 @@ def corpus_quality(cfg, seed: int = HELDOUT_SEED, n: int = 40, size: int = 32, d
     from model.hw.quantize import FormatError
     from model.imageio import compare
     from model.scene.frontend import render_passes
-    from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations
+    from model.scene.passes import composite, frame_size, prepare_passes, scene_departures
     from model.scene.scene import load_scene
 
     d = corpus_dir(seed, n, seed == HELDOUT_SEED, (Path(root) if root else ROOT / "out") / "corpus")
@@ -390,7 +390,7 @@ def corpus_quality(cfg, seed: int = HELDOUT_SEED, n: int = 40, size: int = 32, d
             pds = prepare_passes(cfg, passes)
         except FormatError:
             continue
-        if [a for a in scene_approximations(pds, quantized=False) if " box filter replaced by " not in a]:
+        if scene_departures(pds):
             continue
         acc += 1
         if e["tags"].get("unfiltered"):
@@ -428,7 +428,7 @@ def steps(config: str, step_texts: list[str], seed: int, n: int, size: int, prog
     from model.hw.quantize import FormatError
     from model.imageio import compare
     from model.scene.frontend import render_passes
-    from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations
+    from model.scene.passes import composite, frame_size, prepare_passes, scene_departures
     from model.scene.scene import load_scene
 
     base = load_config(config)
@@ -450,7 +450,7 @@ def steps(config: str, step_texts: list[str], seed: int, n: int, size: int, prog
             except FormatError:
                 rej[label] += 1
                 continue
-            if [a for a in scene_approximations(pds, quantized=False) if " box filter replaced by " not in a]:
+            if scene_departures(pds):
                 rej[label] += 1
                 continue
             if ref_img is None:  # the reference depends on the lattice only, the same for every step

@@ -206,6 +206,18 @@ def frame_size(scene, size: int) -> tuple[int, int]:
     return size, max(1, round(size * h0 / w0))
 
 
+# the approximations that are the configuration's own choice of filter (sat_fc, mip, sat2, ...) or of
+# sub-pixel samples: what the configuration is, measured by its promise, not a departure that rejects
+# a scene from a corpus (explore.validate)
+CHOICE_MARKERS = (" box filter replaced by ", " sub-pixel samples a pixel")
+
+
+def scene_departures(pds) -> list[str]:
+    """scene_approximations (unquantized) less the configuration's filter and sample choices
+    (CHOICE_MARKERS): what rejects a scene from a corpus."""
+    return [a for a in scene_approximations(pds, quantized=False) if not any(m in a for m in CHOICE_MARKERS)]
+
+
 def scene_approximations(pds, quantized: bool = True) -> list[str]:
     """Every approximation of the passes' textures, each texture once, in pass order: what the
     configuration leaves out or replaces, then (quantized) what its formats round."""
