@@ -361,7 +361,8 @@ def main(argv=None) -> int:
             errs = [str(e)]
         if errs:  # an exclusion without a reason fails before the run
             raise UserError(errs[0] + (f" (and {len(errs) - 1} more)" if len(errs) > 1 else ""))
-        out = Path(a.out) if a.out else ROOT / "out" / "coverage"
+        # absolute: the frame harness runs in a directory of its own and writes its points to this path
+        out = Path(a.out).resolve() if a.out else ROOT / "out" / "coverage"
         dat_dir = out / "dat"
         if a.reuse:
             try:

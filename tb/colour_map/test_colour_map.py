@@ -314,6 +314,22 @@ def test_colour_map_filter_variants_rtl(sim, config, filt):
     run_colour_map(sim, variant(load_config(config), f"{config}_{filt}", filter=filt), extra_env={"CM_VARIANT": "1"})
 
 
+def _edge_params():
+    """The extremes of the colour-map formats (tb/pipe.py configs colour_edges: "small", n_log2_max 1,
+    w_cap_log2 1, f_frac 8; "wide", n_log2_max 10, w_cap_log2 14, f_frac 20) under Verilator unless
+    SIM= asks for a simulator (wide's tables are 1024 entries: slow under Icarus)."""
+    sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["verilator"]
+    return [(s, name) for s in sims for name in ("small", "wide")]
+
+
+@pytest.mark.parametrize("sim,name", _edge_params())
+def test_colour_map_edges_rtl(sim, name):
+    """The same cocotb test on the extremes of the colour-map formats: the clamp thresholds
+    guard >> n_log2 (gsh, lo_thr, hi_thr), N << F_FRAC and (f mod 1) N at their lowest and
+    highest bits, every table size of each."""
+    run_colour_map(sim, dict(pipe.configs(colour_edges=True))[name])
+
+
 def _div_variant_params():
     """Icarus only unless SIM= asks for a simulator; CONFIG= narrows the configurations."""
     sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["icarus"]

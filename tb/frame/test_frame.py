@@ -209,6 +209,78 @@ def test_frame_random(sim, config):
             assert cycles < p * n + 100, f"not one pixel per {p} clocks without stalls: {cycles} cycles for {n} pixels"
 
 
+def complement_texture(cfg, tex: TexInt) -> TexInt:
+    """tex with every parameter register field complemented bit for bit where the configuration's
+    formats take any value: Q (signed: -1 - Q; a diagonal quadric's B, C, F stay 0), a (amplitude
+    any), T (transform affine), o (u{o_w}), te, ae (u{t_exp_w}, u{a_exp_w}: e_max - e); a pow2 T
+    or a as tex. k_used, the tables, mode and filter as tex."""
+    Q = -1 - tex.Q
+    if cfg.quadric == "diagonal":
+        Q[[1, 2, 5]] = 0
+    a = tex.a.copy() if cfg.amplitude == "pow2" else -1 - tex.a
+    T = tex.T.copy() if cfg.transform == "pow2" else -1 - tex.T
+    o = ((1 << cfg.d["o_w"]) - 1) - tex.o
+    te, ae = cfg.d["te_max"] - tex.te, cfg.d["ae_max"] - tex.ae
+    return TexInt(Q=Q, a=a, T=T, o=o, mode=tex.mode, n_log2=tex.n_log2, filter=tex.filter, clut=tex.clut,
+                  k_used=tex.k_used, te=te, ae=ae)
+
+
+def ignored_field_writes(cfg, word: int) -> list[tuple[int, int]]:
+    """Writes of `word` (u32) to the parameter registers the configuration ignores: T's off-diagonal
+    entries of every term with a pow2 transform, B, C, F with a diagonal quadric."""
+    from model.hw import regmap as RM
+
+    out = []
+    if cfg.transform == "pow2":
+        out += [(RM.ADDR_TERM + RM.TERM_STRIDE * k + RM.TERM_T + 3 * j + m, word)
+                for k in range(cfg.noise_terms) for j in range(3) for m in range(3) if j != m]
+    if cfg.quadric == "diagonal":
+        out += [(RM.ADDR_Q + i, word) for i in (1, 2, 5)]
+    return out
+
+
+@pytest.mark.parametrize("sim,config", hdlbuild.sim_params())
+def test_frame_registers_both_ways(sim, config):
+    """Every parameter register bit both ways in one simulator run, on every term: passes that
+    alternate a random texture over its whole formats and its complement (complement_texture:
+    every bit of Q, a, T, o and the exponents flipped); with a pow2 transform or amplitude the
+    passes walk each diagonal T entry and each a through every power of two (a's sign flipping),
+    and write the registers the configuration ignores (off-diagonal T, a diagonal quadric's B, C, F)
+    with a random word and its complement in turn, which must change nothing; every other pass uses
+    half of the terms (the ones past k_used are written all the same and must not count). Each
+    pass's pixels (full formats) bit-exact against the golden model of its texture."""
+    from model.hw.regmap import pack_pixels_u32, unpack_rgba, write_sequence
+    from sim.frame_rtl import run_segments
+
+    cfg = load_config(config)
+    seed = _seed()
+    print(f"[frame {config} {sim}] SEED={seed}")
+    r = np.random.default_rng(seed + 41)
+    n = 32 if sim == "icarus" else 200
+    K = cfg.noise_terms
+    base = random_texture(cfg, r, "full", n_log2=min(2, cfg.n_log2_max))
+    comp = complement_texture(cfg, base)
+    n_pass = max(3, cfg.t_w if cfg.transform == "pow2" else 0, cfg.a_w if cfg.amplitude == "pow2" else 0)
+    junk = int(r.integers(0, 1 << 32))
+    passes, segments = [], []
+    for i in range(n_pass):
+        t = complement_texture(cfg, comp) if i % 2 == 0 else complement_texture(cfg, base)  # a copy
+        t.k_used = K if i % 2 else K // 2
+        for k in range(K):
+            if cfg.transform == "pow2":  # T_jj = 2^e, e walking 0..t_w - 2
+                for j in range(3):
+                    t.T[k, j, j] = 1 << ((i + k + j) % (cfg.t_w - 1))
+            if cfg.amplitude == "pow2":  # a = +-2^e, e walking 0..a_w - 2, the sign flipping
+                t.a[k] = (-1) ** i * (1 << ((i + k) % (cfg.a_w - 1)))
+        s, Jm, je = random_pixels(cfg, r, n, "full")
+        passes.append((t, s, Jm, je))
+        segments.append((write_sequence(cfg, t) + ignored_field_writes(cfg, junk ^ (0xFFFFFFFF if i % 2 else 0)),
+                         pack_pixels_u32(cfg, s, Jm, je)))
+    outs, _ = run_segments(cfg, sim, segments, gaps=20, stalls=20, seed=seed)
+    for i, ((t, s, Jm, je), out) in enumerate(zip(passes, outs)):
+        _compare(cfg, t, s, Jm, je, unpack_rgba(out), f"pass {i} of {n_pass} (k_used {t.k_used} of {K})")
+
+
 @pytest.mark.parametrize("sim", sorted({sim for sim, _ in hdlbuild.sim_params()}))
 def test_frame_harness_checks_hold_and_reports_its_reason(sim):
     """Issue 16: the harness checks that tvalid/tdata/tlast hold while the sink stalls, and its
