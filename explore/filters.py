@@ -68,9 +68,8 @@ def _anim_rows(configs, frames, size, out_root, progress):
 
 
 def _gates(configs):
-    from model.hw.config import cmap_family, freq_clamp, load_config
     from explore.measure import synth_block
-    from model.hw.config import clocks_per_pixel
+    from model.hw.config import clocks_per_pixel, cmap_family, freq_clamp, load_config
     from synth.run import FC_BLOCKS, SAMPLE_BLOCKS
 
     stats = {"synthesized": 0, "cached": 0}
