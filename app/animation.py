@@ -40,6 +40,7 @@ from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, load_config
 from model.imageio import compare
 from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations, scene_path, to8
 from model.scene import truth as T
+from model.scene.rim import texture_interior
 
 ANIM_DIR = ROOT / "scenes" / "animation"
 _KEYS = {"scene", "frames", "position_end", "look_at_end", "phi_texture", "phi_axis", "phi_end"}
@@ -187,16 +188,20 @@ def run(scene_arg: str, config_name: str, frames: int | None, size: int, rtl: bo
             for pd in pds:
                 textured |= pd.mask
             band = info["band"] & textured
+            inner = band & texture_interior([pd.mask for pd in pds])  # the band less its silhouette rims
             err_f, err_u = img_f[..., :3] - img_t[..., :3], img_u[..., :3] - img_t[..., :3]
             row = {"frame": i, "t": round(t, 4), "band_pixels": int(band.sum()),
                    "band_psnr_filtered_db": _psnr(img_f, img_t, band), "band_psnr_unfiltered_db": _psnr(img_u, img_t, band),
                    "psnr_filtered_db": _psnr(img_f, img_t, textured), "psnr_unfiltered_db": _psnr(img_u, img_t, textured),
+                   "band_psnr_filtered_interior_db": _psnr(img_f, img_t, inner),
+                   "band_psnr_unfiltered_interior_db": _psnr(img_u, img_t, inner),
                    "truth_moves_band_db": info["convergence"]["band"]["psnr_db"]}
             if prev is not None:
-                both = band & prev[0]
-                row["flicker_filtered_lsb"] = round(float(np.abs(err_f - prev[1])[both].mean()), 4) if both.any() else None
-                row["flicker_unfiltered_lsb"] = round(float(np.abs(err_u - prev[2])[both].mean()), 4) if both.any() else None
-            prev = (band, err_f, err_u)
+                for suffix, both in (("", band & prev[0]), ("_interior", inner & prev[3])):
+                    for key, e, pe in (("filtered", err_f, prev[1]), ("unfiltered", err_u, prev[2])):
+                        row[f"flicker_{key}{suffix}_lsb"] = (round(float(np.abs(e - pe)[both].mean()), 4)
+                                                             if both.any() else None)
+            prev = (band, err_f, err_u, inner)
             if rtl:  # run once for all frames, after the loop
                 rtl_frames.append(_rtl_passes(pds, lf, lu))
             rows.append(row)
@@ -220,7 +225,9 @@ def run(scene_arg: str, config_name: str, frames: int | None, size: int, rtl: bo
                "width": W, "height": H, "command": command, "git": git_describe(),
                "truth": f"{truth_ss}x{truth_ss}, {band_ss}x{band_ss} in the band's tiles", "approximations": approx,
                "mean": {k: mean(k) for k in ("band_psnr_filtered_db", "band_psnr_unfiltered_db", "psnr_filtered_db",
-                                             "psnr_unfiltered_db", "flicker_filtered_lsb", "flicker_unfiltered_lsb")},
+                                             "psnr_unfiltered_db", "flicker_filtered_lsb", "flicker_unfiltered_lsb",
+                                             "band_psnr_filtered_interior_db", "band_psnr_unfiltered_interior_db",
+                                             "flicker_filtered_interior_lsb", "flicker_unfiltered_interior_lsb")},
                "rows": rows}
         if rtl:
             rep["rtl_bit_exact"] = all(r["rtl_mismatches"] == 0 for r in rows)

@@ -25,6 +25,7 @@ from model.hw.config import ConfigError, load_config, variant
 from model.hw.quantize import FormatError
 from model.imageio import compare
 from model.scene.passes import SCENES, composite, frame_size, prepare_passes, scene_path
+from model.scene.rim import texture_interior
 
 _passes: dict = {}
 _refs: dict = {}
@@ -43,7 +44,8 @@ def _scene(name: str, size: int):
 
 def scene_images(cfg, name: str, size: int) -> dict:
     """The golden image of `name` under `cfg` and its float reference (the scene as written):
-    {"golden", "reference": [H, W, 4] float, "textured": [H, W] bool, "pixels": textured pixels
+    {"golden", "reference": [H, W, 4] float, "textured": [H, W] bool, "interior": the textured pixels less
+    the silhouette rims (model/scene/rim.py) [H, W] bool, "pixels": textured pixels
     streamed, "clocks": the pipeline's clocks for them (model.hw.config.clocks_per_pixel of each
     pass's k_used)}."""
     from model.hw.config import clocks_per_pixel
@@ -63,7 +65,8 @@ def scene_images(cfg, name: str, size: int) -> dict:
         pixels += len(pd.si)
         clocks += len(pd.si) * clocks_per_pixel(cfg, pd.ti.k_used)
     return {"golden": composite(gold, (H, W), sc.background), "reference": composite(ref, (H, W), sc.background),
-            "textured": textured, "pixels": pixels, "clocks": clocks}
+            "textured": textured, "interior": texture_interior([pd.mask for pd in pds]), "pixels": pixels,
+            "clocks": clocks}
 
 
 def scene_psnr(cfg, name: str, size: int) -> tuple[float, float]:

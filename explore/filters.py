@@ -52,8 +52,25 @@ def _scene_rows(configs, scenes, size, out_root, progress):
             rows[(c, s)] = {"all_filtered": rep["psnr_filtered_vs_truth_db"], "all_unfiltered": rep["psnr_unfiltered_vs_truth_db"],
                             "band_pixels": b["pixels"], "band_filtered": b["psnr_filtered_vs_truth_db"],
                             "band_unfiltered": b["psnr_unfiltered_vs_truth_db"],
-                            "vs_configured_reference": rep["psnr_golden_vs_configured_reference_db"]}
+                            "vs_configured_reference": rep["psnr_golden_vs_configured_reference_db"],
+                            # the texture interior (model/scene/rim.py): the textured pixels less a one-pixel rim
+                            # at every silhouette, where the truth mixes in coverage the texture unit does not compute
+                            "interior_filtered": rep["psnr_filtered_vs_truth_interior_db"],
+                            "interior_unfiltered": rep["psnr_unfiltered_vs_truth_interior_db"],
+                            "textured_pixels": rep["pixels_textured"], "interior_pixels": rep["pixels_interior"],
+                            "rim_ceiling": rim_ceiling(rep)}
     return rows
+
+
+def rim_ceiling(rep: dict):
+    """PSNR (dB) over all the textured pixels were the texture interior exact: the silhouette rims' own
+    error (the filtered render's) spread over the textured pixels; no texture filter passes it."""
+    import math
+
+    r, n_rim, n_tex = rep.get("psnr_filtered_vs_truth_rim_db"), rep.get("pixels_rim"), rep.get("pixels_textured")
+    if r is None or not n_rim or not n_tex:
+        return None
+    return r + 10 * math.log10(n_tex / n_rim)
 
 
 def _anim_rows(configs, frames, size, out_root, progress):
@@ -157,25 +174,55 @@ def goals(rows, anim, gates, configs, scenes, size) -> list[str]:
     quarter = [c for c in configs if gates[c]["pixels_per_clock"] >= 0.25]
     others = [s for s in scenes if s != "seascape"]
 
-    def worst(c):
-        vals = [rows[(c, s)]["all_filtered"] for s in others]
+    def worst(c, key):
+        vals = [rows[(c, s)][key] for s in others]
         return min(v for v in vals if v is not None) if any(v is not None for v in vals) else None
-    if quarter and others:
-        best = max(quarter, key=lambda c: (worst(c) or -1))
-        w, sea = worst(best), rows[(best, "seascape")]["all_filtered"]
-        out.append(f"- At no less than 1/4 pixel a clock, every scene at least 40 dB but the seascape at least 38: the "
-                   f"best here by its worst scene but the seascape, `{_label(best)}` ({gates[best]['pixels_per_clock']:.3g} "
-                   f"pixel a clock): worst other scene {_fmt(w)} dB, seascape {_fmt(sea)} dB: "
+    for key, where in (("interior_filtered", "over the texture interior (the textured pixels less a one-pixel rim "
+                        "at every silhouette: the texture unit's own error, as the issue's own float experiments "
+                        "measured it)"),
+                       ("all_filtered", "over all the textured pixels, silhouette rims included")):
+        if not (quarter and others and "seascape" in scenes):
+            break
+        best = max(quarter, key=lambda c: (min(worst(c, key) or -1, (rows[(c, "seascape")][key] or -1) + 2)))
+        w, sea = worst(best, key), rows[(best, "seascape")][key]
+        out.append(f"- At no less than 1/4 pixel a clock, every scene at least 40 dB but the seascape at least 38, {where}: "
+                   f"the best here, `{_label(best)}` ({gates[best]['pixels_per_clock']:.3g} pixel a clock): worst "
+                   f"scene but the seascape {_fmt(w)} dB, seascape {_fmt(sea)} dB: "
                    f"{met(w is not None and sea is not None and w >= 40 and sea >= 38)}.")
-    ratios = {}
-    for c in configs:
-        m = anim[(c, "seascape")]
-        if m["flicker_filtered_lsb"] is not None and m["flicker_unfiltered_lsb"]:
-            ratios[c] = m["flicker_filtered_lsb"] / m["flicker_unfiltered_lsb"]
-    if ratios:
-        best = min(ratios, key=ratios.get)
-        out.append(f"- Seascape band flicker at most a third of the unfiltered: lowest ratio `{_label(best)}` "
-                   f"{ratios[best]:.2f}: {met(ratios[best] <= 1 / 3)}.")
+    best = best if quarter and others and "seascape" in scenes else None
+    ceil = {s: rows[(best, s)]["rim_ceiling"] for s in scenes} if best else {}
+    low = sorted((v, s) for s, v in ceil.items() if v is not None and v < (38 if s == "seascape" else 40))
+    if low:
+        out.append("  With the rims included no configuration of the texture unit can meet it: the rims' own error "
+                   "caps the figure over all textured pixels (the PSNR were the interior exact, "
+                   f"`{_label(best)}`'s rims) at " + ", ".join(f"{s} {v:.2f} dB" for v, s in low)
+                   + ". The rims are the front end's coverage, sampled once a pixel (model/scene/rim.py).")
+    # the flicker ratio against each configuration's own unfiltered render (with samples: its samples, no
+    # filter) and against the plain unfiltered animation (the first one-sample configuration's: the point
+    # lookup at the pixel's centre), over the band and over the band less its silhouette rims
+    plain = next((c for c in configs if gates[c].get("samples", 1) == 1), None)
+    for suffix, where in (("", "in the band"), ("_interior", "in the band less its silhouette rims")):
+        fk, uk = f"flicker_filtered{suffix}_lsb", f"flicker_unfiltered{suffix}_lsb"
+        for versus in ("own", "plain"):
+            ratios = {}
+            for c in configs:
+                m = anim[(c, "seascape")]
+                u = (anim[(plain, "seascape")] if versus == "plain" and plain else m).get(uk)
+                if m.get(fk) is not None and u:
+                    ratios[c] = (m[fk] / u, u)
+            if not ratios:
+                continue
+            best = min(ratios, key=lambda c: ratios[c][0])
+            one = [c for c in ratios if gates[c]["pixels_per_clock"] >= 1]
+            best1 = min(one, key=lambda c: ratios[c][0]) if one else None
+            what = ("its own unfiltered render (with samples, its samples unfiltered)" if versus == "own" else
+                    f"the plain unfiltered animation (`{_label(plain)}` unfiltered, one sample a pixel, "
+                    f"{ratios[best][1]:.2f} LSB)")
+            out.append(f"- Seascape flicker {where} at most a third of {what}: lowest ratio `{_label(best)}` "
+                       f"{ratios[best][0]:.2f} ({gates[best]['pixels_per_clock']:.3g} pixel a clock): "
+                       f"{met(ratios[best][0] <= 1 / 3)}" + (f"; at one pixel a clock `{_label(best1)}` "
+                                                             f"{ratios[best1][0]:.2f}" if best1 and best1 != best else "")
+                       + ".")
     out.append("- A configuration of at most 100,000 GE whose worst scene against the truth is at least 36 dB: "
                "measured by `make explore` (docs/tradeoffs.md), not here.")
     return out + [""]
@@ -247,14 +294,30 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
         L.append(f"| {s} | {_fmt(r0['all_unfiltered'])} | " + " | ".join(_fmt(rows[(c, s)]["all_filtered"]) for c in configs)
                  + f" | {r0['band_pixels']:,} | {_fmt(r0['band_unfiltered'])} | "
                  + " | ".join(_fmt(rows[(c, s)]["band_filtered"]) for c in configs) + " |")
+    L += ["", "### The texture interior", "",
+          "The same renders over the texture interior (model/scene/rim.py): the textured pixels less a one-pixel rim "
+          "on both sides of every pass's silhouette (a sphere's edge, the horizon, a moon before a planet). The "
+          "front end samples a pixel's coverage once, at its centre, and the texture unit shades the pixel as if the "
+          "pass covered all of it, while the truth averages coverage too: on a rim the truth mixes the texture with "
+          "what lies behind it, an error no texture filter changes. \"rims cap\" is the PSNR over all textured pixels "
+          f"were the interior exact (the rims' own error, `{_label(configs[0])}`'s render): the figures of the table "
+          "above cannot pass it.", "",
+          "| scene | textured px | interior px | rims cap | unfiltered | " + " | ".join(f"`{_label(c)}`" for c in configs) + " |",
+          "|---|---|---|---|---|" + "---|" * len(configs)]
+    for s in scenes:
+        r0 = rows[(configs[0], s)]
+        L.append(f"| {s} | {r0['textured_pixels']:,} | {r0['interior_pixels']:,} | {_fmt(r0['rim_ceiling'])} | "
+                 f"{_fmt(r0['interior_unfiltered'])} | " + " | ".join(_fmt(rows[(c, s)]["interior_filtered"]) for c in configs) + " |")
     L += ["", "![Whole-image PSNR per scene and filter; band PSNR per frame of the seascape animation]"
               "(images/filters.png)", "",
           "## The animations (section 4.4)", "",
           f"`make animation SCENE=<name> CONFIG=<config> FRAMES={frames} SIZE={anim_size}`: the mean over the frames "
           "of the band's PSNR against each frame's truth, and of the flicker (the mean absolute frame-to-frame change "
-          "of the error against the truth in the band, RGB LSB).", "",
+          "of the error against the truth in the band, RGB LSB); the last three columns over the band less its "
+          "silhouette rims (model/scene/rim.py: the horizon's, on the seascape).", "",
           "| animation | configuration | band PSNR filtered | band PSNR unfiltered | gain | flicker filtered | "
-          "flicker unfiltered | flicker ratio |", "|---|---|---|---|---|---|---|---|"]
+          "flicker unfiltered | flicker ratio | less rims: flicker filtered | flicker unfiltered | flicker ratio |",
+          "|---|---|---|---|---|---|---|---|---|---|---|"]
     for a in ANIMATIONS:
         for c in configs:
             m = anim[(c, a)]
@@ -262,8 +325,10 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
             ff, fu = m["flicker_filtered_lsb"], m["flicker_unfiltered_lsb"]
             gain = None if bf is None or bu is None else bf - bu
             ratio = None if ff is None or not fu else ff / fu
+            fi, ui = m.get("flicker_filtered_interior_lsb"), m.get("flicker_unfiltered_interior_lsb")
+            ri = None if fi is None or not ui else fi / ui
             L.append(f"| {a} | `{_label(c)}` | {_fmt(bf)} | {_fmt(bu)} | {_fmt(gain, '{:+.2f}')} | {_fmt(ff)} | {_fmt(fu)} | "
-                     f"{_fmt(ratio)} |")
+                     f"{_fmt(ratio)} | {_fmt(fi)} | {_fmt(ui)} | {_fmt(ri)} |")
     L += ["", "## Gate cost", "",
           "`make synth-blocks` (synth/run.py: each block alone, Yosys and synth/cells.lib as `make synth`): the box "
           "filter is the colour_map block (with `sat2` the trapezoid's: cmap_sat2, its tables and four window ends); "

@@ -2,7 +2,7 @@
 
 Three parts (docs/tradeoffs.md restates them):
 1. **The named configurations** (config/*.toml: full, reduced, compact) and `full_wide`, the
-   formats `full` had before its 50-dB fit.
+   formats `full` had before its 50-dB fit; and the candidates of CANDIDATES (config/candidates/).
 2. **A grid over the knobs that matter most** for gates against clocks and quality, around
    `compact` (every noise term of the scenes on few units): noise units U (clocks a pixel),
    the blend, and the quadric's clocks: 4 x 2 x 2 points.
@@ -22,9 +22,12 @@ from __future__ import annotations
 
 from itertools import product
 
-from model.hw.config import SCHEMA, config_values, load_config
+from model.hw.config import ROOT, SCHEMA, config_values, load_config
 
 NAMED = ("full", "full_wide", "reduced", "compact")  # full_wide: what the 50-dB fit saved
+# measured candidates (config/candidates/<name>.toml), points of their own: compact_narrow, compact's formats
+# fitted to the eight scenes (98,793 GE), the one unit under 100,000 GE with every noise term (issue 27's goal)
+CANDIDATES = ("compact_narrow",)
 GRID_BASE = "compact"
 GRID = {"noise_units": (1, 2, 3, 5), "blend": ("cubic", "linear"), "quadric_clocks": (1, 2)}
 REFINE_DB = 1.0  # a narrowing that cost its base less than this (worst scene, dB) is tried on the front
@@ -100,6 +103,9 @@ def plan(kind: str = "full") -> list[dict]:
     bases = {n: config_values(load_config(n)) for n in NAMED}
     for n in NAMED:
         pts.append({"label": n, "base": n, "step": None, "values": bases[n]})
+    for n in CANDIDATES:
+        pts.append({"label": n, "base": n, "step": None,
+                    "values": config_values(load_config(str(ROOT / "config" / "candidates" / f"{n}.toml")))})
     for combo in product(*GRID.values()):
         ch = dict(zip(GRID, combo))
         pts.append({"label": "grid " + " ".join(f"{k}={v}" for k, v in ch.items()), "base": GRID_BASE,

@@ -36,6 +36,20 @@ def test_filtered_closer_to_truth_than_unfiltered(tmp_path, scene, size):
     assert attrs.get("tex:scene") == scene and "git" in " ".join(attrs)
 
 
+def test_texture_interior_figures(tmp_path):
+    """The texture interior (model/scene/rim.py): a sphere's silhouette rim carries the coverage error the
+    truth averages in; less the rim the figure rises, and the rims cap the figure over all textured pixels."""
+    from explore.filters import rim_ceiling
+
+    rep = render.render("marble", "full", 48, truth=True, truth_ss=8, band_ss=16, out_root=tmp_path, progress=False)
+    assert 0 < rep["pixels_rim"] and rep["pixels_interior"] + rep["pixels_rim"] == rep["pixels_textured"]
+    assert rep["psnr_filtered_vs_truth_interior_db"] > rep["psnr_filtered_vs_truth_db"] + 1, rep  # 2.2 dB at 48 px
+    assert rep["psnr_filtered_vs_truth_rim_db"] < rep["psnr_filtered_vs_truth_db"], rep
+    # MSE over all >= MSE over the rims x their share: the figure over all cannot pass the rims' cap
+    assert rep["psnr_filtered_vs_truth_db"] <= rim_ceiling(rep) + 1e-6
+    assert {"pixels_interior", "psnr_filtered_vs_truth_interior_db"} <= set(rep["band_w_gt_n8"])
+
+
 def test_zone_plate_full_golden_near_reference(tmp_path):
     """full_wide (exact division, 16-bit f and s fractions): within 1 LSB of the reference."""
     rep = render.render("zone_plate", "full_wide", 64, truth=False, out_root=tmp_path, progress=False)
