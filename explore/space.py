@@ -62,7 +62,8 @@ FEATURE_STEPS = {
                 ("filter=mip", {"filter": "mip"}), ("filter=none", {"filter": "none"}),
                 ("filter=sat2", {"filter": "sat2"}),
                 ("noise_gradient=false", {"noise_gradient": False}), ("noise_terms=4", {"noise_terms": 4}),
-                ("div_bits=0", {"div_bits": 0}), ("hash_bits=8", {"hash_bits": 8}), ("samples=2", {"samples": 2})],
+                ("div_bits=0", {"div_bits": 0}), ("hash_bits=8", {"hash_bits": 8}), ("samples=2", {"samples": 2}),
+                ("filter=sat_fc", {"filter": "sat_fc"})],
     "reduced": [("noise_terms=4", {"noise_terms": 4, "noise_units": 4}), ("blend=cubic", {"blend": "cubic"}),
                 ("noise_gradient=true", {"noise_gradient": True}), ("noise_units=1", {"noise_units": 1}),
                 ("quadric=full", {"quadric": "full"}), ("filter=sat2", {"filter": "sat2"}),
@@ -71,7 +72,8 @@ FEATURE_STEPS = {
     # a step of full's noise term costs Yosys about 5 minutes: the one that says most; the filters
     # (issue 27: what the eye sees) change the colour map only, its noise terms come from the cache
     "full": [("pow2 T and a", {"transform": "pow2", "amplitude": "pow2"}), ("filter=sat2", {"filter": "sat2"}),
-             ("filter=sat_fc", {"filter": "sat_fc"}), ("samples=2", {"samples": 2}), ("samples=4", {"samples": 4})],
+             ("filter=sat_fc", {"filter": "sat_fc"}), ("samples=2", {"samples": 2}), ("samples=4", {"samples": 4}),
+             ("filter=sat2_fc samples=4", {"filter": "sat2_fc", "samples": 4})],
 }
 # the format steps taken from each base (full's formats are swept by `make fit`'s search, which
 # synthesizes only what it keeps: a full-width noise term takes Yosys about 5 minutes)

@@ -30,7 +30,9 @@
 //   u = (f mod 1) N (mod) or clip(f N, -W/2, N + W/2), W = 2^W_CAP_LOG2 (clamp; FILTER 3:
 //       clip(f N, -W, N + W), the trapezoid's window reaching (a + b) / 2 <= W from u)
 //       [s{U_W}.{F_FRAC} entries; clamp compares f with the thresholds shifted right
-//        by n_log2, exact because they are multiples of 2^n_log2]
+//        by n_log2, exact because they are multiples of 2^n_log2; the words that vary with
+//        n_log2 are formed on their live bits (guard >> n_log2: bits GUARD - N_LOG2_MAX ..
+//        GUARD; N; (f mod 1) N: F_FRAC + N_LOG2_MAX bits) and widened for the comparisons]
 //   w registered, 0 when the filter is off; mode, n_log2 (and for mip filter_en) registered.
 //
 // Tables (colour_table, in the family): loaded by the host through the write port
@@ -47,7 +49,8 @@
 // | 5 sat_integral x2, the normaliser | 6 D, the divider operands | 7..14 box_divide; mip,
 // none: 2-3 mip_index | 4 table reads | 5 select | 6..14 delay line).
 // FPGA_REGS = 1 ([fpga_regs]) adds five register stages: stage 1 in two here (1a: the clamp
-// thresholds and the shifted f, registered; 1b: the comparisons), and four in the family
+// thresholds' live bits, N, (f mod 1) N and the shifted f, registered; 1b: the comparisons),
+// and four in the family
 // (cmap_sat: 4b, 5a, 6a and cmap_divide's 6c; mip, none: a longer delay line).
 // Latency `LAT_COLOUR_MAP = 14 (FPGA_REGS: `LAT_COLOUR_MAP_FPGA = 19) register stages;
 // throughput one pixel per enabled clock.
@@ -125,23 +128,61 @@ endgenerate
 // Stage 1: u (FPGA_REGS: in two, 1a the thresholds and shifted values, registered; 1b the
 // comparisons and the selection)
 
+localparam GL     = (GUARD > NMAX) ? GUARD - NMAX : 0;  // the lowest bit guard >> n_log2 can set
+localparam GSW    = GUARD - GL + 1;     // guard >> n_log2: its live bits GL..GUARD
+localparam MW     = FF + NMAX;          // (f mod 1) N < N << FF <= 2^MW
+
 reg [CW-1:0]  f_c;       // f sign-extended to CW
-reg [CW-1:0]  gsh;       // guard >> n_log2
-reg [CW-1:0]  lo_thr;    // -(guard >> n_log2)
-reg [CW-1:0]  hi_thr;    // 1.0 + (guard >> n_log2)
-/* verilator coverage_off */  // a constant: no coverage points
-reg [U_W-1:0] guard_u;   // guard
-/* verilator coverage_on */
-reg [U_W-1:0] n_u;       // N << FF
-reg [U_W-1:0] u_mod;
+reg [GSW-1:0] gsh_l;     // guard >> n_log2 = gsh_l << GL (n_log2 <= NMAX: no bit below GL is set)
+reg [NMAX:0]  n_l;       // N = 2^n_log2
+reg [MW-1:0]  u_mod_l;   // mod: (f mod 1) N
 reg [U_W-1:0] u_sh;      // f N (clamp, between the thresholds)
 
 always @* begin
     f_c = {CW{f_in[F_W-1]}};
     f_c[F_W-1:0] = f_in;
+    gsh_l = {GSW{1'b0}};
+    gsh_l[GSW-1] = 1'b1;
+    gsh_l = gsh_l >> n_log2;
+    n_l = {{NMAX{1'b0}}, 1'b1} << n_log2;
+    u_mod_l = {{NMAX{1'b0}}, f_in[FF-1:0]} << n_log2;
+    u_sh = f_c[U_W-1:0] << n_log2;
+end
+
+// FPGA_REGS: stage 1a's values and the inputs stage 1b reads, registered
+wire            in_valid_i;
+wire [CW-1:0]   f_i;
+wire [GSW-1:0]  gsh_i;
+wire [NMAX:0]   n_i;
+wire [MW-1:0]   u_mod_i;
+wire [U_W-1:0]  u_sh_i;
+wire [NW*W_W-1:0] w_i;
+wire            mode_i;
+wire [NL_W-1:0] n_log2_i;
+wire            filter_en_i;
+delay_line #(.W(1), .N(P), .CLEAR(1)) u_dly_iv (.clk(clk), .rst(rst), .ce(ce), .d_in(in_valid), .d_out(in_valid_i));
+// (two lines: stage 1b reads only the first, whose words all change together)
+delay_line #(.W(CW + GSW + NMAX + 1 + MW + U_W), .N(P)) u_dly_1a (.clk(clk), .rst(rst), .ce(ce),
+    .d_in({f_c, gsh_l, n_l, u_mod_l, u_sh}), .d_out({f_i, gsh_i, n_i, u_mod_i, u_sh_i}));
+delay_line #(.W(NW*W_W + 2 + NL_W), .N(P)) u_dly_1i (.clk(clk), .rst(rst), .ce(ce),
+    .d_in({w_in, mode, filter_en, n_log2}), .d_out({w_i, mode_i, filter_en_i, n_log2_i}));
+
+// stage 1 (FPGA_REGS: 1b): the live words above placed in the words the comparisons take
+// (their other bits are constants), and
+// clamp: clip(f N, -guard, N + guard); f N < -guard iff f < -(guard >> n_log2), and
+// f N > N + guard iff f > 1.0 + (guard >> n_log2); in between f N fits U_W bits
+/* verilator coverage_off */  // the live words widened: no bit of their own to toggle
+reg [CW-1:0]  gsh;       // guard >> n_log2
+reg [CW-1:0]  lo_thr;    // -(guard >> n_log2)
+reg [CW-1:0]  hi_thr;    // 1.0 + (guard >> n_log2)
+reg [U_W-1:0] guard_u;   // guard
+reg [U_W-1:0] n_u;       // N << FF
+reg [U_W-1:0] u_mod;
+/* verilator coverage_on */
+reg [U_W-1:0] u_clamp;
+always @* begin
     gsh = {CW{1'b0}};
-    gsh[GUARD] = 1'b1;
-    gsh = gsh >> n_log2;
+    gsh[GUARD:GL] = gsh_i;
     lo_thr = -gsh;
     hi_thr = {CW{1'b0}};
     hi_thr[FF] = 1'b1;
@@ -149,58 +190,16 @@ always @* begin
     guard_u = {U_W{1'b0}};
     guard_u[GUARD] = 1'b1;
     n_u = {U_W{1'b0}};
-    n_u[FF] = 1'b1;
-    n_u = n_u << n_log2;
-    // mod: (f mod 1) N
+    n_u[FF+NMAX:FF] = n_i;
     u_mod = {U_W{1'b0}};
-    u_mod[FF-1:0] = f_in[FF-1:0];
-    u_mod = u_mod << n_log2;
-    u_sh = f_c[U_W-1:0] << n_log2;
+    u_mod[MW-1:0] = u_mod_i;
+    if ($signed(f_i) < $signed(lo_thr))
+        u_clamp = -guard_u;
+    else if ($signed(f_i) > $signed(hi_thr))
+        u_clamp = n_u + guard_u;
+    else
+        u_clamp = u_sh_i;
 end
-
-// FPGA_REGS: stage 1a's values and the inputs stage 1b reads, registered
-wire            in_valid_i;
-/* verilator lint_off UNUSEDSIGNAL */  // without FPGA_REGS stage 1 compares f_c itself
-wire [CW-1:0]   f_i, lo_thr_i, hi_thr_i;
-wire [U_W-1:0]  n_u_i, u_sh_i;
-/* verilator lint_on UNUSEDSIGNAL */
-wire [U_W-1:0]  u_mod_i;
-wire [NW*W_W-1:0] w_i;
-wire            mode_i;
-wire [NL_W-1:0] n_log2_i;
-wire            filter_en_i;
-delay_line #(.W(1), .N(P), .CLEAR(1)) u_dly_iv (.clk(clk), .rst(rst), .ce(ce), .d_in(in_valid), .d_out(in_valid_i));
-// (two lines: stage 1b reads only the first, whose words all change together)
-delay_line #(.W(3*CW + 3*U_W), .N(P)) u_dly_1a (.clk(clk), .rst(rst), .ce(ce),
-    .d_in({f_c, lo_thr, hi_thr, n_u, u_mod, u_sh}), .d_out({f_i, lo_thr_i, hi_thr_i, n_u_i, u_mod_i, u_sh_i}));
-delay_line #(.W(NW*W_W + 2 + NL_W), .N(P)) u_dly_1i (.clk(clk), .rst(rst), .ce(ce),
-    .d_in({w_in, mode, filter_en, n_log2}), .d_out({w_i, mode_i, filter_en_i, n_log2_i}));
-
-reg [U_W-1:0] u_clamp;
-// clamp: clip(f N, -guard, N + guard); f N < -guard iff f < -(guard >> n_log2), and
-// f N > N + guard iff f > 1.0 + (guard >> n_log2); in between f N fits U_W bits
-generate
-    if (P != 0) begin : g_1b
-        always @* begin
-            if ($signed(f_i) < $signed(lo_thr_i))
-                u_clamp = -guard_u;
-            else if ($signed(f_i) > $signed(hi_thr_i))
-                u_clamp = n_u_i + guard_u;
-            else
-                u_clamp = u_sh_i;
-        end
-    end else begin : g_1
-        // in stage 1's own always @* (the same comparisons, one block a clock)
-        always @* begin
-            if ($signed(f_c) < $signed(lo_thr))
-                u_clamp = -guard_u;
-            else if ($signed(f_c) > $signed(hi_thr))
-                u_clamp = n_u + guard_u;
-            else
-                u_clamp = u_sh;
-        end
-    end
-endgenerate
 
 reg             s1_valid_reg;
 reg [U_W-1:0]   s1_u_reg;
@@ -214,7 +213,7 @@ always @(posedge clk) begin
     else if (ce)
         s1_valid_reg <= in_valid_i;
     if (ce) begin
-        s1_u_reg         <= mode_i ? u_clamp : u_mod_i;
+        s1_u_reg         <= mode_i ? u_clamp : u_mod;
         s1_w_reg         <= filter_en_i ? w_i : {(NW*W_W){1'b0}};  // filter off: w = 0
         s1_mode_reg      <= mode_i;
         s1_n_log2_reg    <= n_log2_i;

@@ -88,7 +88,7 @@ def test_best_for_eye_picks_within_budget_and_rate():
                 "worst_psnr_truth_db": truth}
 
     recs = [rec("small slow", 90_000, 0.25, 36.0), rec("small fast", 95_000, 1.0, 33.0),
-            rec("big fast", 600_000, 1.0, 50.0), rec("huge", 2_000_000, 1.0, 70.0),
+            rec("big fast", 600_000, 1.0, 50.0), rec("huge", BUDGETS[-1] + 1, 1.0, 70.0),
             {"label": "failed", "status": "failed"}]
     got = {(e["budget"], e["rate"]): (e["best"] or {}).get("label") for e in best_for_eye(recs)}
     assert len(got) == len(BUDGETS) * len(EYE_RATES)
