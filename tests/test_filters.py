@@ -200,3 +200,36 @@ def test_make_filters_bad_arguments_one_line_exit_2(args, what, tmp_path):
                        text=True, cwd=Path(__file__).resolve().parents[1], timeout=120)
     assert r.returncode == 2 and "Traceback" not in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
     assert what in r.stderr and not (tmp_path / "filters.md").exists()
+
+
+def test_goals_are_judged_over_the_interior_and_over_all_pixels():
+    """explore.filters.goals: issue 27's goal at 1/4 pixel a clock judged over the texture interior and
+    over all textured pixels, with the silhouette rims' cap named where it is below the goal; the flicker
+    ratio against the configuration's own unfiltered render and against the plain (one-sample) one."""
+    from explore.filters import goals
+
+    one, quarter = ("config/candidates/full_sat2.toml", "config/candidates/full_sat2_fc_s4.toml")
+    scenes = ("marble", "seascape", "zone_plate")
+
+    def row(all_, interior, cap):
+        return {"all_filtered": all_, "interior_filtered": interior, "rim_ceiling": cap}
+    rows = {(one, "marble"): row(35.0, 44.0, 36.0), (one, "seascape"): row(33.0, 33.6, 40.7),
+            (one, "zone_plate"): row(50.03, 50.03, None),
+            (quarter, "marble"): row(35.9, 51.0, 36.0), (quarter, "seascape"): row(41.8, 44.0, 40.7),
+            (quarter, "zone_plate"): row(51.7, 51.7, None)}
+    gates = {one: {"pixels_per_clock": 1.0, "samples": 1}, quarter: {"pixels_per_clock": 0.25, "samples": 4}}
+
+    def anim(f, u, fi, ui):
+        return {"flicker_filtered_lsb": f, "flicker_unfiltered_lsb": u,
+                "flicker_filtered_interior_lsb": fi, "flicker_unfiltered_interior_lsb": ui}
+    an = {(one, "seascape"): anim(4.6, 12.8, 4.9, 12.0), (quarter, "seascape"): anim(2.8, 7.0, 3.0, 6.5)}
+    text = "\n".join(goals(rows, an, gates, [one, quarter], scenes, 256))
+    lines = [ln for ln in text.splitlines() if "1/4 pixel a clock" in ln]
+    assert "over the texture interior" in lines[0] and "full_sat2_fc_s4" in lines[0] and "**met**" in lines[0]
+    assert "rims included" in lines[1] and "**not met**" in lines[1]
+    assert "marble 36.00 dB" in text and "no configuration of the texture unit can meet it" in text
+    assert "Zone plate" in text and "50.03 dB: **met**" in text
+    plain = [ln for ln in text.splitlines() if "plain unfiltered" in ln]
+    assert "12.80 LSB" in plain[0] and "0.22" in plain[0] and "**met**" in plain[0]  # 2.8 / 12.8
+    own = [ln for ln in text.splitlines() if "its own unfiltered" in ln]
+    assert "0.36" in own[0] and "**not met**" in own[0]  # 4.6 / 12.8 against 2.8 / 7.0 = 0.40
