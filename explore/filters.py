@@ -276,12 +276,13 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
          "- **Sub-pixel samples** (`features.samples` = 2 or 4, issue 27; rtl/sample_expand.v, rtl/sample_average.v; "
          "model/hw/golden.py sample_expand, sample_average; model/reference.py shade_samples; "
          "config/candidates/full_s2.toml, full_s4.toml, full_sat2_s4.toml, full_sat2_fc_s4.toml): any of the filters above, taken at "
-         "`samples` points of the pixel instead of its centre: sample k at s + J d_k (d_k: 2 samples (-1, -1) / 4 and "
-         "(+1, +1) / 4 of a pixel, 4 samples the 2x2 grid (+-1/4, +-1/4)), each filtered with the footprint "
-         "J / sqrt(samples), the pixel the mean of their colours (rounded half up). Where noise makes f curve inside "
+         "`samples` points of the pixel instead of its centre: sample k at s + J d_k (d_k: 2 samples the vertical pair "
+         "(0, -1/4) and (0, +1/4) of a pixel, 4 samples the 2x2 grid (+-1/4, +-1/4)), each filtered with the footprint "
+         "of its cell, the pixel's halves across y (J's y column halved) or its quarters (J / 2), the pixel the mean of "
+         "their colours (rounded half up). Where noise makes f curve inside "
          "the pixel, samples follow the curve; a pixel takes `samples` times the clocks (1/2 and 1/4 pixel a clock on "
          "`full`'s unfolded terms). docs/numerics.md \"Sub-pixel samples\" has the rounding of the offsets and of "
-         "J / sqrt 2.", "",
+         "the halved column, and why the pair is vertical.", "",
          "## Whole image and horizon band, every scene", "",
          f"`make render SCENE=<scene> CONFIG=<config> SIZE={size}` (reports in out/render/): PSNR (dB) against the "
          "truth, over the textured pixels and over the band where w > N/8 entries (`band_w_gt_n8`, its pixels "

@@ -515,13 +515,15 @@ def shade(tex, s, J, perm, hash_bits=None) -> np.ndarray:
 def shade_samples(tex, s, J, perm, hash_bits=None) -> np.ndarray:
     """The mean colour of a pixel's tex.samples sub-pixel samples (features.samples): sample k at
     s + J d_k, d_k = model.hw.config.SAMPLE_OFFSETS[samples][k] / 4 pixel (J's columns: one pixel
-    step in x and in y), each shaded with the footprint J / sqrt(samples)."""
-    from model.hw.config import SAMPLE_OFFSETS
+    step in x and in y), each shaded with the footprint of its cell of the pixel, J with its columns
+    scaled by SAMPLE_FOOTPRINT[samples] (2: J's y column halved, the pixel's upper and lower halves;
+    4: J / 2, its quarters)."""
+    from model.hw.config import SAMPLE_FOOTPRINT, SAMPLE_OFFSETS
 
     n = tex.samples
     s = np.asarray(s, dtype=np.float64)
     J = np.asarray(J, dtype=np.float64)
-    Jk = J / np.sqrt(n)
+    Jk = J * np.asarray(SAMPLE_FOOTPRINT[n])
     out = 0.0
     for dx, dy in SAMPLE_OFFSETS[n]:
         out = out + _shade_one(tex, s + (dx * J[..., 0] + dy * J[..., 1]) / 4.0, Jk, perm, hash_bits)

@@ -48,7 +48,7 @@ class TextureParams:
     trapezoid: bool = False
     # sub-pixel samples (features.samples, docs/filters.md "Sub-pixel samples"): the pixel's colour the
     # average of `samples` samples at s + J d_k (model.hw.config.SAMPLE_OFFSETS), each with the footprint
-    # J / sqrt(samples); 1: the pixel's centre with its whole footprint
+    # of its cell (SAMPLE_FOOTPRINT: J's columns scaled); 1: the pixel's centre with its whole footprint
     samples: int = 1
 
     def __post_init__(self):

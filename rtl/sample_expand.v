@@ -2,17 +2,19 @@
 //
 // For the pixel (s, Jm, je) at the input (J = Jm 2^je, the 3x2 screen Jacobian of s: column 0
 // per pixel step in x, column 1 in y) it offers sample k = 0..SAMPLES-1, in that order,
-//   s_k  = sat(s + round(J d_k))       d_k = (dx, dy) / 4 pixel, dx, dy in {-1, +1}
-//   J_k  = J / sqrt(SAMPLES)            the sample's footprint
+//   s_k  = sat(s + round(J d_k))       d_k = (dx, dy) / 4 pixel, dx, dy in {-1, 0, +1}
+//   J_k  = the footprint of the sample's cell of the pixel (the cells tile the pixel)
 // with the stratified offsets (docs/filters.md, "Sub-pixel samples"; model/hw/golden.py
-// sample_expand is the twin):
-//   SAMPLES = 2: d_0 = (-1, -1)/4, d_1 = (+1, +1)/4                  (the diagonal pair)
-//   SAMPLES = 4: d_k = (dx, dy)/4, dx = k[0] ? +1 : -1, dy = k[1] ? +1 : -1  (the 2x2 grid)
+// sample_expand is the twin; model/hw/config.py SAMPLE_OFFSETS, SAMPLE_FOOTPRINT):
+//   SAMPLES = 2: d_0 = (0, -1)/4, d_1 = (0, +1)/4, J_k = J with its y column halved
+//                (the vertical pair: the pixel's two halves across y)
+//   SAMPLES = 4: d_k = (dx, dy)/4, dx = k[0] ? +1 : -1, dy = k[1] ? +1 : -1, J_k = J / 2
+//                (the 2x2 grid: the pixel's quarters)
 // round(J d_k) in s's units: m = dx Jm[r][0] + dy Jm[r][1] (exact), m 2^(je - 2 + S_FRAC)
 // rounded half up (floor(x + 1/2)); s_k saturates to s's range (a sample past the range's edge
 // is taken at the edge). J_k: SAMPLES = 4: je - 1, Jm unchanged (exact; at je's least value
-// the footprint stays J); SAMPLES = 2: Jm_k = floor((181 Jm + 128) / 256), je unchanged (1/sqrt 2
-// as 181/256 = 0.70703, a relative 1.1e-4 below it, then rounded to Jm's integers).
+// the footprint stays J); SAMPLES = 2: Jm_k[r][1] = floor((Jm[r][1] + 1) / 2) (half up, within
+// half a unit of Jm[r][1] / 2), Jm_k[r][0] and je unchanged.
 //
 // Formats: s 3 x s{S_W}.{S_FRAC} ({r, t, s}, element e at [e*S_W +: S_W]); Jm 6 x s{J_W}.0
 // (Jm[k][col] at element 2*k+col); je s{JE_W}.0. The same on the output.
@@ -56,10 +58,6 @@ localparam O_W    = S_W + J_W + 3;                  // the offset and the sum be
 localparam E_W    = JE_W + 7;                       // je - 2 + S_FRAC (S_FRAC <= 24)
 localparam SHL_MAX = S_W + 1;                       // a larger left shift saturates the same
 localparam SHR_MAX = J_W + 2;                       // a larger right shift rounds to 0 the same
-localparam RSQ    = 181;                            // 1/sqrt 2 in u0.8 (SAMPLES = 2)
-localparam RSQ_F  = 8;
-localparam signed [J_W+RSQ_F:0] RSQ_K = RSQ;         // as a signed word of the product's width
-localparam signed [J_W+RSQ_F:0] RSQ_H = 1 << (RSQ_F - 1);  // one half, rounding
 
 generate
     if (SAMPLES != 2 && SAMPLES != 4) begin : g_bad_params
@@ -83,7 +81,8 @@ always @(posedge clk) begin
         idx_reg <= last ? {K_W{1'b0}} : idx_reg + 1'b1;
 end
 
-// the offset's direction: dx from index bit 0; dy from bit 1 (the grid) or bit 0 (the pair)
+// the offset's direction: the grid dx from index bit 0, dy from bit 1; the pair dx = 0, dy from bit 0
+localparam DX_ON = (SAMPLES == 4);
 wire dx_pos = idx_reg[0];
 wire dy_pos = idx_reg[K_W-1];
 
@@ -103,7 +102,8 @@ generate
     for (r = 0; r < 3; r = r + 1) begin : g_coord
         wire signed [J_W-1:0] j0 = jm_in[(2*r)*J_W +: J_W];
         wire signed [J_W-1:0] j1 = jm_in[(2*r + 1)*J_W +: J_W];
-        wire signed [M_W-1:0] t0 = dx_pos ? $signed({j0[J_W-1], j0}) : -$signed({j0[J_W-1], j0});
+        wire signed [M_W-1:0] t0 = !DX_ON ? {M_W{1'b0}} :
+                                   dx_pos ? $signed({j0[J_W-1], j0}) : -$signed({j0[J_W-1], j0});
         wire signed [M_W-1:0] t1 = dy_pos ? $signed({j1[J_W-1], j1}) : -$signed({j1[J_W-1], j1});
         wire signed [O_W-1:0] m  = $signed({{(O_W-M_W){t0[M_W-1]}}, t0}) + $signed({{(O_W-M_W){t1[M_W-1]}}, t1});
         // m 2^e rounded half up: e >= 0 exact (the shift capped where the sum saturates anyway),
@@ -117,21 +117,23 @@ generate
     end
 endgenerate
 
-// the footprint J / sqrt(SAMPLES)
+// the footprint of the sample's cell
 localparam [JE_W-1:0] JE_MIN = {1'b1, {(JE_W-1){1'b0}}};
 genvar c;
 generate
-    if (SAMPLES == 4) begin : g_half
+    if (SAMPLES == 4) begin : g_quarter
+        // J / 2: the exponent one less (exact)
         assign jm_out = jm_in;
         assign je_out = (je_in == JE_MIN) ? je_in : je_in - 1'b1;
-    end else begin : g_rsqrt2
-        for (c = 0; c < 6; c = c + 1) begin : g_jm
-            wire signed [J_W-1:0]       j  = jm_in[c*J_W +: J_W];
-            wire signed [J_W+RSQ_F:0]   p  = $signed({{(RSQ_F+1){j[J_W-1]}}, j}) * $signed(RSQ_K) + RSQ_H;
-            /* verilator lint_off UNUSEDSIGNAL */  // |q| < |Jm|: its high bits are its sign
-            wire signed [J_W+RSQ_F:0]   q  = p >>> RSQ_F;
+    end else begin : g_half_y
+        // J's y column halved, rounded half up: floor((Jm + 1) / 2) fits J_W bits
+        for (c = 0; c < 3; c = c + 1) begin : g_row
+            wire signed [J_W-1:0] jy = jm_in[(2*c + 1)*J_W +: J_W];
+            /* verilator lint_off UNUSEDSIGNAL */  // |h| <= 2^(J_W-2): its top bit is its sign
+            wire signed [J_W:0]   h  = ($signed({jy[J_W-1], jy}) + 1) >>> 1;
             /* verilator lint_on UNUSEDSIGNAL */
-            assign jm_out[c*J_W +: J_W] = q[J_W-1:0];
+            assign jm_out[(2*c)*J_W +: J_W]     = jm_in[(2*c)*J_W +: J_W];
+            assign jm_out[(2*c + 1)*J_W +: J_W] = h[J_W-1:0];
         end
         assign je_out = je_in;
     end

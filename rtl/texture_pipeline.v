@@ -58,7 +58,8 @@
 // Throughput: one pixel per SAMPLES x ceil(k_used / NOISE_UNITS) clocks (at least QUADRIC_CLOCKS a
 // sample; one pixel a clock unfolded at SAMPLES = 1) while m_axis_tready is held high.
 // SAMPLES > 1 (sample_expand, sample_average): the pixel's SAMPLES sub-pixel samples enter one
-// after the other (s_axis_tready with the last), each filtered with the footprint J / sqrt(SAMPLES),
+// after the other (s_axis_tready with the last), each filtered with the footprint of its cell of the
+// pixel (2: the halves across y, J's y column halved; 4: the quarters, J / 2),
 // and their colours are averaged (docs/filters.md "Sub-pixel samples").
 // Reset: synchronous, active high; clears every valid bit, the output registers, the
 // parameter registers and the staging register (no output is X after reset).
@@ -281,7 +282,7 @@ wire [JM_W-1:0]   pix_jm = s_axis_tdata[3*S_W +: JM_W];
 wire [JE_W-1:0]   pix_je = s_axis_tdata[3*S_W + JM_W +: JE_W];
 
 // The sample at the front's input (in_*): the pixel itself, or (SAMPLES > 1) its sub-pixel
-// samples one after the other (sample_expand: offset s, footprint J / sqrt(SAMPLES)); each
+// samples one after the other (sample_expand: offset s, footprint its cell's); each
 // sample carries the pixel's tlast, and sample_average takes the last sample's
 wire              in_valid;
 wire [3*S_W-1:0]  in_s;

@@ -238,3 +238,21 @@ def test_fit_against_truth(tmp_path):
     # the command takes it, and a bad value is one line, exit 2
     r = _run([sys.executable, "-m", "explore.fit", "--scenes", "zone_plate", "--db", "30", "--against", "eye"])
     assert r.returncode == 2 and "--against" in r.stderr and len(r.stderr.strip().splitlines()) == 1, r.stderr
+
+
+def test_sample_patterns_command(capsys):
+    """python -m explore.sample_patterns on a tiny frame: one JSON line a scene with every pattern's PSNR
+    and the table; a bad scene is one line and exit status 2 before any work."""
+    import json
+
+    from explore import sample_patterns as sp
+
+    assert sp.main(["--scenes", "zone_plate", "--size", "16", "--truth-ss", "2", "--band-ss", "2"]) == 0
+    out = capsys.readouterr().out
+    row = json.loads(out.splitlines()[0])
+    assert row["scene"] == "zone_plate" and row["interior_pixels"] == 256
+    assert all(isinstance(row[n], float) for n in ("one sample", *sp.PATTERNS)), row
+    assert "| zone_plate |" in out
+    assert sp.main(["--scenes", "nope"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "nope" in err[0]

@@ -1,6 +1,6 @@
 """Sub-pixel samples (features.samples, issue 27; docs/filters.md "Sub-pixel samples"): the golden
 twins sample_expand and sample_average against exact rational arithmetic at every edge of their
-formats, the J / sqrt 2 rounding's bound at its worst case, the configuration key's checks, and
+formats, the halved y column's rounding at its worst case, the configuration key's checks, and
 the whole pipeline with samples against the float reference that samples the same way."""
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from model import reference as R
 from model.hw import golden as G
-from model.hw.config import (RSQRT2_U8, SAMPLE_OFFSETS, ConfigError, clocks_per_pixel, clocks_per_sample, load_config,
+from model.hw.config import (SAMPLE_FOOTPRINT, SAMPLE_OFFSETS, ConfigError, clocks_per_pixel, clocks_per_sample, load_config,
                              variant)
 from model.hw.quantize import quantize_pixels, quantize_texture
 from model.texture import NoiseTerm, TextureParams
@@ -45,7 +45,7 @@ def _exact_expand(cfg, s, Jm, je, k):
     if cfg.samples == 4:
         jm_k, je_k = [list(row) for row in Jm], (je - 1 if je > -(1 << (cfg.je_w - 1)) else je)
     else:
-        jm_k, je_k = [[math.floor(Fraction(181 * v + 128, 256)) for v in row] for row in Jm], je
+        jm_k, je_k = [[row[0], math.floor(Fraction(row[1], 2) + Fraction(1, 2))] for row in Jm], je
     return out, jm_k, je_k
 
 
@@ -81,26 +81,33 @@ def test_sample_expand_is_the_exact_rounded_offset(case):
 
 
 def test_sample_offsets_are_stratified():
-    """The offsets of each sample count are the centres of equal cells of the pixel: their mean is
-    0, and 4 samples are the 2x2 grid (each x and y offset +-1/4 twice)."""
+    """The offsets of each sample count are the centres of equal cells that tile the pixel, and the
+    footprint is that cell: their mean is 0, the cells (the footprint's scales of the pixel's x and
+    y sides, centred on the offsets) cover the pixel [-1/2, 1/2]^2 once, point by point on a grid;
+    4 samples are the 2x2 grid, 2 the vertical pair (the pixel's halves across y)."""
+    g = (np.arange(64) + 0.5) / 64 - 0.5
+    X, Y = np.meshgrid(g, g)
     for n, offs in SAMPLE_OFFSETS.items():
         a = np.array(offs, dtype=float)
         assert len(offs) == n and np.allclose(a.mean(axis=0), 0.0)
+        fx, fy = SAMPLE_FOOTPRINT[n]
+        cover = sum(((np.abs(X - dx / 4) < fx / 2) & (np.abs(Y - dy / 4) < fy / 2)).astype(int) for dx, dy in offs)
+        assert (cover == 1).all(), n
     assert sorted(SAMPLE_OFFSETS[4]) == [(-1, -1), (-1, 1), (1, -1), (1, 1)]
+    assert SAMPLE_OFFSETS[2] == ((0, -1), (0, 1)) and SAMPLE_FOOTPRINT[2] == (1.0, 0.5)
 
 
 def test_two_samples_footprint_bound_at_its_worst_case():
-    """Two samples' footprint J / sqrt 2 as floor((181 Jm + 128) / 256): within 1/2 + |Jm| (1/sqrt 2 -
-    181/256) of Jm / sqrt 2 (docs/numerics.md "Sub-pixel samples"); every Jm of the widest Jacobian
-    format (j_w 24, so every narrower one), the bound reached within 1% at its worst case."""
-    eps = 1 / math.sqrt(2) - RSQRT2_U8 / 256
-    assert 0 < eps < 1.1e-4
+    """Two samples' footprint halves J's y column as floor((Jm + 1) / 2): within 1/2 of Jm / 2 (docs/numerics.md
+    "Sub-pixel samples"), exact at even Jm and 1/2 off at every odd one (the worst case), for every Jm of the
+    widest Jacobian format (j_w 24, so every narrower one); the x column and the exponent unchanged."""
     jm = np.arange(-(1 << 23), 1 << 23, dtype=np.int64)
-    got = (jm * RSQRT2_U8 + 128) >> 8
-    err = np.abs(got - jm / math.sqrt(2))
-    bound = 0.5 + np.abs(jm) * eps  # reached at the ties (181 Jm = 128 mod 256, Jm < 0)
-    assert (err <= bound + 1e-6).all()  # (1e-6: float64's rounding of Jm / sqrt 2 near 2^23)
-    assert (bound - err).min() < 0.01 * bound.max()
+    Jm = np.stack([np.zeros_like(jm), jm], axis=-1)[:, None, :].repeat(3, axis=1)
+    cfg = SimpleNamespace(samples=2, s_w=32, s_frac=0, j_w=24, je_w=8)
+    _, got, je = G.sample_expand(cfg, np.zeros((len(jm), 3), np.int64), Jm, np.zeros(len(jm), np.int64), 0)
+    err = np.abs(got[:, 0, 1] - jm / 2)
+    assert (err <= 0.5).all() and (err[jm % 2 == 1] == 0.5).all() and (err[jm % 2 == 0] == 0).all()
+    assert (got[..., 0] == 0).all() and (je == 0).all()
 
 
 def test_sample_average_rounds_half_up():

@@ -66,7 +66,7 @@ SCHEMA = {
     "fpga_regs": ("features", bool, (False, True)),
     # sub-pixel samples a pixel (issue 27): 1, 2 or 4 texture samples at stratified offsets inside the
     # pixel (rtl/sample_expand.v, docs/filters.md "Sub-pixel samples"), each filtered with the
-    # footprint J / sqrt(samples), averaged (rtl/sample_average.v); samples x the clocks of one
+    # footprint of its cell of the pixel (SAMPLE_FOOTPRINT), averaged (rtl/sample_average.v); samples x the clocks of one
     "samples": ("features", int, (1, 4)),
     "s_w": ("formats", int, (4, 32)),
     "s_frac": ("formats", int, (0, 24)),
@@ -108,9 +108,13 @@ SCHEMA = {
 OPTIONAL_KEYS = {"t_exp_w": 0, "a_exp_w": 0, "samples": 1}
 SAMPLE_COUNTS = (1, 2, 4)  # features.samples: the values the sample blocks implement
 # the sub-pixel samples' offsets d_k = (dx, dy) / 4 pixel, in quarter pixels, in the order the unit
-# takes them (rtl/sample_expand.v: dx from the sample index's bit 0, dy from its bit 1, or bit 0 for 2)
-SAMPLE_OFFSETS = {1: ((0, 0),), 2: ((-1, -1), (1, 1)), 4: ((-1, -1), (1, -1), (-1, 1), (1, 1))}
-RSQRT2_U8 = 181  # 1/sqrt 2 in u0.8 (0.70703): two samples' footprint J / sqrt 2 (sample_expand)
+# takes them (rtl/sample_expand.v: 4 samples dx from the sample index's bit 0, dy from its bit 1; 2 samples
+# the vertical pair, dy from bit 0), and each sample's footprint: the scale of J's columns (x, y), so that
+# the samples' cells tile the pixel (2: its upper and lower halves, 4: its quarters). The vertical pair
+# (issue 27, stop 38): the diagonal pair with the isotropic J / sqrt 2 was worse than one sample (zone plate
+# 24.0 dB against 35.9; the float experiment in docs/numerics.md "Sub-pixel samples")
+SAMPLE_OFFSETS = {1: ((0, 0),), 2: ((0, -1), (0, 1)), 4: ((-1, -1), (1, -1), (-1, 1), (1, 1))}
+SAMPLE_FOOTPRINT = {1: (1.0, 1.0), 2: (1.0, 0.5), 4: (0.5, 0.5)}
 
 
 def bits_signed(maxabs: int) -> int:

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from model.hw.config import (FC_KSF, RSQRT2_U8, SAMPLE_OFFSETS, SAT2_FILTERS, Config, clocks_per_sample, cmap_family,
+from model.hw.config import (FC_KSF, SAMPLE_OFFSETS, SAT2_FILTERS, Config, clocks_per_sample, cmap_family,
                              freq_clamp, latency)
 
 MODE_MOD, MODE_CLAMP = 0, 1
@@ -966,8 +966,9 @@ def sample_expand(cfg: Config, s, Jm, je, k: int):
     """Sub-pixel sample k of pixels s [..., 3], Jm [..., 3, 2], je [...] (rtl/sample_expand.v):
     (s_k, Jm_k, je_k). s_k = sat(s + round(J d_k)), d_k = SAMPLE_OFFSETS[samples][k] / 4 pixel,
     round(J d_k) = floor(m 2^(je - 2 + s_frac) + 1/2) with m = dx Jm[r][0] + dy Jm[r][1],
-    saturated to s's range; the footprint J / sqrt(samples): 4 samples je - 1 (at je's least
-    value je), 2 samples Jm_k = floor((181 Jm + 128) / 256)."""
+    saturated to s's range; the footprint of the sample's cell (SAMPLE_FOOTPRINT): 4 samples
+    J / 2 as je - 1 (at je's least value je), 2 samples J's y column halved, Jm_k[r][1] =
+    floor((Jm[r][1] + 1) / 2) (x column and je unchanged)."""
     s = np.asarray(s, dtype=I64)
     Jm = np.asarray(Jm, dtype=I64)
     je = np.asarray(je, dtype=I64)
@@ -984,7 +985,9 @@ def sample_expand(cfg: Config, s, Jm, je, k: int):
     if cfg.samples == 4:
         je_min = -(1 << (cfg.je_w - 1))
         return s_k, Jm, np.where(je > je_min, je - 1, je)
-    return s_k, (Jm * RSQRT2_U8 + 128) >> 8, je
+    Jm_k = Jm.copy()
+    Jm_k[..., 1] = (Jm[..., 1] + 1) >> 1
+    return s_k, Jm_k, je
 
 
 def sample_average(cfg: Config, rgba):

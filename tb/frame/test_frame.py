@@ -456,7 +456,7 @@ def _sample_params():
 @pytest.mark.parametrize("sim,base,samples,filt", _sample_params())
 def test_frame_samples(sim, base, samples, filt):
     """features.samples = 2 or 4 through the whole pipeline: each pixel's samples (s + J d_k, the
-    footprint J / sqrt(samples)) and their average, bit-exact with the golden model's
+    footprint of its cell) and their average, bit-exact with the golden model's
     texture_pipeline on random textures and pixels (the hard cases of random_pixels: s at its ends,
     where the offsets saturate; J = 0; je at its ends), with random input gaps and output stalls,
     then without them (samples x clocks_per_sample clocks a pixel), then with a mid-frame reset."""
