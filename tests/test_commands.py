@@ -155,6 +155,8 @@ COMMANDS = {
     "quality": ([PY, "-m", "app.quality", "--config", "compact", "--size", "8", "--step", "div_bits=5", "--json"],
                 {}, lambda r, out: (_ok(r), len(_json_lines(r.stdout)) == 2,
                                     all("worst" in x for x in _json_lines(r.stdout)))),
+    "sample_patterns": ([PY, "-m", "explore.sample_patterns", "--scenes", "zone_plate", "--size", "8", "--truth-ss", "2",
+                         "--band-ss", "2"], {}, lambda r, out: (_ok(r), "| zone_plate |" in r.stdout)),
     "needs": ([PY, "-m", "app", "needs", "seascape", "--size", "8", "--json"], {},
               lambda r, out: (_ok(r), json.loads(r.stdout)["needs"]["noise_terms"] > 0)),
 }
