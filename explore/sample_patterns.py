@@ -40,13 +40,17 @@ PATTERNS = {
 
 
 def shade_pattern(tex, s, J, offsets, scale, perm, hash_bits):
-    """The mean colour of the samples at s + J d_k, each with the footprint J scaled by column."""
+    """The mean colour of the samples at s + J d_k, each with the footprint J scaled by column (each
+    sample shaded by the float reference at one sample a pixel: a scene's texture has samples = 1)."""
+    from dataclasses import replace
+
     from model import reference
 
+    one = replace(tex, samples=1)
     out = 0.0
     for dx, dy in offsets:
         sk = s + (dx * J[..., 0] + dy * J[..., 1]) / 4.0
-        out = out + reference._shade_one(tex, sk, J * np.asarray(scale), perm, hash_bits)
+        out = out + reference.shade(one, sk, J * np.asarray(scale), perm, hash_bits)
     return out / len(offsets)
 
 
