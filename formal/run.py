@@ -155,7 +155,7 @@ def tasks() -> list[Task]:
             quick=name in ("full_sh", "w52"), configs=(cname,) if cname else ()))
 
     # mul_pipe against the plain product (sets z3 finishes: see docs/verification.md; full's q x s, 26 x 22
-    # since issue 26, timed out at 900 s; full_narrow's 18 x 18 is "whole"; compact's 23 x 22 since stop 36
+    # since issue 26, timed out at 900 s; full_narrow's 18 x 18 is "whole"; compact's (24 x 21 since stop 39)
     # is as wide, so its set is compact_narrow's q x s, 17 x 18)
     narrow = load_config(str(ROOT / "config" / "candidates" / "compact_narrow.toml"))
     mp_sets = {"whole": (18, 18, None), "narrow": (2, 5, None), "cut_a": (19, 8, None),
@@ -255,9 +255,9 @@ def write_doc(results: list[Result]) -> None:
         *rows, "",
         f"{len(results)} tasks, {sum(r.status == 'PASS' for r in results)} passed, {total:.0f} s in all "
         f"(one at a time on this machine).", "",
-        "Not proved here: mul_pipe with an operand cut and both wider than about 19 x 8 bits (reduced's 23 x 19 "
-        "and compact's 23 x 22 since stop 36, full's 26 x 22 since issue 26 (a 900-s timeout, `make formal` on "
-        "stop 34), the 35 x 35 extreme): z3 does not finish a multiplier equivalence of that size in minutes; those sets "
+        "Not proved here: mul_pipe with an operand cut and both wider than about 19 x 8 bits (the quadric's q x s: "
+        + ", ".join(f"{c.name}'s {c.q_w} x {c.s_w}" for c in map(load_config, ("reduced", "compact", "full")))
+        + "; full's timed out at 900 s in `make formal` on stop 34; the 35 x 35 extreme): z3 does not finish a multiplier equivalence of that size in minutes; those sets "
         "stay with tb/mul_pipe's edge and random vectors. The pipeline's clock enable lives in "
         "texture_pipeline (ce = rst | !cm_valid | skid_ready), not in noise_fold; noise_fold's proofs take "
         "any ce pattern.", "",
