@@ -234,6 +234,36 @@ EQUIVALENT: dict[str, str] = {
     "cf82c493": "(trunc) p11_reg is P1_W bits: y1[P1_W+1:0] is cut to y1[P1_W-1:0]",
     "dfc3e0b9": "lsum >= lmax differs from lsum > lmax only at lsum = lmax, where lmax = lsum writes the value lmax holds"
                 " (lany is set either way)",
+    # make mutants N=100 SEED=1 after the two sub-pixel samples (cd290f5): the survivors new to that draw
+    "460c470f": "(check) KW + XF > D_W to >= in g_bad_params' condition, the elaboration-time check: only cmap_sat2 "
+                "builds sat2_integral, with KW + XF = X_W (tw_x2_w) and D_W = tw_d2_w = 2 (W_CAP_LOG2 + F_FRAC) + 11, "
+                "at least 8 more than X_W for every f_frac 8..20, w_cap_log2 1..20, n_log2_max 0..10 "
+                "(model/hw/config.py), so both are false on every configuration and the designs that elaborate are "
+                "the same (the check only refuses)",
+    "c9615a12": "(trunc) we is W_W - FF bits: w_in[W_W+1:FF] is cut to w_in[W_W-1:FF]",
+    "64deaf40": "(trunc) r1_2_reg is P2_W bits: y1[P2_W:0] is cut to y1[P2_W-1:0]",
+    "76f5d599": "LAT_DP is read only by g_bad_latency, and `LAT_QMAC_DIAG_FOLD = `LAT_QMAC_DIAG = 3 "
+                "(rtl/tex_latency.vh): a diagonal quadric on two clocks (CLOCKS = 0 is refused by g_bad_clocks) "
+                "falls through to `LAT_QMAC_DIAG, the same number",
+    "30a5c7df": "a zero of C_W bits zero-extended to c_acc_reg's 3 C_W bits is the same zero",
+    "102b5d7b": "(check) || to && in g_bad_params' condition, the elaboration-time check: where every term is false "
+                "(the check accepts) the mutated condition is false too, so the designs that elaborate are the same "
+                "(the check only refuses)",
+    "70269b40": "(trunc) ay_reg is GABS_W bits: gy_abs[GABS_W:0] is cut to gy_abs[GABS_W-1:0]",
+    "554fe7a8": "(loop) ri = 4 writes rgba_wide[4 CSAT_W +: 8], past its 4 CSAT_W bits (and reads cfg_wr_data[32 +: 8],"
+                " past its RM_DATA_W = 32): " + _LOOP,
+    "deb75bbc": "(ja >= jb) ? ja : jb differs from (ja > jb) ? ja : jb only at ja = jb, where both give the same value",
+    "6d04301a": "pw_x >= CAP_V differs from pw_x > CAP_V only at pw_x = CAP_V, where CAP_V[W_W-1:0] and "
+                "pw_x[W_W-1:0] are the same value",
+    "7faf3143": "(trunc) the part-select written is AG_W bits: pg[r][AG_W:0] is cut to pg[r][AG_W-1:0]",
+    "9f45b138": "x4 < 0 differs from x4 <= 0 only at x4 = 0, which then fails x4 >= ONE_L (ONE_L = 2^AF > 0: AF <= "
+                "LF + 4 (fc_fade_log2 <= 4) < L_W - 1, L_W >= JB_W + LF + 3 with JB_W >= 3 (j_w >= 4)) and takes "
+                "x4[AF:0] = 0, the value of the branch it skipped",
+    "b8dd487d": "(loop) pi = 2^H writes perm_rom[2^H], past the array perm_rom[0:2^H-1] (and reads PERM past its 2^H "
+                "entries): " + _LOOP,
+    "c96f3973": "the extra generate iteration gk = 3 adds a fourth axis, g_axis[3], whose g_p, h_next and ag_next "
+                "nothing reads (the stage 6..8 registers read g_axis[0..2] by name): unused logic (its slices of dw5_reg and "
+                "t_in past their three axes feed only it)",
 }
 
 # Survivors neither killed nor shown equivalent, with what was found (listed as open in the report).

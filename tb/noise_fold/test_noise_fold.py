@@ -19,7 +19,9 @@ draws), the exponents te and ae uniform over what the configuration holds; s as 
 only on an enabled clock with in_ready), ce low in random runs (the pipeline's output stalls),
 s_in and side_in random while in_valid = 0; one batch back to back without gaps or stalls
 (a pixel taken on each pixel's last issue), one stalled half of its clocks, one with rst
-pulses among the pixels (the fold empties: the pixels in flight are dropped, never shown).
+pulses among the pixels (the fold empties: the pixels in flight are dropped, never shown), one of
+them on an enabled clock of a pixel's last issue (FPGA_REGS: the valid bit registered beside the
+parameters must clear too, or that pixel's sums show after the reset).
 Checked every clock: in_ready, px_valid (before the edge) and sum_valid (after it); px_s and
 px_side whenever a pixel is held; f_sum and c_sum whenever sum_valid (the pixel the schedule
 says, its sums from golden noise_fold).
@@ -97,6 +99,11 @@ def _streams(cfg, b: dict, rr: random.Random) -> tuple[list, list, list, dict]:
             ce.append(0 if stalled else 1)
         iv = [0 if rr.random() < gap else 1 for _ in range(n)]
         rst = [1 if style == "reset" and rr.random() < 0.02 else 0 for _ in range(n)]
+        if style == "reset":  # and one on an enabled clock of a pixel's last issue (its sums must never show)
+            lasts = [t for t in np.flatnonzero(G.noise_fold_schedule(cfg, b["k_used"], iv, ce, rst)["px_valid"])
+                     if ce[t]]
+            if lasts:
+                rst[lasts[len(lasts) // 4]] = 1
         sch = G.noise_fold_schedule(cfg, b["k_used"], iv, ce, rst)
         takes = np.flatnonzero(sch["take"])
         if len(takes) < m:

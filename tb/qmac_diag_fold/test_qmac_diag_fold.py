@@ -3,8 +3,9 @@ quadric_clocks = 2) bit-exact against golden qmac_diag_fold (qmac_diag's values)
 latency `LAT_QMAC_DIAG_FOLD, a vector at most every other enabled clock (its contract).
 
 Parameter sets (S_W, S_FRAC, Q_W): compact (S_W > Q_W: the multiplier's first operand is s's
-width) and a random valid configuration with quadric_clocks = 2, and the edge "narrow_s"
-(6, 2, 12: Q_W > S_W).
+width) and a random valid configuration with quadric_clocks = 2, and the edges "narrow_s"
+(6, 2, 12: Q_W > S_W) and "wide_s" (20, 18, 4: S_W > V_W = 7, so the multiplier's second operand
+is s's width and x_k is sign-extended to it on the vector's second clock).
 Stimulus: tb/quadric_mac's hard cases and random batches sharing a Q (B = C = F = 0), drained
 between batches, with ce stalls and input gaps, spacing 2 (tb/quadric_mac datapath_bit_exact).
 """
@@ -15,7 +16,7 @@ import cocotb
 from tb import pipe
 from tb.quadric_mac import test_quadric_mac as qm
 
-SETS = qm.datapath_sets(("compact",), (1401,), {"narrow_s": (6, 2, 12)})
+SETS = qm.datapath_sets(("compact",), (1401,), {"narrow_s": (6, 2, 12), "wide_s": (20, 18, 4)})
 
 # every set under Icarus, one under Verilator (a build costs 5-20 s)
 test_qmac_diag_fold_rtl = pipe.block_test("qmac_diag_fold", SETS, ("compact",), __file__,
