@@ -9,7 +9,9 @@ see the same load); each is timed REPEAT= times (default 3) and the best kept. O
 Verilator run's (streaming: first pixel offered to last colour taken; run: the simulator's
 start, load and file output included; frame: the whole run_frame_rtl call, packing the pixel
 words in Python and reading the colours back included) and their ratios to the golden model's,
-checked bit-exact. Then one line for Icarus on the first configuration (PIXELS_ICARUS= pixels,
+checked bit-exact; and the same in CPU seconds (`*_cpu*`: this process's CPU time for the golden
+model, the simulator process's own for Verilator, streaming and whole run), the figures that do not
+move with what else the machine runs. Then one line for Icarus on the first configuration (PIXELS_ICARUS= pixels,
 default 16384: Icarus streams about a thousand full pixels a second). docs/simulation.md
 explains the figures.
 """
@@ -18,6 +20,7 @@ from __future__ import annotations
 import io
 import json
 import os
+import resource
 import sys
 import time
 from contextlib import redirect_stdout
@@ -49,19 +52,28 @@ def versus_golden(config: str, pixels: int, repeat: int = 3) -> dict:
     build_s = time.perf_counter() - t0
     # alternately, golden model then Verilator, so that both see the same load of this shared
     # machine (a load that comes or goes between two blocks of runs moved the ratio by 30%)
-    runs, golden_s = [], float("inf")
+    # besides wall time, each side's CPU time (this process's for the golden model, the simulator's
+    # own for Verilator): what each costs whatever else the machine runs
+    runs, golden_s, golden_cpu = [], float("inf"), float("inf")
     for _ in range(repeat):
+        c = time.process_time()
         g_s, exp = _best(lambda: texture_pipeline(cfg, tex, s, Jm, je).astype(np.uint8), 1)
+        golden_cpu = min(golden_cpu, time.process_time() - c)
         golden_s = min(golden_s, g_s)
         t = time.perf_counter()
+        ch = resource.getrusage(resource.RUSAGE_CHILDREN)
         rgba, cycles, run_s, st = frame_rtl.run_frame_rtl(cfg, "verilator", tex, s, Jm, je, return_stats=True)
         frame_s = time.perf_counter() - t
+        ch2 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        run_cpu = (ch2.ru_utime + ch2.ru_stime) - (ch.ru_utime + ch.ru_stime)
         stream_s = sum(x.get("stream_wall_us", 0) for x in st) / 1e6
-        runs.append((stream_s, run_s, frame_s))
+        stream_cpu = sum(x.get("stream_cpu_us", 0) for x in st) / 1e6
+        runs.append((stream_s, run_s, frame_s, stream_cpu, run_cpu))
         if np.any(rgba != exp):
             break
-    stream_s, run_s, frame_s = (min(r[i] for r in runs) for i in range(3))
+    stream_s, run_s, frame_s, stream_cpu, run_cpu = (min(r[i] for r in runs) for i in range(5))
     golden = pixels / golden_s
+    golden_c = pixels / max(golden_cpu, 1e-9)
     out = {
         "config": config, "pixels": pixels, "cycles": cycles, "clocks_per_pixel": round(cycles / pixels, 3),
         "golden_pixels_per_second": round(golden),
@@ -71,6 +83,11 @@ def versus_golden(config: str, pixels: int, repeat: int = 3) -> dict:
         "ratio_stream": round(pixels / max(stream_s, 1e-9) / golden, 3),
         "ratio_run": round(pixels / run_s / golden, 3),
         "ratio_frame": round(pixels / frame_s / golden, 3),
+        "golden_pixels_per_cpu_second": round(golden_c),
+        "verilator_pixels_per_cpu_second_stream": round(pixels / max(stream_cpu, 1e-9)),
+        "verilator_pixels_per_cpu_second_run": round(pixels / max(run_cpu, 1e-9)),
+        "ratio_stream_cpu": round(pixels / max(stream_cpu, 1e-9) / golden_c, 3),
+        "ratio_run_cpu": round(pixels / max(run_cpu, 1e-9) / golden_c, 3),
         "fixed_seconds": round(frame_s - stream_s, 3),
         "build_seconds": round(build_s, 2),
         "mismatches": int(np.count_nonzero(np.any(rgba != exp, axis=-1))),

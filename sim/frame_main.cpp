@@ -10,7 +10,8 @@
 //   +RESET_AT=<clocks>  assert rst that many clocks after the first reset (the harness must be
 //                       streaming, 0 < out_idx < +NPIXTOTAL), 3 clocks, then run to `done` again;
 //   +NPIXTOTAL=<n>      the run's pixels (for the +RESET_AT check);
-//   +WALL=<file>        write "stream_wall_us <us>": wall time from the last reset's release to done;
+//   +WALL=<file>        write "stream_wall_us <us>": wall time from the last reset's release to done,
+//                       and "stream_cpu_us <us>", the process's CPU time over the same span;
 //   +HOSTMEM=1 +PIXBIN=<file> +OUTBIN=<file>: the pixel words in binary (each PIX_W-bit word as
 //                       ceil(PIX_W / 32) little-endian uint32, least significant first, +NPIXTOTAL
 //                       words; model/hw/regmap.py pack_pixels_u32) loaded into the harness's pixel
@@ -24,6 +25,7 @@
 // $display errors come first in the log; sim/frame_rtl.py shows the first).
 
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -175,6 +177,7 @@ int main(int argc, char** argv) {
         reset(3, "right after the second reset");
     }
     const auto t0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();  // the process's CPU time: what the streaming costs, load aside
     long n = 0;
     while (!top->done) {
         if (n++ >= timeout)
@@ -185,10 +188,11 @@ int main(int argc, char** argv) {
         tick();
     }
     const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+    const double cpu_us = 1e6 * static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     if (!wall_file.empty()) {
         FILE* f = std::fopen(wall_file.c_str(), "w");
         if (!f) fail("cannot write " + wall_file);
-        std::fprintf(f, "stream_wall_us %ld\n", static_cast<long>(us));
+        std::fprintf(f, "stream_wall_us %ld\nstream_cpu_us %ld\n", static_cast<long>(us), static_cast<long>(cpu_us));
         std::fclose(f);
     }
     if (hostmem) save_colours(plusarg_str("OUTBIN"), npix);

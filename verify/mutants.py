@@ -249,6 +249,14 @@ EQUIVALENT: dict[str, str] = {
     "102b5d7b": "(check) || to && in g_bad_params' condition, the elaboration-time check: where every term is false "
                 "(the check accepts) the mutated condition is false too, so the designs that elaborate are the same "
                 "(the check only refuses)",
+    # issue 29, stop 39 (make mutants N=100 SEED=1 on main with the cache emptied: the four that the
+    # worktree run of this stop had counted killed while config/compact.toml changed under its shared out/)
+    "6a737c59": "(trunc) q_out_reg is QF_W bits: q_sh[QF_W+1:0] is cut to q_sh[QF_W-1:0]",
+    "66aa9dbf": "(loop) k = KV writes join_t past its KV fields (and reads e, m past theirs): " + _LOOP,
+    "eda880b7": "(constant) RM_CLUT_LOG2 is 0 (rtl/tex_regmap.vh): NLMAX - 0 and NLMAX + 0 are the same shift",
+    "882af73c": "(check) || to && in filter_width's latency and width check, the elaboration-time check: where "
+                "every term is false (the check accepts) the mutated condition is false too, so the designs that "
+                "elaborate are the same (the check only refuses)",
     "70269b40": "(trunc) ay_reg is GABS_W bits: gy_abs[GABS_W:0] is cut to gy_abs[GABS_W-1:0]",
     "554fe7a8": "(loop) ri = 4 writes rgba_wide[4 CSAT_W +: 8], past its 4 CSAT_W bits (and reads cfg_wr_data[32 +: 8],"
                 " past its RM_DATA_W = 32): " + _LOOP,
