@@ -10,8 +10,8 @@ Verilator run's (streaming: first pixel offered to last colour taken; run: the s
 start, load and file output included; frame: the whole run_frame_rtl call, packing the pixel
 words in Python and reading the colours back included) and their ratios to the golden model's,
 checked bit-exact; and the same in CPU seconds (`*_cpu*`: this process's CPU time for the golden
-model, the simulator process's own for Verilator, streaming and whole run), the figures that do not
-move with what else the machine runs. Then one line for Icarus on the first configuration (PIXELS_ICARUS= pixels,
+model, the simulator process's own for Verilator, streaming and whole run): less moved by other jobs than wall time, though not
+immune (under load the memory-bound golden model loses more; docs/simulation.md). Then one line for Icarus on the first configuration (PIXELS_ICARUS= pixels,
 default 16384: Icarus streams about a thousand full pixels a second). docs/simulation.md
 explains the figures.
 """
@@ -53,7 +53,7 @@ def versus_golden(config: str, pixels: int, repeat: int = 3) -> dict:
     # alternately, golden model then Verilator, so that both see the same load of this shared
     # machine (a load that comes or goes between two blocks of runs moved the ratio by 30%)
     # besides wall time, each side's CPU time (this process's for the golden model, the simulator's
-    # own for Verilator): what each costs whatever else the machine runs
+    # own for Verilator): less moved by other jobs than wall time (docs/simulation.md)
     runs, golden_s, golden_cpu = [], float("inf"), float("inf")
     for _ in range(repeat):
         c = time.process_time()
