@@ -152,6 +152,40 @@ def _corpus_cell(r: dict) -> str:
     return f"{c['min']:.1f} / {c['p5']:.1f} / {c['share_at_db']:.0%} ({c['covered']} scenes)"
 
 
+def held_out_record(docs: Path, label: str) -> dict | None:
+    """docs/validation/<label>.json (`make validate CONFIG=<label's file>`), the point's held-out run, if any."""
+    import json
+
+    p = docs / "validation" / f"{label}.json"
+    return json.loads(p.read_text()) if p.exists() else None
+
+
+def goal_100k_line(b: dict, worst: str, held: dict | None) -> str:
+    """Issue 27's 100,000-GE goal, judged by the rule that a figure counts only on scenes the configuration was not
+    tuned on: every sweep point and candidate was chosen on the eight paper scenes, so the eight-scene figure meets
+    the goal only with the point's held-out promise (docs/validation/<name>.json) holding beside it."""
+    eight = b["worst_psnr_truth_db"] >= 36
+    head = (f"Issue 27's goal, at most 100,000 GE with every scene at least 36 dB against the truth (any pixel rate): "
+            f"the best measured is {b['label']}, {b['ge_total']:,.0f} GE, {b['min_pixels_per_clock']:.3g} pixel a clock: "
+            f"worst scene {worst} {b['worst_psnr_truth_db']:.1f} dB (over all textured pixels, rims included, "
+            f"{_f(b.get('worst_psnr_truth_textured_db'), '{:.1f}')})")
+    if not eight:
+        return head + ": **not met**."
+    h, pr = (held or {}).get("promise_result"), (held or {}).get("promise")
+    if not h or not pr:
+        return (head + ": met on the eight paper scenes, on which it was chosen; not measured held out (`make validate "
+                f"CONFIG=<its file>`), so **not shown met** (a figure counts only on scenes a configuration was not "
+                "tuned on).")
+    t = held["psnr"]["truth"]
+    verdict = "holds" if h["holds"] else "broken"
+    return (head + f": met on the eight paper scenes, on which it was chosen; held out (`make validate`, "
+            f"docs/validation.md: {held['covered']} covered scenes) against the truth min / 5% / median {t['min']} / "
+            f"{t['p5']} / {t['median']} dB, its promise ({pr['psnr_db']} dB vs {pr['against']} on {pr['share']:.0%}) "
+            f"{h['keep']}/{h['of']} ({h['share']:.1%}): {verdict}; the goal is "
+            + ("**met**." if h["holds"] else "**not met** by a configuration whose figures count (a figure counts "
+                                                "only on scenes the configuration was not tuned on)."))
+
+
 def held_out_section(docs: Path) -> list[str]:
     """The held-out figures of the named configurations (docs/validation/<name>.json, `make validate`),
     to stand next to the eight scenes' figures above."""
@@ -249,14 +283,7 @@ def write(res: dict, out: Path | None = None, docs: Path | None = None) -> Path:
     if small:
         b = max(small, key=lambda r: (r["worst_psnr_truth_db"], -r["ge_total"]))
         worst = min(b["scenes"], key=lambda s: b["scenes"][s]["psnr_truth_db"])
-        L += ["", f"Issue 27's goal, at most 100,000 GE with every scene at least 36 dB against the truth (any pixel rate): "
-                  f"the best measured is {b['label']}, {b['ge_total']:,.0f} GE, {b['min_pixels_per_clock']:.3g} pixel a clock: "
-                  f"worst scene {worst} {b['worst_psnr_truth_db']:.1f} dB (over all textured pixels, rims included, "
-                  f"{_f(b.get('worst_psnr_truth_textured_db'), '{:.1f}')}): "
-                  + ("**met** on the eight paper scenes" if b["worst_psnr_truth_db"] >= 36 else "**not met**")
-                  + " (the sweep's scenes: a point chosen on them, as every candidate and step here is, counts on held-out "
-                    "scenes only; the held-out column is against the float reference, from which sub-pixel samples depart "
-                    "on purpose, and the truth of the held-out corpus is not measured by the sweep)."]
+        L += ["", goal_100k_line(b, worst, held_out_record(docs, b["label"]))]
     L += [""] + held_out_section(docs)
     L += ["## What one step of a knob costs", "",
           "Against its base (the worst scene, PSNR against the float reference); negative GE is a saving.", "",

@@ -155,7 +155,7 @@ def tasks() -> list[Task]:
             quick=name in ("full_sh", "w52"), configs=(cname,) if cname else ()))
 
     # mul_pipe against the plain product (sets z3 finishes: see docs/verification.md; full's q x s, 26 x 22
-    # since issue 26, timed out at 900 s; full_narrow's 18 x 18 is "whole"; compact's (24 x 21 since stop 39)
+    # since issue 26 (28 x 22 since stop 40), timed out at 900 s; full_narrow's 18 x 18 is "whole"; compact's (24 x 21 since stop 39)
     # is as wide, so its set is compact_narrow's q x s, 17 x 18)
     narrow = load_config(str(ROOT / "config" / "candidates" / "compact_narrow.toml"))
     mp_sets = {"whole": (18, 18, None), "narrow": (2, 5, None), "cut_a": (19, 8, None),

@@ -124,7 +124,7 @@ CASES = {
                          "texture.t.entries[0][0]", "not rounded"),
     "background_fraction": (lambda s: s.replace("background = [10, 20, 30, 255]", "background = [10.5, 20, 30, 255]"),
                             "scene.background[0]", "integer 0..255"),
-    "range_quadric": (lambda s: s.replace("quadric = [1.0,", "quadric = [500.0,"), "texture.t.quadric[0]", "[-128, 127.999996185] (the widest configuration, full s26.18)"),
+    "range_quadric": (lambda s: s.replace("quadric = [1.0,", "quadric = [500.0,"), "texture.t.quadric[0]", "[-128, 127.999999046] (the widest configuration, full s28.20)"),
     "range_background": (lambda s: s.replace("background = [10, 20, 30, 255]", "background = [10, 20, 30, 999]"),
                          "scene.background[3]", "255"),
     "stop_order": (lambda s: s.replace("[0.5, 255, 0, 0, 255], [1.0,", "[0.5, 255, 0, 0, 255], [0.25,"),
