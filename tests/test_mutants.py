@@ -227,3 +227,18 @@ def test_instance_params_of_a_compile(tmp_path, monkeypatch):
     assert got["top"] == [{}] and len(got["leaf"]) == 2
     assert {"W": "3", "S": "-5", "T": "40'b" + "0" * 40} in got["leaf"]
     assert {"W": "6", "S": "0", "T": "40'b" + format(0xF000000001, "040b")} in got["leaf"]
+
+
+@pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus (make setup)")
+def test_tce_builds_of_the_testbenches(tmp_path):
+    """The parameter sets a testbench elaborates a module with, without simulating: tb/delay_line's
+    cases, the top's parameters read back from each Icarus compile (a module without a testbench of
+    its own, sat2_integral, gets the sets of its instances in the builds of the testbenches that build it)."""
+    opts = mu.Opts()
+    own = mu.tce_builds("delay_line", opts, tmp_path)
+    assert {b["name"] for b in own} >= {"n0", "n1_clear", "wide"} and all(b["top"] == "delay_line" for b in own)
+    wide = next(b for b in own if b["name"] == "wide")
+    assert wide["sets"] == [{"W": "60", "N": "5", "CLEAR": "0"}] and len(wide["hash"]) == 64
+    n0 = next(b for b in own if b["name"] == "n0")
+    assert n0["sets"] == [{"W": "8", "N": "0", "CLEAR": "0"}] and n0["hash"] != wide["hash"]
+    assert mu.tce_builds("delay_line", opts, tmp_path) is own  # recorded once a run

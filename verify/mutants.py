@@ -31,8 +31,9 @@ testbenches (each Icarus case, recorded by running its pytest cases with hdlbuil
 tce_builds) whose Icarus compile differs from the unmutated one; on each parameter set the mutated
 module's instances have in them (read from Icarus's compiled design: instance_params), the module
 and its submodules are elaborated from rtl/ and from the scratch copy (hierarchy -chparam, proc,
-flatten, opt -full, memory -nomap) and proved equivalent (equiv_make, equiv_simple and equiv_induct
-with undef states modelled, equiv_status -assert), within --tce-timeout seconds a mutant. A mutant
+flatten, opt -full, memory -nomap) and proved equivalent (equiv_make, equiv_struct -icells, then
+equiv_simple and, when it leaves few signals unproven, equiv_induct, with undef states modelled; no
+$equiv cell left unproven: yosys_equiv), within --tce-timeout seconds a mutant. A mutant
 proved equivalent on every one of them is dropped before its tests (not counted, like a stillborn
 one: the next one drawn takes its place) and listed with those parameter sets. A timeout, a
 difference, an error keep it; so does a mutation no compile sees (code no checked parameter set
@@ -184,7 +185,6 @@ EQUIVALENT: dict[str, str] = {
     "d2d2d371": "(loop) pi = RM_Q_COUNT writes q_coef past its RM_Q_COUNT words: " + _LOOP
                 + "; the register at that offset is written by its own decode as before",
     "23e05d09": "(trunc) {valid_reg[Q_W+2:0], in_valid} is cut to valid_reg's Q_W bits: the same low bits",
-    "b0c1f383": "(trunc) y is W bits: the low W bits of a + step[W+1:0] are those of a + step[W-1:0]",
     "af4c8dca": "(trunc) last_issue_of returns J_W bits: q[J_W+1:0] is cut to q[J_W-1:0]",
     "dc5b47bc": "(trunc) prod_next is ACC_W bits in the pow2 branch (NPROD = 1): shl[ACC_W:0] is cut to shl[ACC_W-1:0]",
     "82555dfb": "a zero of 2 C_W bits zero-extended to c_step's 3 C_W bits is the same zero",
@@ -248,7 +248,6 @@ EQUIVALENT: dict[str, str] = {
     "78320d08": "(trunc) ah is AH_W = A_W - SA bits: a[A_W+1:SA] is cut to a[A_W-1:SA]",
     "28bf94c4": "X_W = L_W takes g_pad instead of g_nopad: a zero extension by zero bits ({0{...}} in a concatenation is "
                 "empty) is l_in itself",
-    "cf82c493": "(trunc) p11_reg is P1_W bits: y1[P1_W+1:0] is cut to y1[P1_W-1:0]",
     "dfc3e0b9": "lsum >= lmax differs from lsum > lmax only at lsum = lmax, where lmax = lsum writes the value lmax holds"
                 " (lany is set either way)",
     # make mutants N=100 SEED=1 after the two sub-pixel samples (cd290f5): the survivors new to that draw
@@ -257,8 +256,6 @@ EQUIVALENT: dict[str, str] = {
                 "at least 8 more than X_W for every f_frac 8..20, w_cap_log2 1..20, n_log2_max 0..10 "
                 "(model/hw/config.py), so both are false on every configuration and the designs that elaborate are "
                 "the same (the check only refuses)",
-    "c9615a12": "(trunc) we is W_W - FF bits: w_in[W_W+1:FF] is cut to w_in[W_W-1:FF]",
-    "64deaf40": "(trunc) r1_2_reg is P2_W bits: y1[P2_W:0] is cut to y1[P2_W-1:0]",
     "76f5d599": "LAT_DP is read only by g_bad_latency, and `LAT_QMAC_DIAG_FOLD = `LAT_QMAC_DIAG = 3 "
                 "(rtl/tex_latency.vh): a diagonal quadric on two clocks (CLOCKS = 0 is refused by g_bad_clocks) "
                 "falls through to `LAT_QMAC_DIAG, the same number",
@@ -268,7 +265,6 @@ EQUIVALENT: dict[str, str] = {
                 "(the check only refuses)",
     # issue 29, stop 39 (make mutants N=100 SEED=1 on main with the cache emptied: the four that the
     # worktree run of this stop had counted killed while config/compact.toml changed under its shared out/)
-    "6a737c59": "(trunc) q_out_reg is QF_W bits: q_sh[QF_W+1:0] is cut to q_sh[QF_W-1:0]",
     "66aa9dbf": "(loop) k = KV writes join_t past its KV fields (and reads e, m past theirs): " + _LOOP,
     "eda880b7": "(constant) RM_CLUT_LOG2 is 0 (rtl/tex_regmap.vh): NLMAX - 0 and NLMAX + 0 are the same shift",
     "882af73c": "(check) || to && in filter_width's latency and width check, the elaboration-time check: where "
@@ -280,15 +276,22 @@ EQUIVALENT: dict[str, str] = {
     "deb75bbc": "(ja >= jb) ? ja : jb differs from (ja > jb) ? ja : jb only at ja = jb, where both give the same value",
     "6d04301a": "pw_x >= CAP_V differs from pw_x > CAP_V only at pw_x = CAP_V, where CAP_V[W_W-1:0] and "
                 "pw_x[W_W-1:0] are the same value",
-    "7faf3143": "(trunc) the part-select written is AG_W bits: pg[r][AG_W:0] is cut to pg[r][AG_W-1:0]",
     "9f45b138": "x4 < 0 differs from x4 <= 0 only at x4 = 0, which then fails x4 >= ONE_L (ONE_L = 2^AF > 0: AF <= "
                 "LF + 4 (fc_fade_log2 <= 4) < L_W - 1, L_W >= JB_W + LF + 3 with JB_W >= 3 (j_w >= 4)) and takes "
                 "x4[AF:0] = 0, the value of the branch it skipped",
     "b8dd487d": "(loop) pi = 2^H writes perm_rom[2^H], past the array perm_rom[0:2^H-1] (and reads PERM past its 2^H "
                 "entries): " + _LOOP,
-    "c96f3973": "the extra generate iteration gk = 3 adds a fourth axis, g_axis[3], whose g_p, h_next and ag_next "
-                "nothing reads (the stage 6..8 registers read g_axis[0..2] by name): unused logic (its slices of dw5_reg and "
-                "t_in past their three axes feed only it)",
+    # make mutants N=100 SEED=1 with the TCE check (issue 29 part 4): the draws that replaced the seven mutants Yosys
+    # proved equivalent (c9615a12, 64deaf40, 6a737c59, b0c1f383, cf82c493, 7faf3143, c96f3973: their arguments removed)
+    "4b3fe497": "(loop) lj = NLN writes ov_c[NLN], past ov_c's NLN bits (and reads nz_r[NLN], top_r[NLN CMP_W +: "
+                "CMP_W], past theirs): " + _LOOP,
+    "414c2983": "(trunc) axn_reg is NORM_BITS bits: ax_sh[NORM_BITS+1:0] is cut to ax_sh[NORM_BITS-1:0]",
+    "2767868f": "(trunc) wr_off is RL bits: cfg_wr_addr[RL+1:0] is cut to cfg_wr_addr[RL-1:0]",
+    "bb98b115": "(contract) as 6ba15391: n_log2 is the loaded tables' size, changed only by a table load, which "
+                "texture_pipeline makes only with the pipeline empty (tex_regs), so n_log2 and s2_n_log2_reg hold the same "
+                "value whenever a pixel is in flight",
+    "f16028b6": "(loop) the extra generate iteration go = K assigns al3_v[K (AF+1) +: AF+1], past al3_v's K (AF+1) bits, "
+                "from al3[K], past the array al3[0:K-1]: " + _LOOP,
 }
 
 # Survivors neither killed nor shown equivalent, with what was found (listed as open in the report).
@@ -774,10 +777,11 @@ def yosys_equiv(gold: Path, gate: Path, module: str, files: list[str], params: d
                 log: Path | None = None) -> tuple[str, str]:
     """Is `module` from `gate` equivalent to the one from `gold` under `params`? Both elaborated
     alike (proc, flatten, opt -full, memory -nomap); equiv_make matches their signals by name,
-    equiv_struct merges the logic the two share (the cells of the same type on inputs matched), then
-    equiv_simple -seq 2 proves what it can and, when at most INDUCT_MAX signal bits are left unproven,
-    equiv_induct -seq 2 the rest (undef states modelled in both: an x where the original has a value is
-    a difference); equiv_status -assert. ('proved' | 'not proved' | 'timeout' | 'error', a detail)."""
+    equiv_struct -icells merges the logic the two share (cells of one type on matched inputs, the
+    registers too: a $equiv cell left on each input to prove), then equiv_simple -seq 2 proves what it
+    can and, when at most INDUCT_MAX signal bits are left unproven, equiv_induct -seq 2 the rest
+    (undef states modelled in both: an x where the original has a value is a difference). Proved: no
+    $equiv cell left unproven (equiv_status). ('proved' | 'not proved' | 'timeout' | 'error', a detail)."""
     t0 = time.perf_counter()
 
     def elab(rtl: Path, name: str) -> str:
@@ -813,7 +817,7 @@ def yosys_equiv(gold: Path, gate: Path, module: str, files: list[str], params: d
         il = Path(tmp) / "equiv.il"
         r = yosys(elab(gold, "gold") + elab(gate, "gate")
                   + "design -copy-from gold -as gold gold\ndesign -copy-from gate -as gate gate\n"
-                  "equiv_make gold gate equiv\nhierarchy -top equiv\nasync2sync\nequiv_struct\n"
+                  "equiv_make gold gate equiv\nhierarchy -top equiv\nasync2sync\nequiv_struct -icells\n"
                   f"equiv_simple -undef -seq 2\nequiv_status\nwrite_rtlil {il}\n", "elaborate, equiv_simple")
         if r is None:
             return "timeout", f"over {timeout:.0f} s"
@@ -1165,8 +1169,10 @@ def section(recs: list[dict], s: dict, args: dict, seconds: float) -> str:
          "mutation changes (a configuration above, or a build of the block's testbench, each under Icarus; a compile "
          "that does not change is the same design), the mutated module and the original are elaborated under each "
          "parameter set its instances there have (`hierarchy -chparam`, `proc; flatten; opt -full; memory -nomap`) "
-         "and proved equal with `equiv_make`, `equiv_simple -undef -seq 2`, `equiv_induct -undef -seq 2` (undef "
-         "states modelled: an x where the original has a value is a difference) and `equiv_status -assert`, within "
+         "and proved equal: `equiv_make`, `equiv_struct -icells` (the logic both share merged, a `$equiv` cell on "
+         "each merged input), `equiv_simple -undef -seq 2` and, when it leaves at most "
+         f"{INDUCT_MAX} signal bits unproven, `equiv_induct -undef -seq 2` (undef states modelled: an x where the "
+         "original has a value is a difference), no `$equiv` cell left unproven (`equiv_status`); within "
          f"{args.get('tce_timeout', TCE_TIMEOUT)} s a mutant. Proved on every one, the mutant is dropped: not counted "
          "among the N, like a stillborn one the next draw takes its place, and listed below with the parameter sets. "
          "Not proved (a difference, a timeout, an error), or no compile differs (the mutated code is in no design a "
