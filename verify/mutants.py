@@ -896,7 +896,8 @@ def tce_check(m: Mutant, opts: Opts, work: Path, changed: list[str], rtl: Path |
         sets: dict[str, dict] = {}  # the parameter sets to prove on: json -> {params, from}
         for name, ps, kind in candidates:
             if kind == "config" and name in changed:
-                sets.setdefault(json.dumps(ps, sort_keys=True), {"params": ps, "from": []})["from"].append(name)
+                src = sets.setdefault(json.dumps(ps, sort_keys=True), {"params": ps, "from": []})["from"]
+                src += [name] if name not in src else []
         for i, b in enumerate(builds):
             ok, text = compile_vvp(rtl, b["top"], b["sources"], wdir / f"tce-{i}.vvp", b["params"])
             if not ok:  # the testbench's build fails: not equivalent (its test kills it)
@@ -1201,7 +1202,7 @@ def section(recs: list[dict], s: dict, args: dict, seconds: float) -> str:
         L += ["", "Proved equivalent by Yosys (TCE), each on the parameter sets of its module's instances in the "
               "compiles the mutation changes (where from):", ""]
         for r in tce:
-            sets = "; ".join(f"{_pset(x['params'])} ({', '.join(x['from'])})" for x in r["tce"]["sets"])
+            sets = "; ".join(f"{_pset(x['params'])} ({', '.join(dict.fromkeys(x['from']))})" for x in r["tce"]["sets"])
             L.append(f"- {r['id']} {r['file']}:{r['line']} {_cell(r['mutation'])} in `{_cell(r['text'])}`: "
                      f"{len(r['tce']['sets'])} parameter sets: {_cell(sets)}")
     surv = [r for r in recs if r["result"] == "survived"]
