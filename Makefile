@@ -51,7 +51,7 @@ help:
 	@echo "make animation SCENE=seascape [CONFIG=full] [FRAMES=16] [SIZE=128] [RTL=1]   section 4.4: frames vs truth, flicker, docs/animation.md"
 	@echo "make corpus [SEED=2] [N=200]   a scene corpus: out/corpus/seed<SEED>/ (2: held-out, with the hard cases; 1: fit)"
 	@echo "make validate CONFIG=full [N=200] [VALIDATE_SIZE=48] [RTL_SCENES=4]   the configuration's promise on the held-out corpus: docs/validation.md"
-	@echo "make mutants [N=100] [SEED=1]   N seeded single mutations of rtl/, each against its block's testbench and a 16x16 frame (Icarus): docs/verification.md (Mutants)"
+	@echo "make mutants [N=100] [SEED=1]   N seeded single mutations of rtl/ (those Yosys proves equivalent dropped: TCE), each against its block's testbench and a 16x16 frame (Icarus): docs/verification.md (Mutants)"
 	@echo "make bench-sim       Verilator vs golden model pixels/s and ratio (full, compact, reduced), and Icarus"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"

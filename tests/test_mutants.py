@@ -108,3 +108,137 @@ def test_tiny_run_kills_a_known_mutant(tmp_path):
     assert r["line"] == line  # the line moves with edits to fc_weight.v; the mutant's id does not
     assert f"| 6f92a850 | fc_weight.v:{line} | stage |" in doc.read_text() and "<!-- measured on:" in doc.read_text()
     assert not (tmp_path / "out" / "run" / "6f92a850").exists()  # the scratch copy is gone
+
+
+# --------------------------------------------------------------------------- TCE (Yosys)
+
+PLANTED = """`default_nettype none
+module planted #(
+    parameter W = 4
+) (
+    input  wire         clk,
+    input  wire [W-1:0] a,
+    input  wire [W-1:0] b,
+    output reg  [W-1:0] y,
+    output wire [W-1:0] s,
+    output wire [W-1:0] z
+);
+wire [W-1:0] lo = a[W-1:0];
+assign z = {1'b0, a[W-1:1]};
+assign s = a + b;
+always @(posedge clk) y <= lo ^ b;
+/* verilator lint_off UNUSEDSIGNAL */
+wire [W-1:0] unused_w = b & {W{1'b1}};
+/* verilator lint_on UNUSEDSIGNAL */
+endmodule
+"""
+
+
+def _planted(tmp_path, monkeypatch, changes=True, timeout=60):
+    """An rtl/ of one module (planted.v) elaborated by one configuration "cfg" with W = 4 and W = 7
+    (its two instances); compile_top says the mutation changes cfg's compile (or not), no testbench,
+    and every frame passes: a mutant the TCE check does not drop survives."""
+    rtl = tmp_path / "rtl"
+    rtl.mkdir()
+    (rtl / "planted.v").write_text(PLANTED)
+    monkeypatch.setattr(mu, "RTL", rtl)
+    monkeypatch.setattr(mu, "compile_top", lambda r, arg, vvp: (True, "changed" if changes else "h0"))
+    monkeypatch.setattr(mu, "testbenches", lambda module: [])
+    monkeypatch.setattr(mu, "_run", lambda *a, **k: ("ok", 0, ""))
+    return mu.Opts(scenes=("marble",), tce_timeout=timeout, configs={"cfg": "cfg"}, baseline={"cfg": "h0"},
+                   instances={"cfg": {"planted"}}, params={"cfg": {"planted": [{"W": "4"}, {"W": "7"}]}})
+
+
+def _mutant(line_text: str, old: str, new: str) -> mu.Mutant:
+    return next(m for _, alts in mu.sites("planted.v", PLANTED) for m in alts
+                if m.text == line_text and m.old == old and m.new == new)
+
+
+needs_yosys = pytest.mark.skipif(shutil.which("yosys") is None or shutil.which("iverilog") is None,
+                                 reason="needs Yosys and Icarus (make setup)")
+
+
+@needs_yosys
+def test_tce_drops_a_truncation_past_the_width(tmp_path, monkeypatch):
+    """a[W-1:0] -> a[W+1:0] into a W-bit wire: the two bits past a's top are x, cut where assigned:
+    proved on both parameter sets, the mutant is dropped before its tests (and the verdict cached)."""
+    opts = _planted(tmp_path, monkeypatch)
+    m = _mutant("wire [W-1:0] lo = a[W-1:0];", "-", "+")
+    rec = mu.run_mutant(m, opts, tmp_path / "out")
+    assert rec["result"] == "equivalent" and rec["by"] == "proved equivalent by Yosys (TCE)"
+    assert rec["tce"]["result"] == "proved" and [s["params"] for s in rec["tce"]["sets"]] == [{"W": "4"}, {"W": "7"}]
+    assert all(s["from"] == ["cfg"] for s in rec["tce"]["sets"]) and "tb" not in rec
+    again = mu.tce_check(m, opts, tmp_path / "out", ["cfg"])
+    assert again["cached"] and again["result"] == "proved"
+    # a lint sink's operator: read by nothing, proved too
+    sink = _mutant("wire [W-1:0] unused_w = b & {W{1'b1}};", "&", "|")
+    assert mu.run_mutant(sink, opts, tmp_path / "out")["result"] == "equivalent"
+
+
+@needs_yosys
+def test_tce_keeps_a_live_change(tmp_path, monkeypatch):
+    """a + b -> a - b on an output: not proved, the mutant runs its tests (here: survives them); so
+    is a register's XOR made an OR, and a select whose bit past the top (x) reaches an output."""
+    opts = _planted(tmp_path, monkeypatch)
+    m = _mutant("assign s = a + b;", "+", "-")
+    rec = mu.run_mutant(m, opts, tmp_path / "out")
+    assert rec["tce"]["result"] == "not proved" and "unproven" in rec["tce"]["detail"]
+    assert rec["result"] == "survived" and rec["frame_configs"] == ["cfg"]
+    # the flipped bit of the XOR's source (lo ^ b -> lo | b) in the register: not proved either
+    m2 = _mutant("always @(posedge clk) y <= lo ^ b;", "^", "|")
+    assert mu.run_mutant(m2, opts, tmp_path / "out")["tce"]["result"] == "not proved"
+    # a[W-1:1] -> a[W+1:1] under a zero bit: z's top bit is x (a[W], past a's top) where it was 0;
+    # Icarus simulates that x, so the check models undef states and does not prove it
+    m3 = _mutant("assign z = {1'b0, a[W-1:1]};", "-", "+")
+    assert mu.run_mutant(m3, opts, tmp_path / "out")["tce"]["result"] == "not proved"
+
+
+@needs_yosys
+def test_tce_timeout_and_unchanged_keep_the_mutant(tmp_path, monkeypatch):
+    """A check that runs out of time proves nothing: the truncation Yosys proves in time is kept when
+    the limit is 20 ms; a mutation no compile sees changed ('unchanged') is kept too."""
+    m = _mutant("wire [W-1:0] lo = a[W-1:0];", "-", "+")
+    opts = _planted(tmp_path, monkeypatch, timeout=0.02)
+    rec = mu.run_mutant(m, opts, tmp_path / "out")
+    assert rec["tce"]["result"] == "timeout" and rec["result"] == "survived"
+    (tmp_path / "u").mkdir()
+    opts = _planted(tmp_path / "u", monkeypatch, changes=False)
+    rec = mu.run_mutant(m, opts, tmp_path / "out_u")
+    assert rec["tce"]["result"] == "unchanged" and rec["result"] == "survived" and rec["frame_configs"] == []
+
+
+@pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus (make setup)")
+def test_instance_params_of_a_compile(tmp_path, monkeypatch):
+    """The parameters of each instance from Icarus's compiled design: declared ones only (not a
+    localparam), negative and wide values as Verilog literals."""
+    rtl = tmp_path / "rtl"
+    rtl.mkdir()
+    (rtl / "leaf.v").write_text("module leaf #(\n    parameter W = 4,\n    parameter signed S = 0,\n"
+                                "    parameter [39:0] T = 0\n) (output wire [W-1:0] y);\nlocalparam L = W + 1;\n"
+                                "assign y = L[W-1:0];\nendmodule\n")
+    (rtl / "top.v").write_text("module top (output wire [2:0] a, output wire [5:0] b);\n"
+                               "leaf #(.W(3), .S(-5)) u_a (.y(a));\nleaf #(.W(6), .T(40'hF000000001)) u_b (.y(b));\n"
+                               "endmodule\n")
+    monkeypatch.setattr(mu, "RTL", rtl)
+    assert mu.declared_params("leaf") == ["W", "S", "T"] and mu.module_files("top") == ["top.v", "leaf.v"]
+    ok, text = mu.compile_vvp(rtl, "top", ["top.v", "leaf.v"], tmp_path / "top.vvp")
+    assert ok
+    got = mu.instance_params(text)
+    assert got["top"] == [{}] and len(got["leaf"]) == 2
+    assert {"W": "3", "S": "-5", "T": "40'b" + "0" * 40} in got["leaf"]
+    assert {"W": "6", "S": "0", "T": "40'b" + format(0xF000000001, "040b")} in got["leaf"]
+
+
+@pytest.mark.skipif(shutil.which("iverilog") is None, reason="needs Icarus (make setup)")
+def test_tce_builds_of_the_testbenches(tmp_path):
+    """The parameter sets a testbench elaborates a module with, without simulating: tb/delay_line's
+    cases, the top's parameters read back from each Icarus compile (a module without a testbench of
+    its own, sat2_integral, gets the sets of its instances in the builds of the testbenches that build it)."""
+    opts = mu.Opts()
+    own = mu.tce_builds("delay_line", opts, tmp_path)
+    assert {b["name"] for b in own} >= {"n0", "n1_clear", "wide"} and all(b["top"] == "delay_line" for b in own)
+    wide = next(b for b in own if b["name"] == "wide")
+    assert wide["sets"] == [{"W": "60", "N": "5", "CLEAR": "0"}] and len(wide["hash"]) == 64
+    n0 = next(b for b in own if b["name"] == "n0")
+    assert n0["sets"] == [{"W": "8", "N": "0", "CLEAR": "0"}] and n0["hash"] != wide["hash"]
+    assert mu.tce_builds("delay_line", opts, tmp_path) is own  # recorded once a run

@@ -25,6 +25,20 @@ drawn takes its place); one that compiles in some only is killed (any testbench 
 fails); the configurations whose compiled design differs are the ones its frames run on (none
 differs: the mutation is dead code in every one of them, and only the block testbench, with its
 random configurations, sees it).
+Then Trivial Compiler Equivalence (TCE, Papadakis et al., ICSE 2015), with Yosys as the compiler
+(tce_check): the compiles the mutation changes are those configurations and the builds of the block's
+testbenches (each Icarus case, recorded by running its pytest cases with hdlbuild.run replaced:
+tce_builds) whose Icarus compile differs from the unmutated one; on each parameter set the mutated
+module's instances have in them (read from Icarus's compiled design: instance_params), the module
+and its submodules are elaborated from rtl/ and from the scratch copy (hierarchy -chparam, proc,
+flatten, opt -full, memory -nomap) and proved equivalent (equiv_make, equiv_struct -icells, then
+equiv_simple and, when it leaves few signals unproven, equiv_induct, with undef states modelled; no
+$equiv cell left unproven: yosys_equiv), within --tce-timeout seconds a mutant. A mutant
+proved equivalent on every one of them is dropped before its tests (not counted, like a stillborn
+one: the next one drawn takes its place) and listed with those parameter sets. A timeout, a
+difference, an error keep it; so does a mutation no compile sees (code no checked parameter set
+elaborates: nothing is proved about the parameter sets nobody checked). Verdicts are cached by the
+mutated source, the sources it elaborates with and the parameter sets (out/mutants/cache/tce-*.json).
 Then, with RTL_DIR set to the scratch copy (hdlbuild.rtl_dir(): builds go to a build/ beside it):
 
 1. the mutated block's testbench, tb/<module>/, every Icarus case, `pytest -x` (a module without one,
@@ -35,15 +49,15 @@ Then, with RTL_DIR set to the scratch copy (hdlbuild.rtl_dir(): builds go to a b
 
 The first test that fails kills the mutant (a timeout kills it too). Survivors that are
 equivalent to the original (no input can tell them apart) are listed in EQUIVALENT below by
-their id, with the reason; the report gives the share killed of all mutants and of the
-non-equivalent ones. Results are cached by mutant and by the sources its verdict depends on most (the mutated file,
+their id, with the reason (the ones Yosys cannot prove: the TCE check drops those it proves); the
+report gives the share killed of all counted mutants (the raw share) and of the non-equivalent ones. Results are cached by mutant and by the sources its verdict depends on most (the mutated file,
 rtl/*.vh, the block's testbench and the testbenches it imports, tb/pipe.py, sim/; out/mutants/cache/); a survivor is rerun
 whenever the run's options changed. A rerun after a new test reruns only the mutants of that
 block. An edit elsewhere (another rtl/ file, the golden model, which the RTL equals bit for bit
 on every configuration) keeps a verdict; `rm -r out/mutants/cache` measures everything again.
 
     python -m verify.mutants --n 100 --seed 1 --jobs 2 [--files a.v,b.v] [--scenes marble,zone_plate] [--size 16]
-        [--docs docs/verification.md] [--out out/mutants] [--list]
+        [--docs docs/verification.md] [--out out/mutants] [--tce-timeout 180] [--list]
 """
 from __future__ import annotations
 
@@ -55,6 +69,7 @@ import re
 import shutil
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
@@ -71,6 +86,9 @@ KINDS = ("operator", "constant", "comparison", "stage", "shift")
 # 250 comparisons, 80 shifts, 17 register stages)
 WEIGHTS = {"operator": 0.3, "constant": 0.3, "comparison": 0.2, "stage": 0.08, "shift": 0.12}
 TIMEOUT = 900  # seconds per test of a mutant (a hang is a kill)
+TCE_TIMEOUT = 180  # seconds of Yosys per mutant, over all its parameter sets (past it: not proved, the mutant is kept)
+TCE_RECIPE = 2  # the equivalence check's version (part of its verdicts' cache key)
+INDUCT_MAX = 256  # equiv_induct only when equiv_simple leaves at most this many signal bits unproven
 
 # Survivors shown equivalent to the original: mutant id -> why no input tells them apart.
 # Kinds of argument: (loop) a loop bound loosened: the extra iteration indexes past the vector it
@@ -167,7 +185,6 @@ EQUIVALENT: dict[str, str] = {
     "d2d2d371": "(loop) pi = RM_Q_COUNT writes q_coef past its RM_Q_COUNT words: " + _LOOP
                 + "; the register at that offset is written by its own decode as before",
     "23e05d09": "(trunc) {valid_reg[Q_W+2:0], in_valid} is cut to valid_reg's Q_W bits: the same low bits",
-    "b0c1f383": "(trunc) y is W bits: the low W bits of a + step[W+1:0] are those of a + step[W-1:0]",
     "af4c8dca": "(trunc) last_issue_of returns J_W bits: q[J_W+1:0] is cut to q[J_W-1:0]",
     "dc5b47bc": "(trunc) prod_next is ACC_W bits in the pow2 branch (NPROD = 1): shl[ACC_W:0] is cut to shl[ACC_W-1:0]",
     "82555dfb": "a zero of 2 C_W bits zero-extended to c_step's 3 C_W bits is the same zero",
@@ -231,7 +248,6 @@ EQUIVALENT: dict[str, str] = {
     "78320d08": "(trunc) ah is AH_W = A_W - SA bits: a[A_W+1:SA] is cut to a[A_W-1:SA]",
     "28bf94c4": "X_W = L_W takes g_pad instead of g_nopad: a zero extension by zero bits ({0{...}} in a concatenation is "
                 "empty) is l_in itself",
-    "cf82c493": "(trunc) p11_reg is P1_W bits: y1[P1_W+1:0] is cut to y1[P1_W-1:0]",
     "dfc3e0b9": "lsum >= lmax differs from lsum > lmax only at lsum = lmax, where lmax = lsum writes the value lmax holds"
                 " (lany is set either way)",
     # make mutants N=100 SEED=1 after the two sub-pixel samples (cd290f5): the survivors new to that draw
@@ -240,8 +256,6 @@ EQUIVALENT: dict[str, str] = {
                 "at least 8 more than X_W for every f_frac 8..20, w_cap_log2 1..20, n_log2_max 0..10 "
                 "(model/hw/config.py), so both are false on every configuration and the designs that elaborate are "
                 "the same (the check only refuses)",
-    "c9615a12": "(trunc) we is W_W - FF bits: w_in[W_W+1:FF] is cut to w_in[W_W-1:FF]",
-    "64deaf40": "(trunc) r1_2_reg is P2_W bits: y1[P2_W:0] is cut to y1[P2_W-1:0]",
     "76f5d599": "LAT_DP is read only by g_bad_latency, and `LAT_QMAC_DIAG_FOLD = `LAT_QMAC_DIAG = 3 "
                 "(rtl/tex_latency.vh): a diagonal quadric on two clocks (CLOCKS = 0 is refused by g_bad_clocks) "
                 "falls through to `LAT_QMAC_DIAG, the same number",
@@ -251,7 +265,6 @@ EQUIVALENT: dict[str, str] = {
                 "(the check only refuses)",
     # issue 29, stop 39 (make mutants N=100 SEED=1 on main with the cache emptied: the four that the
     # worktree run of this stop had counted killed while config/compact.toml changed under its shared out/)
-    "6a737c59": "(trunc) q_out_reg is QF_W bits: q_sh[QF_W+1:0] is cut to q_sh[QF_W-1:0]",
     "66aa9dbf": "(loop) k = KV writes join_t past its KV fields (and reads e, m past theirs): " + _LOOP,
     "eda880b7": "(constant) RM_CLUT_LOG2 is 0 (rtl/tex_regmap.vh): NLMAX - 0 and NLMAX + 0 are the same shift",
     "882af73c": "(check) || to && in filter_width's latency and width check, the elaboration-time check: where "
@@ -263,15 +276,22 @@ EQUIVALENT: dict[str, str] = {
     "deb75bbc": "(ja >= jb) ? ja : jb differs from (ja > jb) ? ja : jb only at ja = jb, where both give the same value",
     "6d04301a": "pw_x >= CAP_V differs from pw_x > CAP_V only at pw_x = CAP_V, where CAP_V[W_W-1:0] and "
                 "pw_x[W_W-1:0] are the same value",
-    "7faf3143": "(trunc) the part-select written is AG_W bits: pg[r][AG_W:0] is cut to pg[r][AG_W-1:0]",
     "9f45b138": "x4 < 0 differs from x4 <= 0 only at x4 = 0, which then fails x4 >= ONE_L (ONE_L = 2^AF > 0: AF <= "
                 "LF + 4 (fc_fade_log2 <= 4) < L_W - 1, L_W >= JB_W + LF + 3 with JB_W >= 3 (j_w >= 4)) and takes "
                 "x4[AF:0] = 0, the value of the branch it skipped",
     "b8dd487d": "(loop) pi = 2^H writes perm_rom[2^H], past the array perm_rom[0:2^H-1] (and reads PERM past its 2^H "
                 "entries): " + _LOOP,
-    "c96f3973": "the extra generate iteration gk = 3 adds a fourth axis, g_axis[3], whose g_p, h_next and ag_next "
-                "nothing reads (the stage 6..8 registers read g_axis[0..2] by name): unused logic (its slices of dw5_reg and "
-                "t_in past their three axes feed only it)",
+    # make mutants N=100 SEED=1 with the TCE check (issue 29 part 4): the draws that replaced the seven mutants Yosys
+    # proved equivalent (c9615a12, 64deaf40, 6a737c59, b0c1f383, cf82c493, 7faf3143, c96f3973: their arguments removed)
+    "4b3fe497": "(loop) lj = NLN writes ov_c[NLN], past ov_c's NLN bits (and reads nz_r[NLN], top_r[NLN CMP_W +: "
+                "CMP_W], past theirs): " + _LOOP,
+    "414c2983": "(trunc) axn_reg is NORM_BITS bits: ax_sh[NORM_BITS+1:0] is cut to ax_sh[NORM_BITS-1:0]",
+    "2767868f": "(trunc) wr_off is RL bits: cfg_wr_addr[RL+1:0] is cut to cfg_wr_addr[RL-1:0]",
+    "bb98b115": "(contract) as 6ba15391: n_log2 is the loaded tables' size, changed only by a table load, which "
+                "texture_pipeline makes only with the pipeline empty (tex_regs), so n_log2 and s2_n_log2_reg hold the same "
+                "value whenever a pixel is in flight",
+    "f16028b6": "(loop) the extra generate iteration go = K assigns al3_v[K (AF+1) +: AF+1], past al3_v's K (AF+1) bits, "
+                "from al3[K], past the array al3[0:K-1]: " + _LOOP,
 }
 
 # Survivors neither killed nor shown equivalent, with what was found (listed as open in the report).
@@ -553,29 +573,75 @@ def frame_configs(work: Path) -> dict[str, str]:
     return out
 
 
+def _normalized_hash(text: str, rtl: Path) -> str:
+    """The compiled design's hash: addresses numbered in order, the rtl directory's path dropped."""
+    ids: dict[str, str] = {}
+    text = text.replace(str(rtl), "RTL")
+    text = re.sub(r"0x[0-9a-f]{6,}", lambda m: ids.setdefault(m.group(0), f"@{len(ids)}"), text)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def compile_vvp(rtl: Path, top: str, files: list, vvp: Path, params: dict | None = None) -> tuple[bool, str]:
+    """Icarus-compile `top` from `files` (names in `rtl`, or absolute paths) with the top's
+    parameters `params`; (ok, the compiled design's text) or (False, the first error line)."""
+    r = subprocess.run(["iverilog", "-g2005", f"-I{rtl}", "-o", str(vvp), "-s", top,
+                        *(f"-P{top}.{k}={v}" for k, v in (params or {}).items()),
+                        *(str(f) if str(f).startswith("/") else str(rtl / f) for f in files)],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        return False, (r.stderr.strip().splitlines() or ["?"])[0]
+    text = vvp.read_text()
+    vvp.unlink()
+    return True, text
+
+
 def compile_top(rtl: Path, config: str, vvp: Path) -> tuple[bool, str]:
     """Icarus-compile texture_unit of `config` from `rtl`; (ok, the compiled design normalized:
     addresses numbered in order, the rtl directory's path dropped)."""
     gdir = gen_dir(config_of(config))
-    r = subprocess.run(["iverilog", "-g2005", f"-I{rtl}", "-o", str(vvp), "-s", "texture_unit",
-                        *map(str, sorted(rtl.glob("*.v"))), str(gdir / "texture_unit.v")],
-                       capture_output=True, text=True)
-    if r.returncode != 0:
-        return False, (r.stderr.strip().splitlines() or ["?"])[0]
-    ids: dict[str, str] = {}
-    text = vvp.read_text().replace(str(rtl), "RTL")
-    vvp.unlink()
-    text = re.sub(r"0x[0-9a-f]{6,}", lambda m: ids.setdefault(m.group(0), f"@{len(ids)}"), text)
-    return True, hashlib.sha256(text.encode()).hexdigest()
+    ok, text = compile_vvp(rtl, "texture_unit", [*sorted(rtl.glob("*.v")), gdir / "texture_unit.v"], vvp)
+    return (True, _normalized_hash(text, rtl)) if ok else (False, text)
 
 
-def scopes_of(rtl: Path, config: str, vvp: Path) -> set[str]:
-    gdir = gen_dir(config_of(config))
-    subprocess.run(["iverilog", "-g2005", f"-I{rtl}", "-o", str(vvp), "-s", "texture_unit",
-                    *map(str, sorted(rtl.glob("*.v"))), str(gdir / "texture_unit.v")], check=True)
-    mods = set(re.findall(r'\.scope module, "[^"]*" "(\w+)"', vvp.read_text()))  # instance, module
-    vvp.unlink()
-    return mods
+def declared_params(module: str) -> list[str]:
+    """The parameters rtl/<module>.v declares (one a line, the project's style; not its localparams)."""
+    f = RTL / f"{module}.v"
+    if not f.is_file():
+        return []
+    return re.findall(r"^\s*parameter\s+(?:(?:integer|signed|\[[^\]]*\])\s+)*([A-Za-z_]\w*)", f.read_text(), re.M)
+
+
+def _literal(bits: str, signed: bool) -> str:
+    """A Verilog literal of a compiled parameter's value (Icarus's C4<bits>, + when signed)."""
+    v = int(bits, 2)
+    if len(bits) <= 32 and not (signed and bits[0] == "1"):
+        return str(v)
+    if signed and len(bits) <= 32:
+        return str(v - (1 << len(bits)))
+    return f"{len(bits)}'{'s' if signed else ''}b{bits}"
+
+
+def instance_params(vvp_text: str) -> dict[str, list[dict[str, str]]]:
+    """{module: [its parameters' values, one dict per instance]} of a compiled design: the
+    parameters each rtl/ module declares (not its localparams), as Verilog literals."""
+    out: dict[str, list[dict[str, str]]] = {}
+    names: dict[str, list[str]] = {}
+    cur: dict | None = None
+    for line in vvp_text.split("\n"):
+        sm = re.search(r'\.scope (\w+), "[^"]*" "(\w+)"', line)
+        if sm:
+            cur = None
+            if sm.group(1) == "module":
+                mod = sm.group(2)
+                if mod not in names:
+                    names[mod] = declared_params(mod)
+                cur = {"module": mod, "values": {}}
+                out.setdefault(mod, []).append(cur["values"])
+            continue
+        pm = re.search(r'\.param/\w+ "(\w+)" .*, (\+?)C4<([01]+)>;', line)
+        if pm and cur is not None and pm.group(1) in names[cur["module"]]:
+            cur["values"][pm.group(1)] = _literal(pm.group(3), pm.group(2) == "+")
+    return out
 
 
 # --------------------------------------------------------------------------- one mutant
@@ -601,6 +667,10 @@ class Opts:
     configs: dict = field(default_factory=dict)      # name -> --config argument
     baseline: dict = field(default_factory=dict)     # name -> compiled-design hash of rtl/
     instances: dict = field(default_factory=dict)    # name -> modules instantiated
+    params: dict = field(default_factory=dict)       # name -> {module: [parameter values of each instance]}
+    tce_timeout: int = TCE_TIMEOUT                   # seconds of Yosys per mutant (0: no TCE check)
+    tb_sets: dict = field(default_factory=dict)      # module -> its testbenches' builds (tce_builds)
+    lock: threading.Lock = field(default_factory=threading.Lock)
 
 
 def _run(cmd, env, timeout, log: Path) -> tuple[str, int, str]:
@@ -623,6 +693,243 @@ def testbenches(module: str) -> list[Path]:
     if own.is_dir():
         return [own]
     return sorted({p.parent for p in (ROOT / "tb").glob("*/test_*.py") if f'"{module}.v"' in p.read_text()})
+
+
+# --------------------------------------------------------------------------- TCE: equivalence proved by Yosys
+
+# Run as a command (`python -c`, cwd the checkout, SIM=icarus): the testbenches' pytest cases with
+# hdlbuild.run replaced by a recorder, so that every case's build (top, sources, parameters) is
+# listed without simulating anything; the list is printed as the last line, JSON.
+_RECORD_BUILDS = """
+import json, sys
+import pytest
+import hdlbuild
+builds = []
+def record(toplevel, sources, test_module, sim, config, extra_env=None, parameters=None, test_dir=None,
+           build_name=None):
+    cfg = hdlbuild.config_of(config)
+    if parameters is None:
+        parameters = hdlbuild.block_params(cfg, toplevel)
+    builds.append({"name": build_name or cfg.name, "top": toplevel, "sources": [str(x) for x in sources],
+                   "params": {k: (int(v) if isinstance(v, bool) else v) for k, v in parameters.items()}})
+hdlbuild.run = record
+pytest.main(["-q", "-p", "no:cacheprovider", "-p", "no:randomly", *sys.argv[1:]])
+print(json.dumps(builds))
+"""
+
+
+def module_files(module: str) -> list[str]:
+    """rtl/<module>.v and the files of the rtl/ modules it instantiates, transitively."""
+    mods = {p.stem for p in RTL.glob("*.v")}
+    seen, todo = [], [module]
+    while todo:
+        mod = todo.pop()
+        if mod in seen or mod not in mods:
+            continue
+        seen.append(mod)
+        text = re.sub(r"//[^\n]*|/\*.*?\*/", " ", (RTL / f"{mod}.v").read_text(), flags=re.S)
+        for name in re.findall(r"^\s*([A-Za-z_]\w*)\s*(?:#\s*\(|[A-Za-z_]\w*\s*\()", text, re.M):
+            if name in mods and name not in seen:
+                todo.append(name)
+    return [f"{x}.v" for x in seen]
+
+
+def tce_builds(module: str, opts: Opts, work: Path) -> list[dict]:
+    """The builds of the module's testbenches (each Icarus case: name, top, sources, parameters),
+    each with its unmutated compile (hash) and the parameter sets of the module's instances in it
+    (sets); recorded once a run (cheap: no simulation)."""
+    with opts.lock:
+        if module in opts.tb_sets:
+            return opts.tb_sets[module]
+    tbs = testbenches(module)
+    builds = []
+    if tbs:
+        env = dict(os.environ, SIM="icarus", PYTHONPATH=str(ROOT))
+        for k in ("CONFIG", "VECTORS", "WAVES", "RANDOM_CONFIGS", "RANDOM_SEED", "RTL_DIR"):
+            env.pop(k, None)
+        r = subprocess.run([sys.executable, "-c", _RECORD_BUILDS, *(str(tb.relative_to(ROOT)) for tb in tbs)],
+                           cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
+        lines = r.stdout.strip().splitlines()
+        try:
+            builds = json.loads(lines[-1]) if lines else []
+        except json.JSONDecodeError:
+            builds = []
+        if not builds:
+            raise RuntimeError(f"tce: no builds recorded for {module}'s testbenches: {(r.stderr or r.stdout)[-300:]}")
+        tmp = work / "baseline"
+        tmp.mkdir(parents=True, exist_ok=True)
+        for i, b in enumerate(builds):
+            ok, text = compile_vvp(RTL, b["top"], b["sources"], tmp / f"{module}-{threading.get_ident()}-{i}.vvp", b["params"])
+            if not ok:
+                raise RuntimeError(f"tce: testbench build {b['top']} {b['name']} does not compile: {text}")
+            b["hash"] = _normalized_hash(text, RTL)
+            b["sets"] = instance_params(text).get(module, [])
+    with opts.lock:
+        opts.tb_sets[module] = builds
+    return builds
+
+
+def _chparams(params: dict) -> str:
+    return " ".join(f"-chparam {k} {v}" for k, v in sorted(params.items()))
+
+
+def yosys_equiv(gold: Path, gate: Path, module: str, files: list[str], params: dict, timeout: float,
+                log: Path | None = None) -> tuple[str, str]:
+    """Is `module` from `gate` equivalent to the one from `gold` under `params`? Both elaborated
+    alike (proc, flatten, opt -full, memory -nomap); equiv_make matches their signals by name,
+    equiv_struct -icells merges the logic the two share (cells of one type on matched inputs, the
+    registers too: a $equiv cell left on each input to prove), then equiv_simple -seq 2 proves what it
+    can and, when at most INDUCT_MAX signal bits are left unproven, equiv_induct -seq 2 the rest
+    (undef states modelled in both: an x where the original has a value is a difference). Proved: no
+    $equiv cell left unproven (equiv_status). ('proved' | 'not proved' | 'timeout' | 'error', a detail)."""
+    t0 = time.perf_counter()
+
+    def elab(rtl: Path, name: str) -> str:
+        return (f"read_verilog -defer -I{rtl} {' '.join(str(rtl / f) for f in files)}\n"
+                f"hierarchy -check -top {module} {_chparams(params)}\n"
+                "proc\nflatten\nopt -full\nmemory -nomap\nopt_clean\n"
+                f"rename -top {name}\ndesign -stash {name}\n")
+
+    def yosys(script: str, tag: str) -> tuple[str, int] | None:
+        left = timeout - (time.perf_counter() - t0)
+        if left <= 0:
+            return None
+        try:
+            r = subprocess.run(["yosys", "-p", script], capture_output=True, text=True, timeout=left)
+        except subprocess.TimeoutExpired:
+            return None
+        out = r.stdout + r.stderr
+        if log is not None:
+            with open(log, "a") as f:
+                f.write(f"#### {tag}\n{script}\n{out}\n")
+        return out, r.returncode
+
+    def status(out: str) -> tuple[int, int] | None:
+        found = re.findall(r"Found (\d+) \$equiv cells in equiv:\s*\n\s*Of those cells (\d+) are proven and (\d+) are "
+                           r"unproven", out)
+        return (int(found[-1][0]), int(found[-1][2])) if found else None
+
+    def error(out: str, rc: int) -> tuple[str, str]:
+        err = re.search(r"^ERROR: (.*)$", out, re.M)
+        return "error", (err.group(1) if err else f"yosys exit {rc}")[:120]
+
+    with tempfile.TemporaryDirectory(prefix="tce-") as tmp:
+        il = Path(tmp) / "equiv.il"
+        r = yosys(elab(gold, "gold") + elab(gate, "gate")
+                  + "design -copy-from gold -as gold gold\ndesign -copy-from gate -as gate gate\n"
+                  "equiv_make gold gate equiv\nhierarchy -top equiv\nasync2sync\nequiv_struct -icells\n"
+                  f"equiv_simple -undef -seq 2\nequiv_status\nwrite_rtlil {il}\n", "elaborate, equiv_simple")
+        if r is None:
+            return "timeout", f"over {timeout:.0f} s"
+        out, rc = r
+        st = status(out)
+        if rc != 0 or st is None:
+            return error(out, rc)
+        cells, unproven = st
+        if cells == 0:
+            return "error", "no signals matched"
+        if unproven == 0:
+            return "proved", f"{cells} $equiv cells proven (equiv_simple)"
+        if unproven > INDUCT_MAX:
+            return "not proved", f"{unproven} of {cells} $equiv cells unproven by equiv_simple"
+        r = yosys(f"read_rtlil {il}\nequiv_induct -undef -seq 2\nequiv_status\n", "equiv_induct")
+        if r is None:
+            return "timeout", f"over {timeout:.0f} s (equiv_induct)"
+        out, rc = r
+        st = status(out)
+        if rc != 0 or st is None:
+            return error(out, rc)
+        if st[1] == 0:
+            return "proved", f"{st[0]} $equiv cells proven (equiv_induct)"
+        return "not proved", f"{st[1]} of {st[0]} $equiv cells unproven by equiv_induct"
+
+
+def tce_file(m: Mutant, candidates: list, cache: Path) -> Path:
+    """The TCE verdict's cache file: keyed by the mutant, the mutated source, the sources it
+    elaborates with (rtl/*.vh, the files of the modules it instantiates), the parameter sets, the recipe."""
+    h = hashlib.sha256()
+    h.update(json.dumps([TCE_RECIPE, m.apply((RTL / m.file).read_text()), candidates], sort_keys=True).encode())
+    for p in [*sorted(RTL.glob("*.vh")), *(RTL / f for f in module_files(m.module))]:
+        h.update(p.name.encode() + b"\0" + p.read_bytes())
+    return cache / f"tce-{m.id}-{h.hexdigest()[:16]}.json"
+
+
+def tce_check(m: Mutant, opts: Opts, work: Path, changed: list[str], rtl: Path | None = None) -> dict:
+    """Trivial Compiler Equivalence with Yosys as the compiler: is the mutated module equivalent to
+    the original under every parameter set it is elaborated with by a compile the mutation changes?
+    Those compiles: the configurations `changed` (the screen's: their Icarus compile differs) and the
+    module's testbench builds whose Icarus compile differs. A compile that does not differ is the same
+    design (nothing to prove); when none differs the mutation is in code no checked compile elaborates
+    and nothing is proved ('unchanged', kept: a parameter set no one checked may reach it).
+    {'result': 'proved' | 'not proved' | 'timeout' | 'error' | 'unchanged' | 'off', 'sets': [{params,
+    from}], 'detail', 'seconds'}; cached (out/mutants/cache/tce-*.json)."""
+    t0 = time.perf_counter()
+    if opts.tce_timeout <= 0:
+        return {"result": "off", "sets": [], "detail": "", "seconds": 0.0}
+    builds = tce_builds(m.module, opts, work)
+    candidates = []  # (from, params, where it comes from: a configuration or a testbench build)
+    for name in opts.configs:
+        for ps in opts.params.get(name, {}).get(m.module, []):
+            candidates.append([name, ps, "config"])
+    for b in builds:
+        for ps in b["sets"]:
+            candidates.append([f"tb {b['top']} {b['name']}", ps, "tb"])
+    cache = work / "cache"
+    cache.mkdir(parents=True, exist_ok=True)
+    cf = tce_file(m, [[c[0], c[1]] for c in candidates] + [sorted(changed)], cache)
+    if cf.exists():
+        rec = json.loads(cf.read_text())
+        if rec["result"] != "timeout" or rec.get("limit", 0) >= opts.tce_timeout:
+            return {**rec, "cached": True}
+    own = rtl is None
+    if own:
+        rtl = work / "run" / f"{m.id}-tce" / "rtl"
+        if rtl.parent.exists():
+            shutil.rmtree(rtl.parent)
+        rtl.mkdir(parents=True)
+        for p in RTL.iterdir():
+            if p.is_file():
+                shutil.copy2(p, rtl / p.name)
+        (rtl / m.file).write_text(m.apply((RTL / m.file).read_text()))
+    wdir = rtl.parent
+    try:
+        sets: dict[str, dict] = {}  # the parameter sets to prove on: json -> {params, from}
+        for name, ps, kind in candidates:
+            if kind == "config" and name in changed:
+                src = sets.setdefault(json.dumps(ps, sort_keys=True), {"params": ps, "from": []})["from"]
+                src += [name] if name not in src else []
+        for i, b in enumerate(builds):
+            ok, text = compile_vvp(rtl, b["top"], b["sources"], wdir / f"tce-{i}.vvp", b["params"])
+            if not ok:  # the testbench's build fails: not equivalent (its test kills it)
+                return _tce_done(cf, t0, "not proved", [], f"testbench build {b['name']} does not compile")
+            if _normalized_hash(text, rtl) != b["hash"]:
+                for ps in b["sets"]:
+                    sets.setdefault(json.dumps(ps, sort_keys=True), {"params": ps, "from": []})["from"].append(
+                        f"tb {b['top']} {b['name']}")
+        todo = [sets[k] for k in sorted(sets)]
+        if not todo:
+            return _tce_done(cf, t0, "unchanged", [], "no compile differs: the mutated code is in no checked design")
+        files = module_files(m.module)
+        for i, st in enumerate(todo):
+            left = opts.tce_timeout - (time.perf_counter() - t0)
+            res, detail = yosys_equiv(RTL, rtl, m.module, files, st["params"], left,
+                                      (wdir / f"tce-{i}.log") if opts.keep else None)
+            if res != "proved":
+                return _tce_done(cf, t0, res, todo[:i + 1],
+                                 f"{detail} on {', '.join(st['from'][:3])} (set {i + 1} of {len(todo)})",
+                                 limit=opts.tce_timeout)
+        return _tce_done(cf, t0, "proved", todo, f"{len(todo)} parameter sets")
+    finally:
+        if own and not opts.keep:
+            shutil.rmtree(wdir, ignore_errors=True)
+
+
+def _tce_done(cf: Path, t0: float, result: str, sets: list, detail: str, limit: int = 0) -> dict:
+    """The TCE verdict, cached (a timeout with its limit: a rerun with a longer one tries again)."""
+    rec = {"result": result, "sets": sets, "detail": detail, "seconds": round(time.perf_counter() - t0, 1),
+           **({"limit": limit} if result == "timeout" else {})}
+    cf.write_text(json.dumps(rec, indent=1))
+    return rec
 
 
 def run_mutant(m: Mutant, opts: Opts, work: Path, tb_passed: bool = False) -> dict:
@@ -660,6 +967,13 @@ def run_mutant(m: Mutant, opts: Opts, work: Path, tb_passed: bool = False) -> di
         _cleanup(wdir, opts)
         return rec
     rec["frame_configs"] = changed
+    # TCE: a mutant Yosys proves equivalent to the original on every parameter set the changed
+    # compiles elaborate it with is dropped before its tests (not counted, like a stillborn one)
+    rec["tce"] = tce_check(m, opts, work, changed, rtl)
+    if rec["tce"]["result"] == "proved":
+        rec.update(result="equivalent", by="proved equivalent by Yosys (TCE)", seconds=round(time.perf_counter() - t0, 1))
+        _cleanup(wdir, opts)
+        return rec
     env = dict(os.environ, RTL_DIR=str(rtl), SIM="icarus", SEED=str(opts.seed), PYTHONPATH=str(ROOT))
     for k in ("CONFIG", "VECTORS", "WAVES", "RANDOM_CONFIGS", "RANDOM_SEED"):
         env.pop(k, None)
@@ -709,11 +1023,13 @@ def prepare(work: Path, opts: Opts) -> None:
     tmp = work / "baseline"
     tmp.mkdir(parents=True, exist_ok=True)
     for name, arg in opts.configs.items():
-        ok, h = compile_top(RTL, arg, tmp / f"{name}.vvp")
+        ok, text = compile_vvp(RTL, "texture_unit", [*sorted(RTL.glob("*.v")), gen_dir(config_of(arg)) / "texture_unit.v"],
+                               tmp / f"{name}.vvp")
         if not ok:
-            raise RuntimeError(f"rtl/ does not compile for {name}: {h}")
-        opts.baseline[name] = h
-        opts.instances[name] = scopes_of(RTL, arg, tmp / f"{name}.vvp")
+            raise RuntimeError(f"rtl/ does not compile for {name}: {text}")
+        opts.baseline[name] = _normalized_hash(text, RTL)
+        opts.params[name] = instance_params(text)
+        opts.instances[name] = set(opts.params[name])
 
 
 def tb_imports(tbs: list[Path]) -> list[Path]:
@@ -762,13 +1078,19 @@ def run_all(n: int, seed: int, jobs: int, files, opts: Opts, work: Path, progres
         cf = cache_file(m, cache)
         if cf.exists():
             rec = json.loads(cf.read_text())
+            if rec["result"] in ("killed", "survived") and "frame_configs" in rec:  # compiled everywhere: TCE first
+                rec["tce"] = tce_check(m, opts, work, rec["frame_configs"])
+                if rec["tce"]["result"] == "proved" and rec["result"] == "survived":
+                    return i, {**rec, "result": "equivalent", "by": "proved equivalent by Yosys (TCE)", "cached": True}
+                # proved, yet killed: a test tells them apart, the kill stands (the report names the conflict)
             if rec["result"] != "survived" or rec.get("opts") == opts_key(opts):
                 return i, {**rec, "cached": True}
             # a survivor of other frames: its testbench passed under these sources, the frames run again
             rec = {**run_mutant(m, opts, work, tb_passed=rec.get("tb") == "passed"), "opts": opts_key(opts)}
         else:
             rec = {**run_mutant(m, opts, work), "opts": opts_key(opts)}
-        cf.write_text(json.dumps(rec, indent=1))
+        if rec["result"] != "equivalent":  # a TCE verdict is cached on its own (tce_file)
+            cf.write_text(json.dumps(rec, indent=1))
         return i, rec
 
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
@@ -790,7 +1112,7 @@ def run_all(n: int, seed: int, jobs: int, files, opts: Opts, work: Path, progres
                 k, rec = f.result()
                 with lock:
                     results[k] = rec
-                    if rec["result"] != "stillborn":
+                    if rec["result"] not in ("stillborn", "equivalent"):
                         valid += 1
                         bar.update()
                         bar.set_postfix(killed=sum(r["result"] == "killed" for r in results.values()))
@@ -799,7 +1121,7 @@ def run_all(n: int, seed: int, jobs: int, files, opts: Opts, work: Path, progres
 
 
 def summarize(recs: list[dict]) -> dict:
-    counted = [r for r in recs if r["result"] != "stillborn"]
+    counted = [r for r in recs if r["result"] not in ("stillborn", "equivalent")]
     killed = [r for r in counted if r["result"] == "killed"]
     surv = [r for r in counted if r["result"] == "survived"]
     equiv = [r for r in surv if r["id"] in EQUIVALENT]
@@ -809,8 +1131,11 @@ def summarize(recs: list[dict]) -> dict:
         rs = [r for r in counted if r["kind"] == k]
         by_kind[k] = {"mutants": len(rs), "killed": sum(r["result"] == "killed" for r in rs)}
     n = len(counted)
-    return {"mutants": n, "killed": len(killed), "survived": len(surv), "equivalent": len(equiv),
-            "open": len(noted), "unexplained": len(surv) - len(equiv) - len(noted), "stillborn": len(recs) - n,
+    tce = [r for r in recs if r["result"] == "equivalent"]
+    return {"drawn": len(recs), "mutants": n, "killed": len(killed), "survived": len(surv), "equivalent": len(equiv),
+            "open": len(noted), "unexplained": len(surv) - len(equiv) - len(noted),
+            "stillborn": sum(r["result"] == "stillborn" for r in recs), "tce_dropped": len(tce),
+            "tce_conflicts": sum(r["result"] == "killed" and r.get("tce", {}).get("result") == "proved" for r in recs),
             "killed_share": round(len(killed) / n, 4) if n else None,
             "score": round(len(killed) / (n - len(equiv)), 4) if n - len(equiv) else None,
             "by_kind": by_kind}
@@ -840,10 +1165,27 @@ def section(recs: list[dict], s: dict, args: dict, seconds: float) -> str:
          "every pixel against the golden model) on each configuration whose compiled design the mutation changes "
          "(full, compact, reduced, full_fc and the variants compact on two noise units, compact with four terms, full "
          "with filter mip and none, compact with fpga_regs), until one fails. The first failing test is named.", "",
-         f"**Killed: {s['killed']} of {s['mutants']} ({100 * s['killed_share']:.1f}%)**; survived {s['survived']}, "
-         f"of which {s['equivalent']} shown equivalent and {s['open']} open (below); score without the equivalent ones "
-         f"{100 * s['score']:.1f}%" + (f"; {s['stillborn']} drawn mutants did not compile (stillborn, replaced)."
-                                       if s['stillborn'] else "."), "",
+         "Before its tests, a mutant that compiles everywhere is checked for Trivial Compiler Equivalence (TCE, "
+         "Papadakis et al., ICSE 2015) with Yosys as the compiler, proved rather than argued: on every compile the "
+         "mutation changes (a configuration above, or a build of the block's testbench, each under Icarus; a compile "
+         "that does not change is the same design), the mutated module and the original are elaborated under each "
+         "parameter set its instances there have (`hierarchy -chparam`, `proc; flatten; opt -full; memory -nomap`) "
+         "and proved equal: `equiv_make`, `equiv_struct -icells` (the logic both share merged, a `$equiv` cell on "
+         "each merged input), `equiv_simple -undef -seq 2` and, when it leaves at most "
+         f"{INDUCT_MAX} signal bits unproven, `equiv_induct -undef -seq 2` (undef states modelled: an x where the "
+         "original has a value is a difference), no `$equiv` cell left unproven (`equiv_status`); within "
+         f"{args.get('tce_timeout', TCE_TIMEOUT)} s a mutant. Proved on every one, the mutant is dropped: not counted "
+         "among the N, like a stillborn one the next draw takes its place, and listed below with the parameter sets. "
+         "Not proved (a difference, a timeout, an error), or no compile differs (the mutated code is in no design a "
+         "checked parameter set elaborates: nothing proved, a parameter set nobody checked may reach it), the "
+         "mutant runs its tests.", "",
+         f"**Killed: {s['killed']} of {s['mutants']} ({100 * s['killed_share']:.1f}%)**, the raw share; "
+         f"{s['drawn']} drawn: {s['tce_dropped']} proved equivalent by Yosys (TCE, dropped and replaced)"
+         + (f", {s['stillborn']} did not compile (stillborn, replaced)" if s['stillborn'] else "")
+         + f"; survived {s['survived']}, of which {s['equivalent']} argued equivalent and {s['open']} open (below); "
+         f"score without the argued ones {100 * s['score']:.1f}%"
+         + (f"; {s['tce_conflicts']} proved equivalent by Yosys yet killed by a test (the kill counted; named below)."
+            if s['tce_conflicts'] else "."), "",
          "| kind | mutants | killed |", "|---|---:|---:|"]
     for k, v in s["by_kind"].items():
         L.append(f"| {k} | {v['mutants']} | {v['killed']} |")
@@ -851,18 +1193,47 @@ def section(recs: list[dict], s: dict, args: dict, seconds: float) -> str:
     for r in recs:
         if r["result"] == "stillborn":
             continue
-        res = r["result"] + (" (equivalent)" if r["result"] == "survived" and r["id"] in EQUIVALENT else
-                             " (open)" if r["result"] == "survived" and r["id"] in OPEN else "")
+        res = ("dropped: proved equivalent (TCE)" if r["result"] == "equivalent" else
+               r["result"] + (" (equivalent)" if r["result"] == "survived" and r["id"] in EQUIVALENT else
+                              " (open)" if r["result"] == "survived" and r["id"] in OPEN else ""))
         L.append(f"| {r['id']} | {r['file']}:{r['line']} | {r['kind']} | {_cell(r['mutation'])} | {res} | {_cell(r['by'])} |")
+    tce = [r for r in recs if r["result"] == "equivalent"]
+    if tce:
+        L += ["", "Proved equivalent by Yosys (TCE), each on the parameter sets of its module's instances in the "
+              "compiles the mutation changes (where from):", ""]
+        for r in tce:
+            sets = "; ".join(f"{_pset(x['params'])} ({', '.join(dict.fromkeys(x['from']))})" for x in r["tce"]["sets"])
+            L.append(f"- {r['id']} {r['file']}:{r['line']} {_cell(r['mutation'])} in `{_cell(r['text'])}`: "
+                     f"{len(r['tce']['sets'])} parameter sets: {_cell(sets)}")
     surv = [r for r in recs if r["result"] == "survived"]
     if surv:
-        L += ["", "Survivors:", ""]
+        L += ["", "Survivors (TCE: what Yosys found):", ""]
         for r in surv:
             why = EQUIVALENT.get(r["id"]) or ("open: " + OPEN[r["id"]] if r["id"] in OPEN
                                               else "NOT EXPLAINED: needs a test or an equivalence argument")
-            L.append(f"- {r['id']} {r['file']}:{r['line']} {_cell(r['mutation'])} in `{_cell(r['text'])}`: {why}")
+            L.append(f"- {r['id']} {r['file']}:{r['line']} {_cell(r['mutation'])} in `{_cell(r['text'])}`: {why}"
+                     f" (TCE: {_tce_note(r)})")
+    conflicts = [r for r in recs if r["result"] == "killed" and r.get("tce", {}).get("result") == "proved"]
+    if conflicts:
+        L += ["", "Proved equivalent by Yosys yet killed (Yosys's semantics and Icarus's differ there; the kill counts):",
+              ""]
+        for r in conflicts:
+            L.append(f"- {r['id']} {r['file']}:{r['line']} {_cell(r['mutation'])} in `{_cell(r['text'])}`: "
+                     f"killed by {_cell(r['by'])}")
     L += ["", doc_stamp(["full", "compact", "reduced", "full_fc"])]
     return "\n".join(L) + "\n"
+
+
+def _pset(ps: dict) -> str:
+    """A parameter set, short: a long literal (a permutation table) by its width."""
+    return " ".join(f"{k}={v if len(v) <= 16 else v.split(chr(39))[0] + '-bit table'}" for k, v in ps.items()) or "defaults"
+
+
+def _tce_note(r: dict) -> str:
+    t = r.get("tce") or {}
+    res = t.get("result", "not run")
+    return {"unchanged": "no compile differs, nothing to prove", "off": "off"}.get(
+        res, f"{res}{': ' + t['detail'] if t.get('detail') else ''}")
 
 
 def write_section(doc: Path, text: str) -> None:
@@ -889,6 +1260,8 @@ def main(argv=None) -> int:
     ap.add_argument("--scenes", default="marble,zone_plate", help="the frames' scenes (comma-separated)")
     ap.add_argument("--size", type=int, default=16, help="the frame's width")
     ap.add_argument("--timeout", type=int, default=TIMEOUT, help="seconds per test of a mutant")
+    ap.add_argument("--tce-timeout", type=int, default=TCE_TIMEOUT,
+                    help="seconds of Yosys's equivalence check per mutant (0: no check)")
     ap.add_argument("--out", type=Path, default=ROOT / "out" / "mutants", help="results.json, the cache, scratch copies")
     ap.add_argument("--docs", type=Path, help="write the Mutants section of this file (make mutants: docs/verification.md)")
     ap.add_argument("--list", action="store_true", help="print the drawn mutants and the site counts; run nothing")
@@ -925,12 +1298,15 @@ def main(argv=None) -> int:
                 write_section(a.docs, section(res["mutants"], summarize(res["mutants"]), res["args"], res["seconds"]))
             print(json.dumps(summarize(res["mutants"])))
             return 0
-        opts = Opts(scenes=scenes, size=a.size, seed=a.seed, timeout=a.timeout, keep=a.keep)
+        if a.tce_timeout > 0 and shutil.which("yosys") is None:
+            raise UserError("yosys: not found on PATH (run `make setup`; --tce-timeout 0 runs without the TCE check)")
+        opts = Opts(scenes=scenes, size=a.size, seed=a.seed, timeout=a.timeout, keep=a.keep, tce_timeout=a.tce_timeout)
         t0 = time.perf_counter()
         recs = run_all(a.n, a.seed, a.jobs, files, opts, a.out, progress=not a.quiet)
         secs = time.perf_counter() - t0
         s = summarize(recs)
-        args = {"n": a.n, "seed": a.seed, "jobs": a.jobs, "scenes": list(scenes), "size": a.size, "files": files}
+        args = {"n": a.n, "seed": a.seed, "jobs": a.jobs, "scenes": list(scenes), "size": a.size, "files": files,
+                "tce_timeout": a.tce_timeout}
         a.out.mkdir(parents=True, exist_ok=True)
         (a.out / "results.json").write_text(json.dumps({"summary": s, "args": args, "seconds": round(secs, 1),
                                                         "mutants": recs}, indent=1) + "\n")
