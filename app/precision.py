@@ -44,9 +44,23 @@ DB = 40.0
 
 def precision_variant(cfg, k: int):
     """cfg with k fraction bits of s: the same integer bits (s_w - s_frac), p_frac lowered to
-    k + t_frac where it must be (p_frac <= s_frac + t_frac); ConfigError if no valid variant."""
-    return variant(cfg, f"{cfg.name}-s{k}", s_frac=k, s_w=k + cfg.s_w - cfg.s_frac,
-                   p_frac=min(cfg.p_frac, k + cfg.t_frac))
+    k + t_frac where it must be (p_frac <= s_frac + t_frac), and, where the golden model's int64 would
+    overflow (the quadric's s x v product at full's q s28.20 and s_frac 16), q_frac lowered one bit at a
+    time with q's integer bits kept (the row reports the q it took); ConfigError if no valid variant."""
+    kw = {"s_frac": k, "s_w": k + cfg.s_w - cfg.s_frac, "p_frac": min(cfg.p_frac, k + cfg.t_frac)}
+    try:
+        return variant(cfg, f"{cfg.name}-s{k}", **kw)
+    except ConfigError as e:
+        if "formats too wide" not in str(e):
+            raise
+        err = e
+    for dq in range(1, cfg.q_frac + 1):
+        try:
+            return variant(cfg, f"{cfg.name}-s{k}", **kw, q_frac=cfg.q_frac - dq, q_w=cfg.q_w - dq)
+        except ConfigError as e:
+            if "formats too wide" not in str(e):
+                raise
+    raise err
 
 
 def _images(cfg, passes, bg, W, H):
@@ -118,6 +132,8 @@ def run(size: int = 512, configs=CONFIG_NAMES, fracs=FRACS, scene_arg: str = str
                 try:
                     v = precision_variant(cfg, k)
                     row.update(s_w=v.s_w, p_frac=v.p_frac)
+                    if v.q_frac != cfg.q_frac:
+                        row.update(q=f"s{v.q_w}.{v.q_frac}")
                     img, textured = _images(v, passes, scene.background, W, H)
                 except (ConfigError, FormatError) as e:
                     row.update(psnr_db=None, error=" ".join(str(e).split()))
@@ -233,6 +249,11 @@ def write_docs(rep: dict, images: dict, docs: Path) -> None:
     if errs:
         L += ["", "Variants that are not valid or that the scene does not fit:", ""]
         L += [f"- {c} s_frac {x['s_frac']}: {x['error']}" for c, x in errs]
+    qs = [(c, x) for c, r in rep["configs"].items() for x in r["rows"] if x.get("q")]
+    if qs:
+        L += ["", "Variants whose quadric words gave way (the golden model computes in int64, and the quadric's "
+              "s x v product would need more than 62 bits: q_frac one bit narrower, its range kept):", ""]
+        L += [f"- {c} s_frac {x['s_frac']}: q {x['q']}" for c, x in qs]
     L.append("")
     L.append(doc_stamp(list(rep["configs"])))
     (docs / "precision.md").write_text("\n".join(L) + "\n")

@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from model.hw.config import CONFIG_NAMES, load_config
+from model.hw.config import CONFIG_NAMES, ConfigError, load_config, variant
 from app import precision as P
 from model.scene.frontend import render_passes
 from model.scene.passes import SCENES, prepare_passes
@@ -37,9 +37,13 @@ def test_variant_valid_and_keeps_the_range(config, k):
     v = P.precision_variant(cfg, k)
     assert v.s_frac == k and v.s_w - v.s_frac == cfg.s_w - cfg.s_frac
     assert v.p_frac == min(cfg.p_frac, k + cfg.t_frac) <= v.s_frac + v.t_frac
-    changed = {key for key in ("s_w", "s_frac", "p_frac", "q_frac", "t_frac", "f_frac", "n_frac", "hash_bits")
+    changed = {key for key in ("s_w", "s_frac", "p_frac", "q_w", "q_frac", "t_frac", "f_frac", "n_frac", "hash_bits")
                if getattr(v, key) != getattr(cfg, key)}
-    assert changed <= {"s_w", "s_frac", "p_frac"}
+    assert changed <= {"s_w", "s_frac", "p_frac", "q_w", "q_frac"}
+    if changed & {"q_w", "q_frac"}:  # only where the unchanged q would overflow the golden model's int64, by one bit
+        assert v.q_w - v.q_frac == cfg.q_w - cfg.q_frac and v.q_frac == cfg.q_frac - 1
+        with pytest.raises(ConfigError, match="formats too wide"):
+            variant(cfg, "x", s_frac=k, s_w=v.s_w, p_frac=v.p_frac)
     if k == cfg.s_frac:
         assert not changed
 
