@@ -22,7 +22,8 @@ SIZE   ?= 256
 # GAPS= / STALLS= (frame: percent of input gaps / output stalls), RENDERS_SIZE=, FRAMES_SIZE=,
 # FRAMES_SCENES= (frames: a comma-separated subset), BENCH_SIZE= (bench-model frame side),
 # PERF_PIXELS= (icarus-perf)
-RENDERS_SIZE ?= 256
+# RENDERS_SIZE: docs/scenes.md's size, so that `make renders` rewrites it as it stands
+RENDERS_SIZE ?= 128
 FRAMES_SIZE  ?= 512
 BENCH_SIZE   ?= 512
 PRECISION_SIZE ?= 512
