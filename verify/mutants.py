@@ -804,27 +804,27 @@ def yosys_equiv(gold: Path, gate: Path, module: str, files: list[str], params: d
                 f.write(f"#### {tag}\n{script}\n{out}\n")
         return out, r.returncode
 
-    def status(out: str) -> tuple[int, int] | None:
+    def step(script: str, tag: str, note: str = "") -> tuple[int, int] | tuple[str, str]:
+        """(cells, unproven) of equiv_status after `script`, or the verdict that ends the check."""
+        r = yosys(script, tag)
+        if r is None:
+            return "timeout", f"over {timeout:.0f} s{note}"
+        out, rc = r
         found = re.findall(r"Found (\d+) \$equiv cells in equiv:\s*\n\s*Of those cells (\d+) are proven and (\d+) are "
                            r"unproven", out)
-        return (int(found[-1][0]), int(found[-1][2])) if found else None
-
-    def error(out: str, rc: int) -> tuple[str, str]:
-        err = re.search(r"^ERROR: (.*)$", out, re.M)
-        return "error", (err.group(1) if err else f"yosys exit {rc}")[:120]
+        if rc != 0 or not found:
+            err = re.search(r"^ERROR: (.*)$", out, re.M)
+            return "error", (err.group(1) if err else f"yosys exit {rc}")[:120]
+        return int(found[-1][0]), int(found[-1][2])
 
     with tempfile.TemporaryDirectory(prefix="tce-") as tmp:
         il = Path(tmp) / "equiv.il"
-        r = yosys(elab(gold, "gold") + elab(gate, "gate")
+        st = step(elab(gold, "gold") + elab(gate, "gate")
                   + "design -copy-from gold -as gold gold\ndesign -copy-from gate -as gate gate\n"
                   "equiv_make gold gate equiv\nhierarchy -top equiv\nasync2sync\nequiv_struct -icells\n"
                   f"equiv_simple -undef -seq 2\nequiv_status\nwrite_rtlil {il}\n", "elaborate, equiv_simple")
-        if r is None:
-            return "timeout", f"over {timeout:.0f} s"
-        out, rc = r
-        st = status(out)
-        if rc != 0 or st is None:
-            return error(out, rc)
+        if isinstance(st[0], str):
+            return st
         cells, unproven = st
         if cells == 0:
             return "error", "no signals matched"
@@ -832,13 +832,9 @@ def yosys_equiv(gold: Path, gate: Path, module: str, files: list[str], params: d
             return "proved", f"{cells} $equiv cells proven (equiv_simple)"
         if unproven > INDUCT_MAX:
             return "not proved", f"{unproven} of {cells} $equiv cells unproven by equiv_simple"
-        r = yosys(f"read_rtlil {il}\nequiv_induct -undef -seq 2\nequiv_status\n", "equiv_induct")
-        if r is None:
-            return "timeout", f"over {timeout:.0f} s (equiv_induct)"
-        out, rc = r
-        st = status(out)
-        if rc != 0 or st is None:
-            return error(out, rc)
+        st = step(f"read_rtlil {il}\nequiv_induct -undef -seq 2\nequiv_status\n", "equiv_induct", " (equiv_induct)")
+        if isinstance(st[0], str):
+            return st
         if st[1] == 0:
             return "proved", f"{st[0]} $equiv cells proven (equiv_induct)"
         return "not proved", f"{st[1]} of {st[0]} $equiv cells unproven by equiv_induct"
