@@ -83,7 +83,7 @@ def render(scene_name: str, config_name: str, size: int, truth: bool = True, tru
             raise UserError(f"--strict: {bad[0]}" + (f" (and {len(bad) - 1} more)" if len(bad) > 1 else ""))
         tr = (path, passes, truth_ss, band_ss, truth_dir(out_root)) if truth else None
         rep = _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, tr, progress)
-        rep["approximations"] = approx
+        rep["approximations"] = approx + rep.pop("w_saturated")
         rep["needs"] = _needs(scene_name, passes, W, H, size, cfg)
         rep["seconds"] = round(time.perf_counter() - t0, 2)
         (out / "report.json").write_text(json.dumps(rep, indent=2) + "\n")
@@ -101,8 +101,15 @@ def _needs(scene_name, passes, W, H, size, cfg) -> dict:
 def _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, tr, progress) -> dict:
     bar = progress_bar(progress, total=len(pds) * 3, desc=f"{scene_name} {config_name} {W}x{H}")
     gold, unf, ref, cref, widths = [], [], [], [], np.zeros((H, W))
+    capped = []  # the filter width's saturation at 2^w_cap_log2 entries: a range the format sets, reported
     for pd in pds:
         st = golden.texture_stages(cfg, pd.ti, pd.si, pd.Jm, pd.je)  # (the width at the pixel's centre)
+        if pd.ti.filter and len(st["w"]):
+            nsat = int(np.count_nonzero(np.asarray(st["w"]) >= (1 << (cfg.w_cap_log2 + cfg.f_frac))))
+            if nsat:
+                capped.append(f"pass {pd.name}: filter width saturated at 2^{cfg.w_cap_log2} entries "
+                              f"(formats.w_cap_log2) on {nsat} of {len(st['w'])} pixels: the box there is "
+                              "narrower than the pixel's footprint")
         # the pixel's colour: its samples' average with features.samples > 1 (texture_pipeline)
         gold.append((pd.mask, st["rgba"] if cfg.samples == 1 else golden.texture_pipeline(cfg, pd.ti, pd.si, pd.Jm, pd.je)))
         n = 1 << pd.ti.n_log2
@@ -147,6 +154,7 @@ def _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, tr, 
         "status": "ok", "scene": scene_name, "config": config_name, "width": W, "height": H,
         "pixels_textured": int(textured.sum()),
         "passes": [{"name": pd.name, "pixels": int(pd.mask.sum()), **pd.info} for pd in pds],
+        "w_saturated": capped,
     }
     cg = compare(img_gold[textured], img_ref[textured])
     rep["psnr_golden_vs_reference_db"] = cg["psnr_db"]

@@ -351,3 +351,15 @@ def test_report_names_every_approximation(tmp_path):
     assert rep["psnr_golden_vs_configured_reference_db"] > rep["psnr_golden_vs_reference_db"]
     rep = render.render("zone_plate", "full", 8, truth=False, out_root=tmp_path, progress=False)
     assert rep["approximations"] == []
+
+
+def test_report_names_the_width_cap(tmp_path):
+    """A filter width beyond 2^w_cap_log2 entries (a zone plate at 8 px on compact, cap 2^9) is reported with
+    its pixel count; full (cap 2^16) saturates no pixel of it (issue 26: no silent range limit)."""
+    from app import render
+
+    rep = render.render("zone_plate", "compact", 8, truth=False, out_root=tmp_path, progress=False)
+    sat = [a for a in rep["approximations"] if "filter width saturated at 2^9 entries" in a]
+    assert len(sat) == 1 and " of 64 pixels" in sat[0], rep["approximations"]
+    rep = render.render("zone_plate", "full", 8, truth=False, out_root=tmp_path, progress=False)
+    assert not any("saturated" in a for a in rep["approximations"]), rep["approximations"]
