@@ -242,3 +242,45 @@ def test_tce_builds_of_the_testbenches(tmp_path):
     n0 = next(b for b in own if b["name"] == "n0")
     assert n0["sets"] == [{"W": "8", "N": "0", "CLEAR": "0"}] and n0["hash"] != wide["hash"]
     assert mu.tce_builds("delay_line", opts, tmp_path) is own  # recorded once a run
+
+
+def _tex_regs_equiv(mid: str, cfg, tmp_path) -> dict:
+    """tex_regs mutant `mid` against rtl/'s under `cfg`'s parameters (the ones texture_pipeline gives
+    it): yosys_equiv's verdict under each recipe alone, and under all of them in turn ('chain')."""
+    import hdlbuild
+
+    m = next(m for m in mu.draw(mu.all_sites(["tex_regs.v"]), 1) if m.id == mid)
+    rtl = mu.scratch_rtl(m, tmp_path / m.id)
+    params = {k: int(v) if isinstance(v, bool) else v for k, v in hdlbuild.block_params(cfg, "tex_regs").items()}
+    files = mu.module_files("tex_regs")
+    out = {r: mu.yosys_equiv(mu.RTL, rtl, "tex_regs", files, params, 60, recipes=(r,)) for r in mu.RECIPES}
+    out["chain"] = mu.yosys_equiv(mu.RTL, rtl, "tex_regs", files, params, 60)
+    return out
+
+
+@needs_yosys
+def test_tce_recipes_prove_no_killed_mutant(tmp_path):
+    """Mutants tb/tex_regs kills (make mutants N=100 SEED=1) differ in behaviour: no recipe proves
+    them. 8d8a7c8b (pi < K -> pi <= K) looks like the loop bounds argued equivalent, but with no terms
+    (random1202: NOISE_TERMS 0) its one iteration writes term 0's registers, which stay 0 otherwise;
+    d86606c6 (csat_in_range's == -> !=) under full."""
+    from model.hw.config import load_config, random_config
+
+    for mid, cfg in (("8d8a7c8b", random_config(1202, name="random1202")), ("d86606c6", load_config("full"))):
+        got = _tex_regs_equiv(mid, cfg, tmp_path)
+        assert all(got[r][0] == "not proved" for r in mu.RECIPES), (mid, got)
+        res, detail, recipe = got["chain"]
+        assert (res, recipe) == ("not proved", "") and all(f"{r}: " in detail for r in mu.RECIPES), (mid, detail)
+
+
+@needs_yosys
+def test_tce_fallback_proves_a_tex_regs_survivor(tmp_path):
+    """2767868f (tex_regs' wr_off = cfg_wr_addr[RL-1:0] -> [RL+1:0], cut to RL bits where assigned) is
+    equivalent; equiv_struct -icells leaves $equiv cells unproven in tex_regs even unmutated, so
+    the first recipe does not prove it and the register-only one (ffs) does."""
+    from model.hw.config import load_config
+
+    got = _tex_regs_equiv("2767868f", load_config("full"), tmp_path)
+    assert got["icells"][0] == "not proved" and got["ffs"][0] == "proved"
+    res, detail, recipe = got["chain"]
+    assert (res, recipe) == ("proved", "ffs") and detail.endswith("(ffs)")
