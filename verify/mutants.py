@@ -92,9 +92,11 @@ TCE_RECIPE = 3  # the equivalence check's version (part of its verdicts' cache k
 # How yosys_equiv merges the two designs before proving (equiv_struct), tried in order until one
 # leaves no $equiv cell unproven. icells: every cell type (the logic the two share merged, a $equiv
 # cell on each input that differs); it leaves $equiv cells it cannot prove in some modules even
-# unmutated (tex_regs: $pmux cells merged by one output bit whose other inputs differ). ffs: the
-# registers only (selected with the $equiv cells that tie their outputs), so that equiv_simple proves
-# each register's next-state logic, and the outputs, from the merged registers and the inputs.
+# unmutated (tex_regs: its backward sweeps merge distinct cells of one design whose outputs earlier
+# merges tied, two $eq compares of the field address with different constants: a $equiv cell
+# between 1'0 and 1'1). ffs: the registers only (selected with the $equiv cells that tie their
+# outputs), so that equiv_simple proves each register's next-state logic, and the outputs, from the
+# merged registers and the inputs.
 RECIPES = {"icells": "equiv_struct -icells", "ffs": "equiv_struct -icells t:$equiv t:$*dff*"}
 INDUCT_MAX = 256  # equiv_induct only when equiv_simple leaves at most this many signal bits unproven
 
