@@ -31,10 +31,11 @@ testbenches (each Icarus case, recorded by running its pytest cases with hdlbuil
 tce_builds) whose Icarus compile differs from the unmutated one; on each parameter set the mutated
 module's instances have in them (read from Icarus's compiled design: instance_params), the module
 and its submodules are elaborated from rtl/ and from the scratch copy (hierarchy -chparam, proc,
-flatten, opt -full, memory -nomap) and proved equivalent (equiv_make, equiv_struct -icells, then
-equiv_simple and, when it leaves few signals unproven, equiv_induct, with undef states modelled; no
-$equiv cell left unproven: yosys_equiv; when some are left, the same again with only the registers
-merged by equiv_struct: RECIPES), within --tce-timeout seconds a mutant. A mutant
+flatten, opt -full, memory -nomap, ROMs mapped to logic, integer loop temporaries left unmatched) and
+proved equivalent (equiv_make, equiv_struct -icells, then equiv_simple and, when it leaves few
+signals unproven, equiv_induct, with undef states modelled; no $equiv cell left unproven:
+yosys_equiv; when some are left, the same again with only the registers merged by equiv_struct:
+RECIPES), within --tce-timeout seconds a mutant. A mutant
 proved equivalent on every one of them is dropped before its tests (not counted, like a stillborn
 one: the next one drawn takes its place) and listed with those parameter sets. A timeout, a
 difference, an error keep it; so does a mutation no compile sees (code no checked parameter set
@@ -88,7 +89,8 @@ KINDS = ("operator", "constant", "comparison", "stage", "shift")
 WEIGHTS = {"operator": 0.3, "constant": 0.3, "comparison": 0.2, "stage": 0.08, "shift": 0.12}
 TIMEOUT = 900  # seconds per test of a mutant (a hang is a kill)
 TCE_TIMEOUT = 180  # seconds of Yosys per mutant, over all its parameter sets (past it: not proved, the mutant is kept)
-TCE_RECIPE = 3  # the equivalence check's version (part of its verdicts' cache key; 3: the recipes of RECIPES in turn)
+TCE_RECIPE = 4  # the equivalence check's version (part of its verdicts' cache key; 3: the recipes of RECIPES in
+# turn; 4: ROMs mapped to logic, integer loop temporaries not matched by equiv_make)
 # How yosys_equiv merges the two designs before proving (equiv_struct), tried in order until one
 # leaves no $equiv cell unproven. icells: every cell type (the logic the two share merged, a $equiv
 # cell on each input that differs); it leaves $equiv cells it cannot prove in some modules even
@@ -783,11 +785,26 @@ def _chparams(params: dict) -> str:
     return " ".join(f"-chparam {k} {v}" for k, v in sorted(params.items()))
 
 
+def loop_temporaries(rtl: Path, files: list[str]) -> list[str]:
+    """The names the files declare `integer`: loop counters and temporaries (a procedural loop's
+    counter ends one past its last iteration, so a loop bound loosened changes it even where every
+    write of the extra iteration is dropped)."""
+    names = []
+    for f in files:
+        text = re.sub(r"//[^\n]*|/\*.*?\*/", " ", (rtl / f).read_text(), flags=re.S)
+        for decl in re.findall(r"\binteger\s+([^;]+);", text):
+            names += [m.group(1) for part in decl.split(",") if (m := re.match(r"\s*([A-Za-z_]\w*)", part))]
+    return names
+
+
 def yosys_equiv(gold: Path, gate: Path, module: str, files: list[str], params: dict, timeout: float,
                 log: Path | None = None, recipes: tuple[str, ...] = tuple(RECIPES)) -> tuple[str, str, str]:
     """Is `module` from `gate` equivalent to the one from `gold` under `params`? Both elaborated
-    alike (proc, flatten, opt -full, memory -nomap); equiv_make matches their signals by name (a
-    $equiv cell on each pair), then each recipe in turn (RECIPES: equiv_struct merges what the two
+    alike (proc, flatten, opt -full, memory -nomap, then memory_map -rom-only -keepdc: a ROM's reads
+    as logic the SAT solver sees, its x bits kept; the wires of loop_temporaries made private, so
+    that equiv_make does not match them: a signal it does not match is neither a cut point nor a
+    proof obligation, and the ports, never hidden, are all matched); equiv_make matches their
+    signals by name (a $equiv cell on each pair), then each recipe in turn (RECIPES: equiv_struct merges what the two
     share, a $equiv cell left on each input it merges to prove), on a fresh copy: equiv_simple -seq 2
     proves what it can and, when at most INDUCT_MAX signal bits are left unproven, equiv_induct -seq 2
     the rest (undef states modelled in both: an x where the original has a value is a difference).
@@ -796,10 +813,13 @@ def yosys_equiv(gold: Path, gate: Path, module: str, files: list[str], params: d
     ('proved' | 'not proved' | 'timeout' | 'error', a detail, the recipe that proved it or '')."""
     t0 = time.perf_counter()
 
+    temps = sorted(set(loop_temporaries(gold, files)) | set(loop_temporaries(gate, files)))
+    hide = f"rename -hide {' '.join(f'w:{n} w:*.{n}' for n in temps)}\n" if temps else ""
+
     def elab(rtl: Path, name: str) -> str:
         return (f"read_verilog -defer -I{rtl} {' '.join(str(rtl / f) for f in files)}\n"
                 f"hierarchy -check -top {module} {_chparams(params)}\n"
-                "proc\nflatten\nopt -full\nmemory -nomap\nopt_clean\n"
+                f"proc\nflatten\nopt -full\nmemory -nomap\nmemory_map -rom-only -keepdc\n{hide}opt_clean\n"
                 f"rename -top {name}\ndesign -stash {name}\n")
 
     def yosys(script: str, tag: str) -> tuple[str, int] | None:
@@ -1206,9 +1226,11 @@ def section(recs: list[dict], s: dict, args: dict, seconds: float) -> str:
          "Papadakis et al., ICSE 2015) with Yosys as the compiler, proved rather than argued: on every compile the "
          "mutation changes (a configuration above, or a build of the block's testbench, each under Icarus; a compile "
          "that does not change is the same design), the mutated module and the original are elaborated under each "
-         "parameter set its instances there have (`hierarchy -chparam`, `proc; flatten; opt -full; memory -nomap`) "
-         "and proved equal: `equiv_make`, then `equiv_struct -icells` (the logic both share merged, a `$equiv` cell "
-         "on each merged input), `equiv_simple -undef -seq 2` and, when it leaves at most "
+         "parameter set its instances there have (`hierarchy -chparam`, `proc; flatten; opt -full; memory -nomap; "
+         "memory_map -rom-only -keepdc`, the `integer` loop temporaries' wires hidden from `equiv_make`: a loop bound "
+         "loosened leaves its counter one higher, which no output sees) and proved equal: `equiv_make`, then "
+         "`equiv_struct -icells` (the logic both share merged, a `$equiv` cell on each merged input), "
+         "`equiv_simple -undef -seq 2` and, when it leaves at most "
          f"{INDUCT_MAX} signal bits unproven, `equiv_induct -undef -seq 2` (undef states modelled: an x where the "
          "original has a value is a difference), no `$equiv` cell left unproven (`equiv_status`); when that leaves "
          "some unproven, the same with the registers merged only (`equiv_struct -icells t:$equiv t:$*dff*`: "
