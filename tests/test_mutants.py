@@ -242,3 +242,64 @@ def test_tce_builds_of_the_testbenches(tmp_path):
     n0 = next(b for b in own if b["name"] == "n0")
     assert n0["sets"] == [{"W": "8", "N": "0", "CLEAR": "0"}] and n0["hash"] != wide["hash"]
     assert mu.tce_builds("delay_line", opts, tmp_path) is own  # recorded once a run
+
+
+def _equiv_by_recipe(module: str, mid: str, cfg, tmp_path, timeout: float = 60, chain: bool = True) -> dict:
+    """`module`'s mutant `mid` against rtl/'s under `cfg`'s parameters (the ones texture_pipeline gives
+    it): yosys_equiv's verdict under each recipe alone, and under all of them in turn ('chain')."""
+    import hdlbuild
+
+    m = next(m for m in mu.draw(mu.all_sites([f"{module}.v"]), 1) if m.id == mid)
+    rtl = mu.scratch_rtl(m, tmp_path / m.id)
+    params = {k: int(v) if isinstance(v, bool) else v for k, v in hdlbuild.block_params(cfg, module).items()}
+    files = mu.module_files(module)
+    out = {r: mu.yosys_equiv(mu.RTL, rtl, module, files, params, timeout, recipes=(r,)) for r in mu.RECIPES}
+    if chain:
+        out["chain"] = mu.yosys_equiv(mu.RTL, rtl, module, files, params, timeout)
+    return out
+
+
+@needs_yosys
+def test_tce_recipes_prove_no_killed_mutant(tmp_path):
+    """Mutants tb/tex_regs kills (make mutants N=100 SEED=1) differ in behaviour: no recipe proves
+    them. 8d8a7c8b (pi < K -> pi <= K) looks like the loop bounds argued equivalent, but with no terms
+    (random1202: NOISE_TERMS 0) its one iteration writes term 0's registers, which stay 0 otherwise;
+    d86606c6 (csat_in_range's == -> !=) under full."""
+    from model.hw.config import load_config, random_config
+
+    for mid, cfg in (("8d8a7c8b", random_config(1202, name="random1202")), ("d86606c6", load_config("full"))):
+        got = _equiv_by_recipe("tex_regs", mid, cfg, tmp_path)
+        assert all(got[r][0] == "not proved" for r in mu.RECIPES), (mid, got)
+        res, detail, recipe = got["chain"]
+        assert (res, recipe) == ("not proved", "") and all(f"{r}: " in detail for r in mu.RECIPES), (mid, detail)
+
+
+@needs_yosys
+def test_tce_fallback_proves_tex_regs_survivors(tmp_path):
+    """2767868f (tex_regs' wr_off = cfg_wr_addr[RL-1:0] -> [RL+1:0], cut to RL bits where assigned) and
+    554fe7a8 (ri < 4 -> ri <= 4: the extra iteration's write is past rgba_wide and dropped, only the
+    integer ri ends one higher, a loop temporary equiv_make does not match) are equivalent;
+    equiv_struct -icells leaves $equiv cells unproven in tex_regs even unmutated, so the first recipe
+    does not prove them and the register-only one (ffs) does."""
+    from model.hw.config import load_config
+
+    for mid in ("2767868f", "554fe7a8"):
+        got = _equiv_by_recipe("tex_regs", mid, load_config("full"), tmp_path)
+        assert got["icells"][0] == "not proved" and got["ffs"][0] == "proved", (mid, got)
+        res, detail, recipe = got["chain"]
+        assert (res, recipe) == ("proved", "ffs") and detail.endswith("(ffs)"), (mid, got["chain"])
+
+
+@needs_yosys
+def test_tce_rom_x_bits_are_a_difference(tmp_path):
+    """noise_hash's permutation ROM (perm_rom, filled by an initial loop; a memory under reduced) is
+    mapped to logic for the SAT solver with its x bits kept: 67c3291b (pi = 0 -> pi = 1) leaves entry
+    0 unwritten, an x where the original holds PERM's first entry, and no recipe proves it (a timeout
+    proves nothing either); b8dd487d
+    (pi < 2^H -> pi <= 2^H: the extra write, past the ROM, is dropped) is proved."""
+    from model.hw.config import load_config
+
+    got = _equiv_by_recipe("noise_hash", "67c3291b", load_config("reduced"), tmp_path, timeout=15, chain=False)
+    # (icells runs past 15 s on it, ffs finds the difference: neither proves it)
+    assert all(got[r][0] != "proved" for r in mu.RECIPES) and "not proved" in {v[0] for v in got.values()}, got
+    assert _equiv_by_recipe("noise_hash", "b8dd487d", load_config("reduced"), tmp_path)["chain"][0] == "proved"

@@ -31,9 +31,11 @@ testbenches (each Icarus case, recorded by running its pytest cases with hdlbuil
 tce_builds) whose Icarus compile differs from the unmutated one; on each parameter set the mutated
 module's instances have in them (read from Icarus's compiled design: instance_params), the module
 and its submodules are elaborated from rtl/ and from the scratch copy (hierarchy -chparam, proc,
-flatten, opt -full, memory -nomap) and proved equivalent (equiv_make, equiv_struct -icells, then
-equiv_simple and, when it leaves few signals unproven, equiv_induct, with undef states modelled; no
-$equiv cell left unproven: yosys_equiv), within --tce-timeout seconds a mutant. A mutant
+flatten, opt -full, memory -nomap, ROMs mapped to logic, integer loop temporaries left unmatched) and
+proved equivalent (equiv_make, equiv_struct -icells, then equiv_simple and, when it leaves few
+signals unproven, equiv_induct, with undef states modelled; no $equiv cell left unproven:
+yosys_equiv; when some are left, the same again with only the registers merged by equiv_struct:
+RECIPES), within --tce-timeout seconds a mutant. A mutant
 proved equivalent on every one of them is dropped before its tests (not counted, like a stillborn
 one: the next one drawn takes its place) and listed with those parameter sets. A timeout, a
 difference, an error keep it; so does a mutation no compile sees (code no checked parameter set
@@ -57,7 +59,7 @@ block. An edit elsewhere (another rtl/ file, the golden model, which the RTL equ
 on every configuration) keeps a verdict; `rm -r out/mutants/cache` measures everything again.
 
     python -m verify.mutants --n 100 --seed 1 --jobs 2 [--files a.v,b.v] [--scenes marble,zone_plate] [--size 16]
-        [--docs docs/verification.md] [--out out/mutants] [--tce-timeout 180] [--list]
+        [--docs docs/verification.md] [--out out/mutants] [--tce-timeout 180] [--list] [--tce-only ID,...]
 """
 from __future__ import annotations
 
@@ -87,7 +89,20 @@ KINDS = ("operator", "constant", "comparison", "stage", "shift")
 WEIGHTS = {"operator": 0.3, "constant": 0.3, "comparison": 0.2, "stage": 0.08, "shift": 0.12}
 TIMEOUT = 900  # seconds per test of a mutant (a hang is a kill)
 TCE_TIMEOUT = 180  # seconds of Yosys per mutant, over all its parameter sets (past it: not proved, the mutant is kept)
-TCE_RECIPE = 2  # the equivalence check's version (part of its verdicts' cache key)
+TCE_RECIPE = 4  # the equivalence check's version (part of its verdicts' cache key; 3: the recipes of RECIPES in
+# turn; 4: ROMs mapped to logic, integer loop temporaries not matched by equiv_make)
+# How yosys_equiv merges the two designs before proving (equiv_struct), tried in order until one
+# leaves no $equiv cell unproven. icells: every cell type (the logic the two share merged, a $equiv
+# cell on each input that differs); it leaves $equiv cells it cannot prove in some modules even
+# unmutated: its backward sweeps merge distinct cells of one design whose outputs earlier merges
+# tied (tex_regs: two $eq compares of the field address with different constants, a $equiv cell
+# between 1'0 and 1'1; fc_weight under full: x4 <= 0 and x4 >= ONE_L, lines 327 and 329; filter_width
+# under tb full_sat2_fpga). ffs: the registers only (selected with the $equiv cells that tie their
+# outputs), so that equiv_simple proves each register's next-state logic, and the outputs, from the
+# merged registers and the inputs; slower (no shared logic merged: the SAT solver sees both copies),
+# past 180 s on fc_weight under tb random7_fc, past 90 s on some sets of sat2_integral, cmap_sat2 and
+# noise_hash that icells proves in seconds.
+RECIPES = {"icells": "equiv_struct -icells", "ffs": "equiv_struct -icells t:$equiv t:$*dff*"}
 INDUCT_MAX = 256  # equiv_induct only when equiv_simple leaves at most this many signal bits unproven
 
 # Survivors shown equivalent to the original: mutant id -> why no input tells them apart.
@@ -97,6 +112,13 @@ INDUCT_MAX = 256  # equiv_induct only when equiv_simple leaves at most this many
 # of a sum or a concatenation's low part do not depend on them); (reset) the reset value of a data
 # register that no valid output reads before it is loaded.
 _LOOP = "the extra iteration writes past the vector (or array), a write Verilog drops; its reads feed only that write"
+# Of the 21 survivors of the last make mutants N=100 SEED=1 listed here, the TCE check of TCE_RECIPE 4
+# (--tce-only) proves 9, which the next run drops (listed as proved, replaced by new draws):
+# 2767868f, 554fe7a8, 66aa9dbf (tex_regs, by ffs), 414c2983, 70269b40 (filter_width, icells and ffs),
+# 4b3fe497 (filter_width, ffs), b8dd487d (noise_hash), ddd7e6cd (cmap_divide), 0feeead1 (cmap_sat2)
+# (icells). Not proved: 6ba15391, bb98b115 (contracts, 1 $equiv cell each), the four of fc_weight
+# (timeout: icells leaves cells unproven in fc_weight unmutated, ffs runs past 180 s); six change
+# no compile (nothing to prove).
 EQUIVALENT: dict[str, str] = {
     # issue 29, stop 33 (make mutants N=100 SEED=1 on rtl b18933406eb8)
     "73e2506c": "unused_w is read by nothing (a lint sink, UNUSEDSIGNAL): its width and bits change no logic",
@@ -773,21 +795,41 @@ def _chparams(params: dict) -> str:
     return " ".join(f"-chparam {k} {v}" for k, v in sorted(params.items()))
 
 
+def loop_temporaries(rtl: Path, files: list[str]) -> list[str]:
+    """The names the files declare `integer`: loop counters and temporaries (a procedural loop's
+    counter ends one past its last iteration, so a loop bound loosened changes it even where every
+    write of the extra iteration is dropped)."""
+    names = []
+    for f in files:
+        text = re.sub(r"//[^\n]*|/\*.*?\*/", " ", (rtl / f).read_text(), flags=re.S)
+        for decl in re.findall(r"\binteger\s+([^;]+);", text):
+            names += [m.group(1) for part in decl.split(",") if (m := re.match(r"\s*([A-Za-z_]\w*)", part))]
+    return names
+
+
 def yosys_equiv(gold: Path, gate: Path, module: str, files: list[str], params: dict, timeout: float,
-                log: Path | None = None) -> tuple[str, str]:
+                log: Path | None = None, recipes: tuple[str, ...] = tuple(RECIPES)) -> tuple[str, str, str]:
     """Is `module` from `gate` equivalent to the one from `gold` under `params`? Both elaborated
-    alike (proc, flatten, opt -full, memory -nomap); equiv_make matches their signals by name,
-    equiv_struct -icells merges the logic the two share (cells of one type on matched inputs, the
-    registers too: a $equiv cell left on each input to prove), then equiv_simple -seq 2 proves what it
-    can and, when at most INDUCT_MAX signal bits are left unproven, equiv_induct -seq 2 the rest
-    (undef states modelled in both: an x where the original has a value is a difference). Proved: no
-    $equiv cell left unproven (equiv_status). ('proved' | 'not proved' | 'timeout' | 'error', a detail)."""
+    alike (proc, flatten, opt -full, memory -nomap, then memory_map -rom-only -keepdc: a ROM's reads
+    as logic the SAT solver sees, its x bits kept; the wires of loop_temporaries made private, so
+    that equiv_make does not match them: a signal it does not match is neither a cut point nor a
+    proof obligation, and the ports, never hidden, are all matched); equiv_make matches their
+    signals by name (a $equiv cell on each pair), then each recipe in turn (RECIPES: equiv_struct merges what the two
+    share, a $equiv cell left on each input it merges to prove), on a fresh copy: equiv_simple -seq 2
+    proves what it can and, when at most INDUCT_MAX signal bits are left unproven, equiv_induct -seq 2
+    the rest (undef states modelled in both: an x where the original has a value is a difference).
+    Proved: one recipe leaves no $equiv cell unproven (equiv_status); a recipe that leaves some
+    unproven hands over to the next, a timeout (the budget spent) or an error ends the check.
+    ('proved' | 'not proved' | 'timeout' | 'error', a detail, the recipe that proved it or '')."""
     t0 = time.perf_counter()
+
+    temps = sorted(set(loop_temporaries(gold, files)) | set(loop_temporaries(gate, files)))
+    hide = f"rename -hide {' '.join(f'w:{n} w:*.{n}' for n in temps)}\n" if temps else ""
 
     def elab(rtl: Path, name: str) -> str:
         return (f"read_verilog -defer -I{rtl} {' '.join(str(rtl / f) for f in files)}\n"
                 f"hierarchy -check -top {module} {_chparams(params)}\n"
-                "proc\nflatten\nopt -full\nmemory -nomap\nopt_clean\n"
+                f"proc\nflatten\nopt -full\nmemory -nomap\nmemory_map -rom-only -keepdc\n{hide}opt_clean\n"
                 f"rename -top {name}\ndesign -stash {name}\n")
 
     def yosys(script: str, tag: str) -> tuple[str, int] | None:
@@ -817,12 +859,10 @@ def yosys_equiv(gold: Path, gate: Path, module: str, files: list[str], params: d
             return "error", (err.group(1) if err else f"yosys exit {rc}")[:120]
         return int(found[-1][0]), int(found[-1][2])
 
-    with tempfile.TemporaryDirectory(prefix="tce-") as tmp:
-        il = Path(tmp) / "equiv.il"
-        st = step(elab(gold, "gold") + elab(gate, "gate")
-                  + "design -copy-from gold -as gold gold\ndesign -copy-from gate -as gate gate\n"
-                  "equiv_make gold gate equiv\nhierarchy -top equiv\nasync2sync\nequiv_struct -icells\n"
-                  f"equiv_simple -undef -seq 2\nequiv_status\nwrite_rtlil {il}\n", "elaborate, equiv_simple")
+    def prove(made: Path, recipe: str, il: Path) -> tuple[str, str]:
+        note = f" ({recipe})"
+        st = step(f"read_rtlil {made}\n{RECIPES[recipe]}\nequiv_simple -undef -seq 2\nequiv_status\nwrite_rtlil {il}\n",
+                  f"{recipe}: equiv_struct, equiv_simple", note)
         if isinstance(st[0], str):
             return st
         cells, unproven = st
@@ -832,12 +872,33 @@ def yosys_equiv(gold: Path, gate: Path, module: str, files: list[str], params: d
             return "proved", f"{cells} $equiv cells proven (equiv_simple)"
         if unproven > INDUCT_MAX:
             return "not proved", f"{unproven} of {cells} $equiv cells unproven by equiv_simple"
-        st = step(f"read_rtlil {il}\nequiv_induct -undef -seq 2\nequiv_status\n", "equiv_induct", " (equiv_induct)")
+        st = step(f"read_rtlil {il}\nequiv_induct -undef -seq 2\nequiv_status\n", f"{recipe}: equiv_induct",
+                  f" (equiv_induct, {recipe})")
         if isinstance(st[0], str):
             return st
         if st[1] == 0:
             return "proved", f"{st[0]} $equiv cells proven (equiv_induct)"
         return "not proved", f"{st[1]} of {st[0]} $equiv cells unproven by equiv_induct"
+
+    with tempfile.TemporaryDirectory(prefix="tce-") as tmp:
+        made = Path(tmp) / "made.il"
+        st = step(elab(gold, "gold") + elab(gate, "gate")
+                  + "design -copy-from gold -as gold gold\ndesign -copy-from gate -as gate gate\n"
+                  f"equiv_make gold gate equiv\nhierarchy -top equiv\nasync2sync\nequiv_status\nwrite_rtlil {made}\n",
+                  "elaborate, equiv_make", " (elaboration)")
+        if isinstance(st[0], str):
+            return st[0], st[1], ""
+        if st[0] == 0:
+            return "error", "no signals matched", ""
+        tried = []
+        for recipe in recipes:
+            res, detail = prove(made, recipe, Path(tmp) / f"{recipe}.il")
+            if res == "proved":
+                return res, f"{detail} ({recipe})", recipe
+            tried.append(f"{recipe}: {detail}")
+            if res != "not proved":
+                return res, "; ".join(tried), ""
+        return "not proved", "; ".join(tried), ""
 
 
 def tce_file(m: Mutant, candidates: list, cache: Path) -> Path:
@@ -879,14 +940,7 @@ def tce_check(m: Mutant, opts: Opts, work: Path, changed: list[str], rtl: Path |
             return {**rec, "cached": True}
     own = rtl is None
     if own:
-        rtl = work / "run" / f"{m.id}-tce" / "rtl"
-        if rtl.parent.exists():
-            shutil.rmtree(rtl.parent)
-        rtl.mkdir(parents=True)
-        for p in RTL.iterdir():
-            if p.is_file():
-                shutil.copy2(p, rtl / p.name)
-        (rtl / m.file).write_text(m.apply((RTL / m.file).read_text()))
+        rtl = scratch_rtl(m, work / "run" / f"{m.id}-tce")
     wdir = rtl.parent
     try:
         sets: dict[str, dict] = {}  # the parameter sets to prove on: json -> {params, from}
@@ -908,31 +962,32 @@ def tce_check(m: Mutant, opts: Opts, work: Path, changed: list[str], rtl: Path |
         files = module_files(m.module)
         for i, st in enumerate(todo):
             left = opts.tce_timeout - (time.perf_counter() - t0)
-            res, detail = yosys_equiv(RTL, rtl, m.module, files, st["params"], left,
-                                      (wdir / f"tce-{i}.log") if opts.keep else None)
+            res, detail, st["recipe"] = yosys_equiv(RTL, rtl, m.module, files, st["params"], left,
+                                                    (wdir / f"tce-{i}.log") if opts.keep else None)
             if res != "proved":
                 return _tce_done(cf, t0, res, todo[:i + 1],
                                  f"{detail} on {', '.join(st['from'][:3])} (set {i + 1} of {len(todo)})",
                                  limit=opts.tce_timeout)
-        return _tce_done(cf, t0, "proved", todo, f"{len(todo)} parameter sets")
+        by = {r: sum(st["recipe"] == r for st in todo) for r in RECIPES}
+        return _tce_done(cf, t0, "proved", todo, f"{len(todo)} parameter sets ("
+                         + ", ".join(f"{n} by {r}" for r, n in by.items() if n) + ")",
+                         recipe="+".join(r for r, n in by.items() if n))
     finally:
         if own and not opts.keep:
             shutil.rmtree(wdir, ignore_errors=True)
 
 
-def _tce_done(cf: Path, t0: float, result: str, sets: list, detail: str, limit: int = 0) -> dict:
-    """The TCE verdict, cached (a timeout with its limit: a rerun with a longer one tries again)."""
+def _tce_done(cf: Path, t0: float, result: str, sets: list, detail: str, limit: int = 0, recipe: str = "") -> dict:
+    """The TCE verdict, cached (a timeout with its limit: a rerun with a longer one tries again; a
+    proof with the recipes that proved its sets, each set's in its 'recipe')."""
     rec = {"result": result, "sets": sets, "detail": detail, "seconds": round(time.perf_counter() - t0, 1),
-           **({"limit": limit} if result == "timeout" else {})}
+           **({"limit": limit} if result == "timeout" else {}), **({"recipe": recipe} if recipe else {})}
     cf.write_text(json.dumps(rec, indent=1))
     return rec
 
 
-def run_mutant(m: Mutant, opts: Opts, work: Path, tb_passed: bool = False) -> dict:
-    """Screen, then test one mutant; its result record. tb_passed: the block's testbench is known
-    to pass on it (a survivor cached under the same sources): only the frames run."""
-    t0 = time.perf_counter()
-    wdir = work / "run" / m.id
+def scratch_rtl(m: Mutant, wdir: Path) -> Path:
+    """A fresh copy of rtl/ under wdir with the mutation applied: its path (wdir/rtl)."""
     if wdir.exists():
         shutil.rmtree(wdir)
     rtl = wdir / "rtl"
@@ -941,19 +996,35 @@ def run_mutant(m: Mutant, opts: Opts, work: Path, tb_passed: bool = False) -> di
         if p.is_file():
             shutil.copy2(p, rtl / p.name)
     (rtl / m.file).write_text(m.apply((RTL / m.file).read_text()))
-    rec = {**asdict(m), "id": m.id, "mutation": m.describe(), "module": m.module}
-    # screen: compile every configuration that instantiates the module; the first that differs runs the frame
+    return rtl
+
+
+def screen(m: Mutant, opts: Opts, rtl: Path) -> tuple[list[str], int, list[str]]:
+    """Compile every configuration that instantiates the module from the mutated copy `rtl`: the
+    configurations whose compiled design differs (the frames run on them), how many compiled, the
+    errors of those that did not."""
     changed, compiled, errors = [], 0, []
     for name, arg in opts.configs.items():
         if m.module not in opts.instances[name]:
             continue
-        ok, h = compile_top(rtl, arg, wdir / f"{name}.vvp")
+        ok, h = compile_top(rtl, arg, rtl.parent / f"{name}.vvp")
         if not ok:
             errors.append(f"{name}: {h}".replace(f"{rtl}/", "rtl/"))
             continue
         compiled += 1
         if h != opts.baseline[name]:
             changed.append(name)
+    return changed, compiled, errors
+
+
+def run_mutant(m: Mutant, opts: Opts, work: Path, tb_passed: bool = False) -> dict:
+    """Screen, then test one mutant; its result record. tb_passed: the block's testbench is known
+    to pass on it (a survivor cached under the same sources): only the frames run."""
+    t0 = time.perf_counter()
+    wdir = work / "run" / m.id
+    rtl = scratch_rtl(m, wdir)
+    rec = {**asdict(m), "id": m.id, "mutation": m.describe(), "module": m.module}
+    changed, compiled, errors = screen(m, opts, rtl)
     if errors and not compiled:
         rec.update(result="stillborn", by=f"does not compile ({errors[0]})", seconds=round(time.perf_counter() - t0, 1))
         _cleanup(wdir, opts)
@@ -1165,11 +1236,16 @@ def section(recs: list[dict], s: dict, args: dict, seconds: float) -> str:
          "Papadakis et al., ICSE 2015) with Yosys as the compiler, proved rather than argued: on every compile the "
          "mutation changes (a configuration above, or a build of the block's testbench, each under Icarus; a compile "
          "that does not change is the same design), the mutated module and the original are elaborated under each "
-         "parameter set its instances there have (`hierarchy -chparam`, `proc; flatten; opt -full; memory -nomap`) "
-         "and proved equal: `equiv_make`, `equiv_struct -icells` (the logic both share merged, a `$equiv` cell on "
-         "each merged input), `equiv_simple -undef -seq 2` and, when it leaves at most "
+         "parameter set its instances there have (`hierarchy -chparam`, `proc; flatten; opt -full; memory -nomap; "
+         "memory_map -rom-only -keepdc`, the `integer` loop temporaries' wires hidden from `equiv_make`: a loop bound "
+         "loosened leaves its counter one higher, which no output sees) and proved equal: `equiv_make`, then "
+         "`equiv_struct -icells` (the logic both share merged, a `$equiv` cell on each merged input), "
+         "`equiv_simple -undef -seq 2` and, when it leaves at most "
          f"{INDUCT_MAX} signal bits unproven, `equiv_induct -undef -seq 2` (undef states modelled: an x where the "
-         "original has a value is a difference), no `$equiv` cell left unproven (`equiv_status`); within "
+         "original has a value is a difference), no `$equiv` cell left unproven (`equiv_status`); when that leaves "
+         "some unproven, the same with the registers merged only (`equiv_struct -icells t:$equiv t:$*dff*`: "
+         "`-icells` alone leaves unprovable `$equiv` cells in tex_regs, fc_weight and filter_width even unmutated); "
+         "within "
          f"{args.get('tce_timeout', TCE_TIMEOUT)} s a mutant. Proved on every one, the mutant is dropped: not counted "
          "among the N, like a stillborn one the next draw takes its place, and listed below with the parameter sets. "
          "Not proved (a difference, a timeout, an error), or no compile differs (the mutated code is in no design a "
@@ -1247,6 +1323,37 @@ def write_section(doc: Path, text: str) -> None:
     doc.write_text(new.lstrip("\n"))
 
 
+def tce_only(ids: list[str], files, opts: Opts, work: Path) -> int:
+    """--tce-only: screen each mutant (which configurations' compiles it changes) and run its TCE
+    check alone (cached like a run's); one JSON line a mutant: id, module, result, recipe, seconds,
+    detail. An id two sites share (the same text and column on two lines) is the one the seed's draw
+    reaches first, the one a run draws."""
+    found: dict[str, Mutant] = {}
+    for m in draw(all_sites(files), opts.seed):
+        if m.id in ids:
+            found.setdefault(m.id, m)
+    missing = [x for x in ids if x not in found]
+    if missing:
+        raise UserError(f"--tce-only: no mutant {', '.join(missing)} among the sites"
+                        + (f" of {','.join(files)}" if files else ""))
+    prepare(work, opts)
+    for x in ids:
+        m = found[x]
+        wdir = work / "run" / f"{m.id}-tce-only"
+        rtl = scratch_rtl(m, wdir)
+        try:
+            changed, compiled, errors = screen(m, opts, rtl)
+            t = ({"result": "error", "detail": f"does not compile ({errors[0]})", "seconds": 0.0} if errors else
+                 tce_check(m, opts, work, changed, rtl))
+        finally:
+            _cleanup(wdir, opts)
+        print(json.dumps({"id": m.id, "module": m.module, "where": f"{m.file}:{m.line}", "mutation": m.describe(),
+                          "result": t["result"], "recipe": t.get("recipe", ""), "seconds": t["seconds"],
+                          "cached": t.get("cached", False), "sets": len(t.get("sets", [])), "detail": t["detail"]}),
+              flush=True)
+    return 0
+
+
 def main(argv=None) -> int:
     ap = Parser(prog="mutants", description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=100, help="mutants (not counting stillborn ones)")
@@ -1263,9 +1370,12 @@ def main(argv=None) -> int:
     ap.add_argument("--list", action="store_true", help="print the drawn mutants and the site counts; run nothing")
     ap.add_argument("--report", action="store_true", help="rewrite --docs from OUT/results.json (the equivalence notes "
                     "as they are now); run nothing")
+    ap.add_argument("--tce-only", metavar="ID[,ID...]", help="only the TCE check of these mutants (ids of any site "
+                    "of --files), one JSON line each; runs no test and writes no docs")
     ap.add_argument("--keep", action="store_true", help="keep each mutant's scratch directory and logs")
     ap.add_argument("--quiet", action="store_true")
     a = ap.parse_args(argv)
+    a.out = a.out.resolve()  # the scratch copies' paths are passed to Icarus whole (compile_vvp)
 
     def go():
         if a.n < 1:
@@ -1297,6 +1407,8 @@ def main(argv=None) -> int:
         if a.tce_timeout > 0 and shutil.which("yosys") is None:
             raise UserError("yosys: not found on PATH (run `make setup`; --tce-timeout 0 runs without the TCE check)")
         opts = Opts(scenes=scenes, size=a.size, seed=a.seed, timeout=a.timeout, keep=a.keep, tce_timeout=a.tce_timeout)
+        if a.tce_only:
+            return tce_only([x for x in a.tce_only.split(",") if x], files, opts, a.out)
         t0 = time.perf_counter()
         recs = run_all(a.n, a.seed, a.jobs, files, opts, a.out, progress=not a.quiet)
         secs = time.perf_counter() - t0
