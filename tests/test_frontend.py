@@ -214,9 +214,10 @@ def test_fixed_point_violations_reports():
     txt = txt.replace("quadric = [1.0,", "quadric = [70.0,") + "\n[[texture.t.noise]]\na = 5.0\nT = [3.0, 1.0, 128.0]\n"
     txt = txt.replace("T = [3.0, 1.0, 128.0]", "T = [1.0, 1.0, 1.0]") + "\n[[texture.t.noise]]\na = 0.5\nT = [3.0, 1.0, 16.0]\n"
     sc = parse_scene(txt, "<lim>")
-    v = fixed_point_violations(sc, load_config("reduced"), render_passes(sc))
+    cfg = load_config("reduced")
+    v = fixed_point_violations(sc, cfg, render_passes(sc))
     joined = "\n".join(v)
-    assert "quadric.A = 70 does not fit s23.16" in joined and "noise[0].a = 5" in joined, joined
+    assert f"quadric.A = 70 does not fit s{cfg.q_w}.{cfg.q_frac}" in joined and "noise[0].a = 5" in joined, joined
     assert "power of two" in joined and "pass " in joined and "pixel s" in joined, joined
     assert all(x.startswith(("texture.t: ", "pass ")) and "\n" not in x for x in v), v
 
