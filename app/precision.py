@@ -48,18 +48,14 @@ def precision_variant(cfg, k: int):
     overflow (the quadric's s x v product at full's q s28.20 and s_frac 16), q_frac lowered one bit at a
     time with q's integer bits kept (the row reports the q it took); ConfigError if no valid variant."""
     kw = {"s_frac": k, "s_w": k + cfg.s_w - cfg.s_frac, "p_frac": min(cfg.p_frac, k + cfg.t_frac)}
-    try:
-        return variant(cfg, f"{cfg.name}-s{k}", **kw)
-    except ConfigError as e:
-        if "formats too wide" not in str(e):
-            raise
-        err = e
-    for dq in range(1, cfg.q_frac + 1):
+    err = None
+    for dq in range(cfg.q_frac + 1):  # dq = 0: q as the file has it
         try:
             return variant(cfg, f"{cfg.name}-s{k}", **kw, q_frac=cfg.q_frac - dq, q_w=cfg.q_w - dq)
         except ConfigError as e:
             if "formats too wide" not in str(e):
                 raise
+            err = err or e
     raise err
 
 

@@ -105,7 +105,7 @@ def _render_into(out, scene_name, config_name, size, cfg, scene, W, H, pds, tr, 
     for pd in pds:
         st = golden.texture_stages(cfg, pd.ti, pd.si, pd.Jm, pd.je)  # (the width at the pixel's centre)
         if pd.ti.filter and len(st["w"]):
-            nsat = int(np.count_nonzero(np.asarray(st["w"]) >= (1 << (cfg.w_cap_log2 + cfg.f_frac))))
+            nsat = int(np.count_nonzero(np.asarray(st["w"]) >= cfg.w_cap))
             if nsat:
                 capped.append(f"pass {pd.name}: filter width saturated at 2^{cfg.w_cap_log2} entries "
                               f"(formats.w_cap_log2) on {nsat} of {len(st['w'])} pixels: the box there is "
