@@ -50,7 +50,8 @@ RTL_DIR = ROOT / "rtl"
 
 __all__ = ["ROOT", "RTL_DIR", "SIMS", "CONFIGS", "FPGA_CONFIG", "DEFAULT_VECTORS", "gen_dir", "config_of", "config_ref",
            "setup_verilator_env", "need_simulator", "need_tool", "sim_params", "seed", "vectors", "on_sys_path", "environ",
-           "run", "rtl_dir", "build_root", "family_params", "block_params", "netlist_wrapper", "coverage_on", "coverage_file", "without_env", "top_params", "texture_unit_source", "latency", "write_if_changed"]
+           "run", "rtl_dir", "build_root", "family_params", "block_params", "netlist_wrapper", "coverage_on", "coverage_file", "without_env", "top_params", "texture_unit_source", "latency", "write_if_changed",
+           "elaborate", "check_refusals"]
 
 
 def rtl_dir() -> Path:
@@ -285,6 +286,43 @@ def without_env(name: str):
 
 
 BLOCK_OPT = "OPT_FAST=-O0 OPT_GLOBAL=-O0"  # make variables of a block testbench's Verilator build
+
+
+def elaborate(toplevel: str, sources, parameters: dict) -> tuple[bool, str]:
+    """Elaborate `toplevel` from `sources` (names in rtl_dir()) with `parameters` under Icarus
+    (iverilog -g2005, nothing written): (True, "") when it elaborates, else (False, its errors).
+    A block's elaboration-time check (a g_bad_* generate block instantiating an undefined module
+    named for the rule) refuses a parameter set this way."""
+    import subprocess
+    import tempfile
+
+    need_simulator("icarus")
+    args = ["iverilog", "-g2005", "-o", os.devnull, "-s", toplevel, "-I", str(rtl_dir())]
+    # a value as block_params gives it: an integer, or a Verilog literal (PERM's 2048'h...)
+    args += [f"-P{toplevel}.{k}={v if isinstance(v, str) else int(v)}" for k, v in parameters.items()]
+    with tempfile.TemporaryDirectory() as tmp:  # iverilog writes nothing else, but run it out of the tree
+        r = subprocess.run(args + [str(rtl_dir() / s) for s in sources], capture_output=True, text=True, cwd=tmp)
+    return r.returncode == 0, (r.stdout + r.stderr).strip()
+
+
+def check_refusals(toplevel: str, sources, base: dict, accept: dict, refuse: dict, error_module: str) -> None:
+    """A block's elaboration-time check, tested both ways: every parameter set of `accept`
+    ({name: overrides of `base`}) elaborates, and every one of `refuse` fails by the check
+    itself (Icarus names `error_module`, the module the check instantiates), not by something
+    else; each case names the term of the check it makes true (or, accepted, the edge it sits on)."""
+    bad = []
+    for name, over in accept.items():
+        ok, log = elaborate(toplevel, sources, {**base, **over})
+        if not ok:
+            bad.append(f"accept '{name}' {over}: refused: {log.splitlines()[0] if log else '?'}")
+    for name, over in refuse.items():
+        ok, log = elaborate(toplevel, sources, {**base, **over})
+        if ok:
+            bad.append(f"refuse '{name}' {over}: elaborated")
+        elif error_module not in log:
+            bad.append(f"refuse '{name}' {over}: failed, but not by the check ({error_module}): "
+                       f"{log.splitlines()[0] if log else '?'}")
+    assert not bad, f"{toplevel}'s check: " + "; ".join(bad)
 
 
 def run(toplevel: str, sources, test_module: str, sim: str, config, extra_env=None, parameters=None,

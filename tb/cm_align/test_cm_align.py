@@ -52,6 +52,24 @@ test_cm_align_rtl = pipe.block_test("cm_align", _sets(), ("full_fc", "small_fwai
                                     __file__, sources=["cm_align.v", "delay_line.v"])
 
 
+def test_cm_align_check():
+    """cm_align's elaboration-time check (g_bad_latency) both ways on full's sat_fc set (WV_MAX 1,
+    f waits DLY_F = 2, w's DLY_W = 0): refused with each term alone true (DLY_F = -1; DLY_W = -1,
+    the max stage alone in LATENCY_W 0; both waits 1; NW 3 and NW 0, neither 1 nor 2); accepted at
+    each edge (DLY_W = 0 and DLY_F = 0, each beside the other's wait of 1 or more; both 0 without
+    the max stage, WV_MAX 0: LAT_M = 0 != 1 but no max stage; NW 2). (LAT_M != 1 with WV_MAX
+    depends on rtl/tex_latency.vh alone (`LAT_FC_WMAX): no parameter set makes it true.)"""
+    import hdlbuild
+
+    hdlbuild.check_refusals(
+        "cm_align", ["cm_align.v", "delay_line.v"], _sets()["full_fc"],
+        accept={"full_fc (DLY_W 0)": {}, "DLY_F 0, DLY_W 1": {"LATENCY_F": 0, "LATENCY_W": 2},
+                "WV_MAX 0, both waits 0": {"WV_MAX": 0, "LATENCY_F": 0, "LATENCY_W": 0}, "NW 2": {"NW": 2}},
+        refuse={"DLY_F < 0": {"LATENCY_F": -1}, "DLY_W < 0": {"LATENCY_F": 0, "LATENCY_W": 0},
+                "DLY_F > 0 and DLY_W > 0": {"LATENCY_W": 2}, "NW 3": {"NW": 3}, "NW 0": {"NW": 0}},
+        error_module="cm_align_latency_must_be_one_wait_and_the_max_stage")
+
+
 @cocotb.test()
 async def cm_align_bit_exact(dut):
     p = pipe.block_params()

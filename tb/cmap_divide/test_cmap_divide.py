@@ -49,6 +49,26 @@ test_cmap_divide_rtl = pipe.block_test("cmap_divide", _sets(), ("full", "compact
                                       sources=["cmap_divide.v", "box_divide.v", "delay_line.v"])
 
 
+def test_cmap_divide_check():
+    """cmap_divide's elaboration-time check (g_bad_params) both ways on reduced's set (W_W 23,
+    normalised on B = 10 bits: NQ_W = B + 8 = 18): refused with both terms true (NORM, and NQ_W >
+    D_W - 1 at D_W 18; likewise B = 9, whose saturating quotient adds a bit: NQ_W 9 + 8 + 1 = 18);
+    accepted at the edge NQ_W = D_W - 1 (D_W 19, B 10 and 9) and with the second term alone true
+    (D_W 10 < NQ_W 10 + 1 of B = 1: exact division, DIV_BITS 0, and DIV_BITS = W_W, not
+    normalised). (g_bad_latency depends on rtl/tex_latency.vh alone: no parameter set makes it
+    true.)"""
+    import hdlbuild
+
+    red = _sets()["reduced"]
+    hdlbuild.check_refusals(
+        "cmap_divide", ["cmap_divide.v", "box_divide.v", "delay_line.v"], red,
+        accept={"reduced": {}, "NQ_W = D_W - 1": {"D_W": 19}, "B 9: NQ_W = D_W - 1": {"DIV_BITS": 9, "D_W": 19},
+                "exact (DIV_BITS 0), D_W 10": {"DIV_BITS": 0, "D_W": 10},
+                "DIV_BITS = W_W (exact), D_W 10": {"DIV_BITS": red["W_W"], "D_W": 10}},
+        refuse={"NORM and NQ_W > D_W - 1": {"D_W": 18}, "B 9: NQ_W > D_W - 1": {"DIV_BITS": 9, "D_W": 18}},
+        error_module="cmap_divide_unsupported_div_bits")
+
+
 def vectors(p, r, m):
     """(w, D [n, 4], pt [n, 4]) within the contract 0 <= D <= 255 * 2w."""
     w_w, b = p["W_W"], p["DIV_BITS"]

@@ -37,9 +37,45 @@ def _sets():
 
 
 # every set under Icarus, full under Verilator too (a build costs 5-20 s)
-test_cmap_sat2_rtl = pipe.block_test("cmap_sat2", _sets(), ("full",), __file__,
-                                     sources=["cmap_sat2.v", "cmap_divide.v", "sat2_table.v", "sat_index.v",
-                                              "sat2_integral.v", "box_divide.v", "delay_line.v"])
+SOURCES = ["cmap_sat2.v", "cmap_divide.v", "sat2_table.v", "sat_index.v", "sat2_integral.v", "box_divide.v",
+           "delay_line.v"]
+test_cmap_sat2_rtl = pipe.block_test("cmap_sat2", _sets(), ("full",), __file__, sources=SOURCES)
+
+
+def test_sat2_integral_check():
+    """sat2_integral's elaboration-time check (g_bad_params; only cmap_sat2 builds the block) both
+    ways: accepted on its defaults (full's words: XF 14, KW 14, CS_W 16, CS2_W 24, D_W 59) and on
+    each bound's edge (KW + XF = MW = D_W with CS_W 13; D_W = 64; 2 XF + 8 = D_W - 1; CS_W = 9;
+    CS_W + 1 + XF = D_W - 1), refused one past each."""
+    import hdlbuild
+
+    src = ["sat2_integral.v"]
+    edge = {"KW": 24, "CS_W": 13, "D_W": 38}  # KW + XF = 38 = D_W, MW = KW + CS_W + 1 = 38 = D_W
+    hdlbuild.check_refusals(
+        "sat2_integral", src, {},
+        accept={"defaults": {}, "KW + XF = MW = D_W": edge, "D_W 64": {"D_W": 64},
+                "2 XF + 8 = D_W - 1": {"D_W": 37}, "CS_W 9": {"CS_W": 9},
+                "CS_W + 1 + XF = D_W - 1": {"KW": 10, "CS_W": 26, "D_W": 42}},
+        refuse={"D_W 65": {"D_W": 65}, "KW + XF = D_W + 1": {**edge, "KW": 25, "CS_W": 12},
+                "MW = D_W + 1": {**edge, "CS_W": 14}, "2 XF + 8 = D_W": {"D_W": 36}, "CS_W 8": {"CS_W": 8},
+                "CS_W + 1 + XF = D_W": {"KW": 10, "CS_W": 27, "D_W": 42}},
+        error_module="sat2_integral_unsupported_widths")
+
+
+def test_cmap_sat2_check():
+    """cmap_sat2's elaboration-time check (g_bad_params) both ways on full's set (F_FRAC 13,
+    W_CAP_LOG2 11: D_W = 2 (W_CAP_LOG2 + F_FRAC) + 11 = 59): refused one past the bound (D_W 63,
+    W_CAP_LOG2 + F_FRAC = 26), accepted at its edge (D_W 61, the largest D_W parameters give: D_W is
+    always odd, so D_W > 62 and D_W >= 62 refuse the same sets). (g_bad_latency depends on
+    rtl/tex_latency.vh alone: no parameter set makes it true.)"""
+    import hdlbuild
+
+    b = _sets()["full"]
+    hdlbuild.check_refusals(
+        "cmap_sat2", SOURCES, b,
+        accept={"full": {}, "D_W 61": {"W_CAP_LOG2": 25 - b["F_FRAC"]}},
+        refuse={"D_W 63 > 62": {"W_CAP_LOG2": 26 - b["F_FRAC"]}},
+        error_module="cmap_sat2_unsupported_widths")
 
 
 def _config(p):

@@ -292,6 +292,22 @@ def test_colour_map_rtl(sim, config):
     run_colour_map(sim, config)
 
 
+def test_colour_map_check():
+    """colour_map's elaboration-time check (g_bad_filter, the else of the family chain) both ways on
+    full's parameters (FILTER 1, sat): refused on a FILTER no family takes (4, one past the last,
+    and -1, one below the first); accepted on each of 0 (point), 1 (sat), 2 (mip) and 3 (sat2, on
+    full_sat2's formats F_FRAC 13, W_CAP_LOG2 11: full's D does not fit cmap_sat2's 62 bits).
+    (g_bad_latency compares rtl/tex_latency.vh's latencies of the chosen family: no parameter set
+    makes it true.)"""
+    b = hdlbuild.block_params(hdlbuild.config_of("full"), "colour_map")
+    hdlbuild.check_refusals(
+        "colour_map", SOURCES, b,
+        accept={"FILTER 1 (full)": {}, "FILTER 0": {"FILTER": 0}, "FILTER 2": {"FILTER": 2},
+                "FILTER 3": {"FILTER": 3, "F_FRAC": 13, "W_CAP_LOG2": 11}},
+        refuse={"FILTER 4": {"FILTER": 4}, "FILTER -1": {"FILTER": -1}},
+        error_module="colour_map_unknown_filter")
+
+
 def _variant_params():
     """Icarus only unless SIM= asks for a simulator (the variants are a cheap extra check)."""
     sims = [os.environ["SIM"]] if os.environ.get("SIM") else ["icarus"]

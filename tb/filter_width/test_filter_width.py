@@ -61,6 +61,23 @@ def test_filter_width_components_rtl(fpga):
     pipe.run_block("filter_width", os.environ.get("SIM", "icarus"), test_file=__file__, config=cfg, sources=SOURCES)
 
 
+def test_filter_width_check():
+    """filter_width's elaboration-time check (g_bad_params) both ways on full's parameters: the
+    root's word R_W = 1 bit (NORM_BITS 1) has fewer bits than isqrt's SQ_LAT stages, and NORM_BITS
+    up to |g|'s own width (MH_W = 0: nothing above the window to normalise) are refused; the
+    smallest and largest NORM_BITS past them (2 and GABS_W - 1) elaborate. (The latency terms
+    depend on rtl/tex_latency.vh alone, and G_W >= C_W + J_W holds by tw_g_max: no parameter set
+    makes them true.)"""
+    b = hdlbuild.block_params(hdlbuild.config_of("full"), "filter_width")
+    gabs_w = hdlbuild.config_of("full").gabs_w
+    hdlbuild.check_refusals("filter_width", SOURCES, b,
+                            accept={"full": {}, "NORM_BITS 2": {"NORM_BITS": 2},
+                                    "NORM_BITS GABS_W - 1 (MH_W 1)": {"NORM_BITS": gabs_w - 1}},
+                            refuse={"NORM_BITS 1 (R_W < SQ_LAT)": {"NORM_BITS": 1},
+                                    "NORM_BITS GABS_W (MH_W 0)": {"NORM_BITS": gabs_w}},
+                            error_module="filter_width_unsupported_latency_or_widths")
+
+
 # ---------------------------------------------------------------------------
 # Reference (plain Python integers)
 

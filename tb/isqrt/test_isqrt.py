@@ -48,6 +48,21 @@ def test_isqrt_rtl(sim, config):
                              "ISQRT_EXHAUSTIVE": "0"})
 
 
+def test_isqrt_check():
+    """isqrt's elaboration-time check (g_bad_params) both ways on full's parameters (L_W 25, R_W 13,
+    LATENCY 3): refused with each term alone true (X_W = 2 R_W = 26 < L_W 27; LATENCY 0 < 1;
+    LATENCY 14 > R_W); accepted at each edge (2 R_W = L_W 26; LATENCY 1; LATENCY = R_W 13)."""
+    b = hdlbuild.block_params(hdlbuild.config_of("full"), "isqrt")
+    r_w = b["R_W"]
+    hdlbuild.check_refusals(
+        "isqrt", SOURCES, b,
+        accept={"full": {}, "2 R_W = L_W": {"L_W": 2 * r_w}, "LATENCY 1": {"LATENCY": 1},
+                "LATENCY = R_W": {"LATENCY": r_w}},
+        refuse={"2 R_W < L_W": {"L_W": 2 * r_w + 1}, "LATENCY < 1": {"LATENCY": 0},
+                "LATENCY > R_W": {"LATENCY": r_w + 1}},
+        error_module="isqrt_needs_2_r_w_ge_l_w_and_1_le_latency_le_r_w")
+
+
 RANDOM_SEEDS = (1271, 1272, 1273)  # random valid configurations: filter_width's isqrt (Icarus)
 
 

@@ -32,6 +32,19 @@ def _sets():
 test_mul_pipe_rtl = pipe.block_test("mul_pipe", _sets(), ("widest",), __file__)
 
 
+def test_mul_pipe_check():
+    """mul_pipe's elaboration-time check (g_bad_params) both ways on the set "whole" (18 x 18 bits):
+    refused with each term alone true (A_W 36 > 35, B_W 36 > 35); accepted at each edge (A_W 35,
+    B_W 35: the widest two-part operands)."""
+    import hdlbuild
+
+    hdlbuild.check_refusals(
+        "mul_pipe", ["mul_pipe.v"], _sets()["whole"],
+        accept={"whole": {}, "A_W 35": {"A_W": 35}, "B_W 35": {"B_W": 35}},
+        refuse={"A_W 36": {"A_W": 36}, "B_W 36": {"B_W": 36}},
+        error_module="mul_pipe_operands_must_be_at_most_35_bits")
+
+
 def _edges(w: int):
     lo, hi = -(1 << (w - 1)), (1 << (w - 1)) - 1
     v = {0, 1, -1, lo, hi, lo + 1, hi - 1}

@@ -62,6 +62,25 @@ test_noise_fold_rtl = pipe.block_test("noise_fold", {n: hdlbuild.block_params(c,
                                       ("full_u3_fpga",), __file__, config=CONFIGS, sources=SOURCES)
 
 
+def test_noise_fold_check():
+    """noise_fold's elaboration-time check (g_bad_params) both ways on full_u3's set (K 8 terms on
+    U 3 units, F_W 46, C_W 32, MIN_CLOCKS 1; PERM left at its default: elaboration does not read
+    it): refused with each term alone true (U 0 < 1; U 9 > K; F_W = AN_W - 1; C_W = AG_W - 1,
+    AN_W and AG_W a term's value and gradient words; MIN_CLOCKS 0 < 1; MIN_CLOCKS 3 > 2); accepted
+    at each edge (U 1; U = K; F_W = AN_W; C_W = AG_W; MIN_CLOCKS 2)."""
+    c = CONFIGS["full_u3"]
+    b = {k: v for k, v in hdlbuild.block_params(c, "noise_fold").items() if k != "PERM"}
+    k = b["NOISE_TERMS"]
+    hdlbuild.check_refusals(
+        "noise_fold", SOURCES, b,
+        accept={"full_u3": {}, "U 1": {"NOISE_UNITS": 1}, "U = K": {"NOISE_UNITS": k}, "F_W = AN_W": {"F_W": c.an_w},
+                "C_W = AG_W": {"C_W": c.ag_w}, "MIN_CLOCKS 2": {"MIN_CLOCKS": 2}},
+        refuse={"U < 1": {"NOISE_UNITS": 0}, "U > K": {"NOISE_UNITS": k + 1}, "F_W < AN_W": {"F_W": c.an_w - 1},
+                "C_W < AG_W": {"C_W": c.ag_w - 1}, "MIN_CLOCKS < 1": {"MIN_CLOCKS": 0},
+                "MIN_CLOCKS > 2": {"MIN_CLOCKS": 3}},
+        error_module="noise_fold_needs_1_le_units_le_terms")
+
+
 def _batches(cfg, r, n_pixels: int) -> list[dict]:
     """The batches: k_used, the terms (a non-zero past k_used), pixels, the clock streams' style."""
     K = cfg.noise_terms

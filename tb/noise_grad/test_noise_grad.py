@@ -61,9 +61,34 @@ def _sets():
 
 
 # every set under Icarus; under Verilator (a build costs 5-20 s) full's, compact with fpga_regs and full_bfp's
+SOURCES = ["noise_grad.v", "lerp.v", "delay_line.v"]
 test_noise_grad_rtl = pipe.block_test("noise_grad", _sets(), ("full", "compact_fpga", "full_bfp"), __file__,
-                                      sources=["noise_grad.v", "lerp.v", "delay_line.v"])
+                                      sources=SOURCES)
 
+
+
+def test_noise_grad_check():
+    """noise_grad's elaboration-time check (g_bad_params) both ways on full's set (3-bit T and A
+    exponents): refused with each term alone true (a negative exponent width; a T exponent
+    without the affine multiplier, TRANSFORM 1, or with a right shift H_SHIFT = n_frac + t_frac -
+    c_frac below its largest value TE_MAX; an A exponent on pow2 amplitudes, AMPLITUDE 1, or with
+    fewer fraction bits than its largest value AE_MAX); accepted at each edge (H_SHIFT = TE_MAX,
+    A_FRAC = AE_MAX) and with no exponents on pow2 T and amplitudes (compact's kind)."""
+    import hdlbuild
+
+    b = _sets()["full"]
+    te_max, ae_max = (1 << b["T_EXP_W"]) - 1, (1 << b["A_EXP_W"]) - 1
+    c_edge = b["N_FRAC"] + b["T_FRAC"] - te_max  # H_SHIFT = TE_MAX
+    hdlbuild.check_refusals(
+        "noise_grad", SOURCES, b,
+        accept={"full": {}, "H_SHIFT = TE_MAX": {"C_FRAC": c_edge}, "A_FRAC = AE_MAX": {"A_FRAC": ae_max},
+                "no exponents, pow2 T and a": {"T_EXP_W": 0, "A_EXP_W": 0, "TRANSFORM": 1, "AMPLITUDE": 1}},
+        refuse={"T_EXP_W < 0": {"T_EXP_W": -1}, "A_EXP_W < 0": {"A_EXP_W": -1},
+                "T exponent, pow2 T": {"A_EXP_W": 0, "TRANSFORM": 1},
+                "H_SHIFT < TE_MAX": {"C_FRAC": c_edge + 1},
+                "A exponent, pow2 a": {"T_EXP_W": 0, "AMPLITUDE": 1},
+                "A_FRAC < AE_MAX": {"A_FRAC": ae_max - 1}},
+        error_module="noise_grad_exponents_need_affine_any_and_right_shifts")
 
 def _stimulus(p, r, n):
     """n vectors: (a, T [3, 3], v [2][2][2], wx, wy, wz, dw [3], te, ae) as Python ints."""

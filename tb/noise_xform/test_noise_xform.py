@@ -47,6 +47,27 @@ test_noise_xform_rtl = pipe.block_test("noise_xform", _sets(), ("full_affine0", 
                                        __file__)
 
 
+def test_noise_xform_check():
+    """noise_xform's elaboration-time check (g_bad_params) both ways on full_bfp's set (affine, T_EXP_W
+    4: TE_MAX 15, TS_SHIFT = S_FRAC + T_FRAC - P_FRAC = 26): refused with each term alone true
+    (AXIS -1 < 0; AXIS 3 > 2; T_EXP_W -1 < 0; a T exponent on pow2 T, TRANSFORM 1; a T exponent
+    with TS_SHIFT = TE_MAX - 1, S_FRAC lowered); accepted at each edge (AXIS 0; AXIS 2, pow2 T
+    without an exponent, where the axis is read; TS_SHIFT = TE_MAX) and with no T exponent
+    (T_EXP_W 0) on pow2 T, !AFFINE alone. (LATENCY != STAGES depends on rtl/tex_latency.vh alone: no
+    parameter set makes it true.)"""
+    b = _sets()["full_bfp_affine0"]
+    te_max = (1 << b["T_EXP_W"]) - 1
+    s_edge = te_max + b["P_FRAC"] - b["T_FRAC"]  # TS_SHIFT = TE_MAX
+    pow2 = {"TRANSFORM": 1, "T_EXP_W": 0}
+    hdlbuild.check_refusals(
+        "noise_xform", ["noise_xform.v"], b,
+        accept={"full_bfp (AXIS 0)": {}, "AXIS 2 (pow2)": {**pow2, "AXIS": 2}, "TS_SHIFT = TE_MAX": {"S_FRAC": s_edge},
+                "no T exponent, pow2 T": pow2},
+        refuse={"AXIS < 0": {"AXIS": -1}, "AXIS > 2": {"AXIS": 3}, "T_EXP_W < 0": {"T_EXP_W": -1},
+                "T exponent, pow2 T": {"TRANSFORM": 1}, "TS_SHIFT < TE_MAX": {"S_FRAC": s_edge - 1}},
+        error_module="noise_xform_latency_must_be_lat_noise_xform")
+
+
 @cocotb.test()
 async def noise_xform_bit_exact(dut):
     p = pipe.block_params()

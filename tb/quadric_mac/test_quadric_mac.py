@@ -63,6 +63,24 @@ def test_quadric_mac_c_sign_rtl(config):
     pipe.run_block("quadric_mac", "icarus", test_file=__file__, config=config, sources=SOURCES)
 
 
+def test_quadric_mac_check():
+    """quadric_mac's elaboration-time check (g_bad_clocks) both ways on full's parameters (full
+    quadric, CLOCKS 1): refused with CLOCKS != 1 and each inner term alone true (CLOCKS 2 on the
+    full quadric: DIAG == 0; CLOCKS 3 on the diagonal one: CLOCKS != 2; likewise CLOCKS 0); accepted
+    on CLOCKS 1 (full and diagonal) and CLOCKS 2 on the diagonal quadric (the fold). (g_bad_latency
+    compares rtl/tex_latency.vh's latencies of the chosen datapath: no parameter set makes it true.)"""
+    b = hdlbuild.block_params(hdlbuild.config_of("full"), "quadric_mac")
+    assert b["DIAG"] == 0 and b["CLOCKS"] == 1
+    hdlbuild.check_refusals(
+        "quadric_mac", SOURCES, b,
+        accept={"full, CLOCKS 1": {}, "diagonal, CLOCKS 1": {"DIAG": 1},
+                "diagonal, CLOCKS 2": {"DIAG": 1, "CLOCKS": 2}},
+        refuse={"CLOCKS 2, full (DIAG == 0)": {"CLOCKS": 2},
+                "CLOCKS 3, diagonal (CLOCKS != 2)": {"DIAG": 1, "CLOCKS": 3},
+                "CLOCKS 0, diagonal": {"DIAG": 1, "CLOCKS": 0}},
+        error_module="quadric_mac_clocks_must_be_1_or_2_diagonal")
+
+
 # ---------------------------------------------------------------------------
 # Stimulus
 

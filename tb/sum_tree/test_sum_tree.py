@@ -45,6 +45,24 @@ def _sets():
 test_sum_tree_rtl = pipe.block_test("sum_tree", _sets(), ("n17_w62", "full_c"), __file__)
 
 
+def test_sum_tree_check():
+    """sum_tree's elaboration-time check (g_bad_params) both ways on the set n5_w11 (N 5 leaves of 3
+    lanes, W 11, LATENCY 2 levels): refused with each term alone true (N 0 < 1, LATENCY its 0
+    levels; W 0 < 1; LANES 0 < 1; LATENCY one above and one below the tree's levels); accepted at
+    each edge (N 1, no level; W 1; LANES 1). (ARITY != 4 depends on rtl/tex_latency.vh alone
+    (`SUM_TREE_ARITY): no parameter set makes it true.)"""
+    import hdlbuild
+
+    b = _sets()["n5_w11"]
+    lv = sum_tree_levels(b["N"])
+    hdlbuild.check_refusals(
+        "sum_tree", ["sum_tree.v"], b,
+        accept={"n5_w11": {}, "N 1": {"N": 1, "LATENCY": sum_tree_levels(1)}, "W 1": {"W": 1}, "LANES 1": {"LANES": 1}},
+        refuse={"N < 1": {"N": 0, "LATENCY": sum_tree_levels(0)}, "W < 1": {"W": 0}, "LANES < 1": {"LANES": 0},
+                "LATENCY > levels": {"LATENCY": lv + 1}, "LATENCY < levels": {"LATENCY": lv - 1}},
+        error_module="sum_tree_latency_must_be_its_levels")
+
+
 @cocotb.test()
 async def sum_tree_bit_exact(dut):
     p = pipe.block_params()

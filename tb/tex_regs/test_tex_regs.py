@@ -58,6 +58,25 @@ def test_tex_regs_exponents_rtl(sim, name):
     pipe.run_block("tex_regs", sim, test_file=__file__, config=EXP_CONFIGS[name], sources=SOURCES)
 
 
+def test_tex_regs_check():
+    """tex_regs's elaboration-time check (g_bad_params, the register map's shape) both ways on full's
+    parameters: refused past each bound the parameters reach (NOISE_TERMS 17 > RM_TERM_SLOTS 16;
+    N_LOG2_MAX 10: the csat words' offsets, N_LOG2_MAX + RM_CSAT_LOG2 bits, reach the region's
+    RM_REGION_LSB 12; T_EXP_W 33 and A_EXP_W 25 past the 32-bit TERM_E word), accepted at each edge
+    (16 terms, N_LOG2_MAX 9, A_EXP_W 24: ae in bits 8..31) and with T_EXP_W 8, te filling bits
+    0..7 below ae. (NCH != 4 depends on rtl/tex_regmap.vh alone. The te term bounds te by the
+    word, not by ae's LSB: T_EXP_W 9..32 would overlap ae and elaborates; model/hw/config.py keeps
+    t_exp_w far below, and this test does not pin that edge.)"""
+    b = hdlbuild.block_params(hdlbuild.config_of("full"), "tex_regs")
+    hdlbuild.check_refusals(
+        "tex_regs", SOURCES, b,
+        accept={"full": {}, "16 terms": {"NOISE_TERMS": 16}, "N_LOG2_MAX 9": {"N_LOG2_MAX": 9},
+                "A_EXP_W 24": {"A_EXP_W": 24}, "T_EXP_W 8": {"T_EXP_W": 8}},
+        refuse={"NOISE_TERMS 17": {"NOISE_TERMS": 17}, "N_LOG2_MAX 10": {"N_LOG2_MAX": 10},
+                "T_EXP_W 33": {"T_EXP_W": 33}, "A_EXP_W 25": {"A_EXP_W": 25}},
+        error_module="tex_regs_bad_parameters")
+
+
 def test_regmap_vh_is_generated():
     """The committed rtl/tex_regmap.vh is exactly what the table generates."""
     path = ROOT / RM.REGMAP_VH

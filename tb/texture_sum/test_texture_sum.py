@@ -48,6 +48,26 @@ test_texture_sum_rtl = pipe.block_test("texture_sum", {n: block_params(config_of
                                        ("reduced_fpga",), __file__, config=CONFIGS, sources=SOURCES)
 
 
+def test_texture_sum_check():
+    """texture_sum's elaboration-time check (g_bad_latency) both ways: refused on full's parameters
+    with LATENCY one above and one below its blocks' (LAT_FRONT + TREE_LEVELS = 10: the terms' 8,
+    the tree's 2 levels over 9 leaves); accepted on the LATENCY of each of this testbench's
+    configurations (full; full_fc: fc_scale's stage; reduced_fpga: the FPGA stages, folded; k0: no
+    noise term, the quadric's latency and one leaf) (PERM left at its default: elaboration does not
+    read it)."""
+    import hdlbuild
+
+    ps = {n: {k: v for k, v in block_params(config_of(CONFIGS[n]), "texture_sum").items() if k != "PERM"}
+          for n in ("full", "full_fc", "reduced_fpga", "k0")}
+    b = ps["full"]
+    hdlbuild.check_refusals(  # each case a whole parameter set (the module's defaults beneath)
+        "texture_sum", SOURCES, {},
+        accept=ps,
+        refuse={"LATENCY > LAT_FRONT + TREE_LEVELS": {**b, "LATENCY": b["LATENCY"] + 1},
+                "LATENCY < LAT_FRONT + TREE_LEVELS": {**b, "LATENCY": b["LATENCY"] - 1}},
+        error_module="texture_sum_latency_must_be_its_blocks")
+
+
 def _int(sig):
     v = sig.value
     return int(v) if v.is_resolvable else None
