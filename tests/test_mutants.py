@@ -303,3 +303,32 @@ def test_tce_rom_x_bits_are_a_difference(tmp_path):
     # (icells runs past 15 s on it, ffs finds the difference: neither proves it)
     assert all(got[r][0] != "proved" for r in mu.RECIPES) and "not proved" in {v[0] for v in got.values()}, got
     assert _equiv_by_recipe("noise_hash", "b8dd487d", load_config("reduced"), tmp_path)["chain"][0] == "proved"
+
+
+def test_check_refusals_fails_when_a_check_is_wrong(tmp_path, monkeypatch):
+    """hdlbuild.check_refusals, the idiom of the testbenches' test_<block>_check (the tests that
+    kill mutants of the elaboration-time checks): it passes on a check that refuses what it should,
+    and fails when a case meant to be accepted is refused, when one meant to be refused elaborates,
+    and when a refusal comes from something other than the check (another module's check)."""
+    import hdlbuild
+
+    src = ["filter_width.v", "isqrt.v", "bitlen.v", "delay_line.v", "mul_pipe.v"]
+    base = hdlbuild.block_params(hdlbuild.config_of("full"), "filter_width")
+    err = "filter_width_unsupported_latency_or_widths"
+    hdlbuild.check_refusals("filter_width", src, base, {"full": {}}, {"NORM_BITS 1": {"NORM_BITS": 1}}, err)
+    with pytest.raises(AssertionError, match="accept 'n1'.*refused"):
+        hdlbuild.check_refusals("filter_width", src, base, {"n1": {"NORM_BITS": 1}}, {}, err)
+    with pytest.raises(AssertionError, match="refuse 'full'.*elaborated"):
+        hdlbuild.check_refusals("filter_width", src, base, {}, {"full": {}}, err)
+    # NORM_BITS 1 also trips isqrt's own check: with filter_width's check's `||` made `&&` between
+    # its root-width terms (a scratch copy of rtl/, as make mutants builds), only isqrt refuses
+    rtl = tmp_path / "rtl"
+    shutil.copytree(hdlbuild.rtl_dir(), rtl)
+    fw = rtl / "filter_width.v"
+    text = fw.read_text()
+    assert text.count("SQ_LAT > R_W || MH_W < 1") == 1
+    fw.write_text(text.replace("SQ_LAT > R_W || MH_W < 1", "SQ_LAT > R_W && MH_W < 1"))
+    monkeypatch.setenv("RTL_DIR", str(rtl))
+    assert hdlbuild.rtl_dir() == rtl
+    with pytest.raises(AssertionError, match="not by the check"):
+        hdlbuild.check_refusals("filter_width", src, base, {}, {"NORM_BITS 1": {"NORM_BITS": 1}}, err)
