@@ -112,13 +112,12 @@ INDUCT_MAX = 256  # equiv_induct only when equiv_simple leaves at most this many
 # of a sum or a concatenation's low part do not depend on them); (reset) the reset value of a data
 # register that no valid output reads before it is loaded.
 _LOOP = "the extra iteration writes past the vector (or array), a write Verilog drops; its reads feed only that write"
-# Of the 21 survivors of the last make mutants N=100 SEED=1 listed here, the TCE check of TCE_RECIPE 4
-# (--tce-only) proves 9, which the next run drops (listed as proved, replaced by new draws):
-# 2767868f, 554fe7a8, 66aa9dbf (tex_regs, by ffs), 414c2983, 70269b40 (filter_width, icells and ffs),
-# 4b3fe497 (filter_width, ffs), b8dd487d (noise_hash), ddd7e6cd (cmap_divide), 0feeead1 (cmap_sat2)
-# (icells). Not proved: 6ba15391, bb98b115 (contracts, 1 $equiv cell each), the four of fc_weight
-# (timeout: icells leaves cells unproven in fc_weight unmutated, ffs runs past 180 s); six change
-# no compile (nothing to prove).
+# The last make mutants N=100 SEED=1 (stop 42, TCE_RECIPE 4, the testbenches' elaboration-check
+# tests added): 121 drawn, 18 dropped as proved by TCE, 3 stillborn; 87 of 100 killed; of the 13
+# survivors, 6ba15391 and bb98b115 rest on a contract (1 $equiv cell each), deb75bbc, 6d04301a,
+# 9f45b138, f16028b6, 3cac89a1 are fc_weight's (icells leaves cells unproven in fc_weight unmutated,
+# ffs runs past 180 s), 932109e8 and 46ddf5a3 differ only on signals no output reads, 731b2a03 compares
+# the same values (noise_fold), and three change no compile (76f5d599, 30a5c7df, eda880b7: nothing to prove); each argued below.
 EQUIVALENT: dict[str, str] = {
     # issue 29, stop 33 (make mutants N=100 SEED=1 on rtl b18933406eb8)
     "73e2506c": "unused_w is read by nothing (a lint sink, UNUSEDSIGNAL): its width and bits change no logic",
@@ -314,6 +313,15 @@ EQUIVALENT: dict[str, str] = {
                 "value whenever a pixel is in flight",
     "f16028b6": "(loop) the extra generate iteration go = K assigns al3_v[K (AF+1) +: AF+1], past al3_v's K (AF+1) bits, "
                 "from al3[K], past the array al3[0:K-1]: " + _LOOP,
+    # issue 29, stop 42 (make mutants N=100 SEED=1 on rtl of ef164b4, TCE_RECIPE 4: 1 $equiv cell left
+    # on an internal signal the outputs never see, or ffs past 180 s on fc_weight)
+    "932109e8": "csat_addr_a, the colour table's csat read address, feeds only csat_a, which cmap_point wires to "
+                "unused_csat_a, read by nothing (a lint sink, UNUSEDSIGNAL: the point lookup reads only clut_a): "
+                "another address reads another word nobody sees",
+    "46ddf5a3": "stage s of the divider sets quotient bit Q_W-1-s (q_nx[l*Q_W+I] = !diff[DEN_W]) and passes the rest; after "
+                "the Q_W stages every bit has been set, so stage 0's initial q_in bits, zeros or ones, never reach "
+                "q_out (only the undecided low bits of the stages' q_reg differ)",
+    "3cac89a1": "(loop) r1 = 3 writes m1[3 J_W +: J_W], past m1's 3 J_W bits, from m0[3], past the array m0[0:2]: " + _LOOP,
 }
 
 # Survivors neither killed nor shown equivalent, with what was found (listed as open in the report).
