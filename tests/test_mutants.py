@@ -332,3 +332,17 @@ def test_check_refusals_fails_when_a_check_is_wrong(tmp_path, monkeypatch):
     assert hdlbuild.rtl_dir() == rtl
     with pytest.raises(AssertionError, match="not by the check"):
         hdlbuild.check_refusals("filter_width", src, base, {}, {"NORM_BITS 1": {"NORM_BITS": 1}}, err)
+
+
+def test_mutant_ids_are_unique():
+    """Two identical lines of a file (the same text, column and change: 129 such pairs in rtl/ at
+    stop 42, e.g. tex_regs.v's two `for (k = 0; k < KV; ...)` loops) are two mutants with two ids,
+    so neither takes the other's cached verdict; the first one's id is what it was (line numbers
+    stay out of the key, so an edit elsewhere in the file keeps every id)."""
+    ms = [m for _, alts in mu.all_sites() for m in alts]
+    ids = [m.id for m in ms]
+    assert len(ids) == len(set(ids))
+    dups = [m for m in ms if m.dup]
+    assert dups, "rtl/ has repeated lines: some sites must carry an occurrence number"
+    first = mu.Mutant(dups[0].file, 1, dups[0].col, dups[0].old, dups[0].new, dups[0].kind, dups[0].text)
+    assert first.id in ids and first.id != dups[0].id

@@ -75,7 +75,7 @@ import tempfile
 import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 from hdlbuild import ROOT, config_of, gen_dir
@@ -344,10 +344,14 @@ class Mutant:
     new: str
     kind: str
     text: str   # the original line, stripped
+    dup: int = 0  # n > 0: the (n+1)-th site of the file with the same text, column and change
 
     @property
     def id(self) -> str:
-        key = f"{self.file}|{self.text}|{self.col}|{self.old}|{self.new}"
+        """Stable under edits elsewhere in the file (no line number in it); a site whose line,
+        column and change repeat an earlier one of its file (two identical lines) gets its
+        occurrence number in the key, so that no two mutants share an id (nor a cached verdict)."""
+        key = f"{self.file}|{self.text}|{self.col}|{self.old}|{self.new}" + (f"|{self.dup}" if self.dup else "")
         return hashlib.sha1(key.encode()).hexdigest()[:8]
 
     @property
@@ -553,11 +557,20 @@ def sites(file: str, src: str) -> list[tuple[str, list[Mutant]]]:
 
 
 def all_sites(files=None) -> list[tuple[str, list[Mutant]]]:
+    """Every site of rtl/ (or of `files`): (kind, its mutants); each mutant's id unique (Mutant.dup)."""
     out = []
     for p in sorted(RTL.glob("*.v")):
         if files and p.name not in files:
             continue
         out += sites(p.name, p.read_text())
+    seen: dict[str, int] = {}
+    for i, (kind, alts) in enumerate(out):
+        fixed = []
+        for m in alts:
+            n = seen.get(m.id, 0)
+            seen[m.id] = n + 1
+            fixed.append(replace(m, dup=n) if n else m)
+        out[i] = (kind, fixed)
     return out
 
 
@@ -1334,12 +1347,11 @@ def write_section(doc: Path, text: str) -> None:
 def tce_only(ids: list[str], files, opts: Opts, work: Path) -> int:
     """--tce-only: screen each mutant (which configurations' compiles it changes) and run its TCE
     check alone (cached like a run's); one JSON line a mutant: id, module, result, recipe, seconds,
-    detail. An id two sites share (the same text and column on two lines) is the one the seed's draw
-    reaches first, the one a run draws."""
+    detail (ids are unique: Mutant.dup)."""
     found: dict[str, Mutant] = {}
     for m in draw(all_sites(files), opts.seed):
         if m.id in ids:
-            found.setdefault(m.id, m)
+            found[m.id] = m
     missing = [x for x in ids if x not in found]
     if missing:
         raise UserError(f"--tce-only: no mutant {', '.join(missing)} among the sites"
