@@ -15,6 +15,8 @@
   (build/sim/<toplevel>/<config>-<tag>-<sim>[-O0]), so tests can run in parallel (pytest -n);
   a block testbench's Verilator C++ is built without optimisation (-O0: VECTORS up to the
   default; more, as make test-long runs, keep -Os).
+- `elaborate(toplevel, sources, parameters)`, `check_refusals(...)`: Icarus elaboration alone, and
+  the testbenches' test of a block's elaboration-time check both ways (test_<block>_check).
 - `sim_params()`, `seed()`, `vectors()`: the test environment knobs.
 - `rtl_dir()`, `build_root()`: rtl/ and build/, or, with RTL_DIR set, that directory and a build/
   beside it (verify/mutants.py builds a scratch copy of rtl/ that way, never sharing a build).
