@@ -290,21 +290,24 @@ def without_env(name: str):
 BLOCK_OPT = "OPT_FAST=-O0 OPT_GLOBAL=-O0"  # make variables of a block testbench's Verilator build
 
 
-def elaborate(toplevel: str, sources, parameters: dict) -> tuple[bool, str]:
-    """Elaborate `toplevel` from `sources` (names in rtl_dir()) with `parameters` under Icarus
-    (iverilog -g2005, nothing written): (True, "") when it elaborates, else (False, its errors).
-    A block's elaboration-time check (a g_bad_* generate block instantiating an undefined module
-    named for the rule) refuses a parameter set this way."""
+def elaborate(toplevel: str, sources, parameters: dict, rtl: Path | None = None,
+              out: Path | None = None) -> tuple[bool, str]:
+    """Compile `toplevel` from `sources` (names in `rtl`, default rtl_dir(), or absolute paths) with
+    `parameters` under Icarus (iverilog -g2005 -P...): (True, its messages) when it elaborates, else
+    (False, its errors, the first line first). The compiled design goes to `out` (default nowhere:
+    elaboration alone). A block's elaboration-time check (a g_bad_* generate block instantiating an
+    undefined module named for the rule) refuses a parameter set this way; verify/mutants.py
+    compiles its scratch copies of rtl/ through it."""
     import subprocess
-    import tempfile
 
     need_simulator("icarus")
-    args = ["iverilog", "-g2005", "-o", os.devnull, "-s", toplevel, "-I", str(rtl_dir())]
+    rtl = rtl or rtl_dir()
     # a value as block_params gives it: an integer, or a Verilog literal (PERM's 2048'h...)
-    args += [f"-P{toplevel}.{k}={v if isinstance(v, str) else int(v)}" for k, v in parameters.items()]
-    with tempfile.TemporaryDirectory() as tmp:  # iverilog writes nothing else, but run it out of the tree
-        r = subprocess.run(args + [str(rtl_dir() / s) for s in sources], capture_output=True, text=True, cwd=tmp)
-    return r.returncode == 0, (r.stdout + r.stderr).strip()
+    args = ["iverilog", "-g2005", f"-I{rtl}", "-o", str(out or os.devnull), "-s", toplevel,
+            *(f"-P{toplevel}.{k}={v if isinstance(v, str) else int(v)}" for k, v in parameters.items()),
+            *(str(rtl / s) for s in sources)]
+    r = subprocess.run(args, capture_output=True, text=True)
+    return r.returncode == 0, (r.stderr + r.stdout).strip()
 
 
 def check_refusals(toplevel: str, sources, base: dict, accept: dict, refuse: dict, error_module: str) -> None:

@@ -78,7 +78,7 @@ from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
-from hdlbuild import ROOT, config_of, gen_dir
+from hdlbuild import ROOT, config_of, elaborate, gen_dir
 from model.cli import Parser, UserError, progress_bar, resolve_scene, run_main
 from model.hw.config import config_toml, doc_stamp, load_config, variant
 
@@ -627,12 +627,9 @@ def _normalized_hash(text: str, rtl: Path) -> str:
 def compile_vvp(rtl: Path, top: str, files: list, vvp: Path, params: dict | None = None) -> tuple[bool, str]:
     """Icarus-compile `top` from `files` (names in `rtl`, or absolute paths) with the top's
     parameters `params`; (ok, the compiled design's text) or (False, the first error line)."""
-    r = subprocess.run(["iverilog", "-g2005", f"-I{rtl}", "-o", str(vvp), "-s", top,
-                        *(f"-P{top}.{k}={v}" for k, v in (params or {}).items()),
-                        *(str(f) if str(f).startswith("/") else str(rtl / f) for f in files)],
-                       capture_output=True, text=True)
-    if r.returncode != 0:
-        return False, (r.stderr.strip().splitlines() or ["?"])[0]
+    ok, log = elaborate(top, files, params or {}, rtl=rtl, out=vvp)
+    if not ok:
+        return False, (log.splitlines() or ["?"])[0]
     text = vvp.read_text()
     vvp.unlink()
     return True, text
@@ -1348,10 +1345,7 @@ def tce_only(ids: list[str], files, opts: Opts, work: Path) -> int:
     """--tce-only: screen each mutant (which configurations' compiles it changes) and run its TCE
     check alone (cached like a run's); one JSON line a mutant: id, module, result, recipe, seconds,
     detail (ids are unique: Mutant.dup)."""
-    found: dict[str, Mutant] = {}
-    for m in draw(all_sites(files), opts.seed):
-        if m.id in ids:
-            found[m.id] = m
+    found = {m.id: m for _, alts in all_sites(files) for m in alts if m.id in ids}
     missing = [x for x in ids if x not in found]
     if missing:
         raise UserError(f"--tce-only: no mutant {', '.join(missing)} among the sites"

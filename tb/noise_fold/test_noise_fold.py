@@ -64,12 +64,11 @@ test_noise_fold_rtl = pipe.block_test("noise_fold", {n: hdlbuild.block_params(c,
 
 def test_noise_fold_check():
     """noise_fold's elaboration-time check (g_bad_params) both ways on full_u3's set (K 8 terms on
-    U 3 units, F_W 46, C_W 32, MIN_CLOCKS 1; PERM left at its default: elaboration does not read
-    it): refused with each term alone true (U 0 < 1; U 9 > K; F_W = AN_W - 1; C_W = AG_W - 1,
+    U 3 units, F_W 46, C_W 32, MIN_CLOCKS 1): refused with each term alone true (U 0 < 1; U 9 > K; F_W = AN_W - 1; C_W = AG_W - 1,
     AN_W and AG_W a term's value and gradient words; MIN_CLOCKS 0 < 1; MIN_CLOCKS 3 > 2); accepted
     at each edge (U 1; U = K; F_W = AN_W; C_W = AG_W; MIN_CLOCKS 2)."""
     c = CONFIGS["full_u3"]
-    b = {k: v for k, v in hdlbuild.block_params(c, "noise_fold").items() if k != "PERM"}
+    b = hdlbuild.block_params(c, "noise_fold")
     k = b["NOISE_TERMS"]
     hdlbuild.check_refusals(
         "noise_fold", SOURCES, b,

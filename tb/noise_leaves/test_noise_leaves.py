@@ -72,12 +72,11 @@ def test_noise_leaves_rtl(sim, config, extra):
 
 def test_noise_leaves_check():
     """noise_leaves' elaboration-time check (g_bad_latency) both ways on full's parameters (8
-    unfolded terms, FC 0, LATENCY = the terms' own LAT_NS: their wait DLY_N = 0; PERM left at its
-    default: elaboration does not read it): refused with both terms true (NLEAF > 0 and DLY_N < 0:
+    unfolded terms, FC 0, LATENCY = the terms' own LAT_NS: their wait DLY_N = 0): refused with both terms true (NLEAF > 0 and DLY_N < 0:
     LATENCY one below LAT_NS, with the terms alone, with sat_fc's fc_scale stage, FC 1, and folded,
     U 4 < K: noise_fold's stage); accepted at the edge DLY_N = 0 (each of the three) and with the
     second term alone true (K 0: no noise leaf, NLEAF 0, LATENCY below the terms')."""
-    b = {k: v for k, v in params(config_of("full"), 0).items() if k != "PERM"}
+    b = params(config_of("full"), 0)
     lat_nt = latency("noise_term")
     assert b["LATENCY"] == lat_nt and not b["FC"] and not b["FPGA_REGS"]
     lat_fc, lat_fold = lat_nt + latency("fc_scale"), lat_nt + latency("noise_fold")

@@ -80,13 +80,12 @@ def test_noise_term_exponents_rtl(sim, name):
 
 def test_noise_term_check():
     """noise_term's elaboration-time check (g_bad_params) both ways on full's parameters (A_EXP_W 3:
-    AE_MAX 7, amplitude any, AN_SHIFT = A_FRAC + N_FRAC - F_FRAC = 13; PERM left at its default:
-    elaboration does not read it): refused with each term alone true (A_EXP_W -1 < 0; an A exponent
+    AE_MAX 7, amplitude any, AN_SHIFT = A_FRAC + N_FRAC - F_FRAC = 13): refused with each term alone true (A_EXP_W -1 < 0; an A exponent
     on pow2 amplitudes, AMPLITUDE 1; an A exponent with AN_SHIFT = AE_MAX - 1, F_FRAC raised);
     accepted at the edge AN_SHIFT = AE_MAX and with no A exponent (A_EXP_W 0) on pow2 amplitudes,
     AMP_POW2 alone. (g_latency_mismatch depends on rtl/tex_latency.vh alone: no parameter set makes
     it true.)"""
-    b = {k: v for k, v in hdlbuild.block_params(hdlbuild.config_of("full"), "noise_term").items() if k != "PERM"}
+    b = hdlbuild.block_params(hdlbuild.config_of("full"), "noise_term")
     ae_max = (1 << b["A_EXP_W"]) - 1
     f_edge = b["A_FRAC"] + b["N_FRAC"] - ae_max  # AN_SHIFT = AE_MAX
     hdlbuild.check_refusals(

@@ -53,12 +53,10 @@ def test_texture_sum_check():
     with LATENCY one above and one below its blocks' (LAT_FRONT + TREE_LEVELS = 10: the terms' 8,
     the tree's 2 levels over 9 leaves); accepted on the LATENCY of each of this testbench's
     configurations (full; full_fc: fc_scale's stage; reduced_fpga: the FPGA stages, folded; k0: no
-    noise term, the quadric's latency and one leaf) (PERM left at its default: elaboration does not
-    read it)."""
+    noise term, the quadric's latency and one leaf)."""
     import hdlbuild
 
-    ps = {n: {k: v for k, v in block_params(config_of(CONFIGS[n]), "texture_sum").items() if k != "PERM"}
-          for n in ("full", "full_fc", "reduced_fpga", "k0")}
+    ps = {n: block_params(config_of(CONFIGS[n]), "texture_sum") for n in ("full", "full_fc", "reduced_fpga", "k0")}
     b = ps["full"]
     hdlbuild.check_refusals(  # each case a whole parameter set (the module's defaults beneath)
         "texture_sum", SOURCES, {},
