@@ -33,13 +33,12 @@ import contextlib
 import fcntl
 import hashlib
 import json
-import re
 import time
 from pathlib import Path
 
 import numpy as np
 
-from hdlbuild import ROOT, block_params
+from hdlbuild import ROOT, block_params, module_names, rtl_modules
 from model.hw.config import ConfigError, config_values, load_config, variant
 
 BLOCK_CACHE = ROOT / "build" / "explore" / "blocks"
@@ -89,26 +88,11 @@ def point_key(values: dict, opts: dict, src: str) -> str:
 
 # ---------------------------------------------------------------------------- gates
 
-_MODULE_RE = re.compile(r"^\s*module\s+(\w+)", re.M)
-
-
-def _rtl_modules() -> dict[str, Path]:
-    return {m.group(1): p for p in sorted((ROOT / "rtl").glob("*.v")) for m in _MODULE_RE.finditer(p.read_text())}
-
-
 def module_closure(top: str) -> list[Path]:
     """The RTL files `top` is built from: its own and those of every module it instantiates,
     transitively, and the include files."""
-    mods = _rtl_modules()
-    seen, todo = set(), [top]
-    while todo:
-        m = todo.pop()
-        if m in seen or m not in mods:
-            continue
-        seen.add(m)
-        text = mods[m].read_text()
-        todo += [n for n in mods if n != m and re.search(rf"^\s*{n}\s*(#|\w+\s*\()", text, re.M)]
-    return sorted({mods[m] for m in seen} | set((ROOT / "rtl").glob("*.vh")))
+    mods = rtl_modules()
+    return sorted({mods[m] for m in module_names(top)} | set((ROOT / "rtl").glob("*.vh")))
 
 
 @contextlib.contextmanager

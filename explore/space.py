@@ -64,7 +64,11 @@ FEATURE_STEPS = {
                 ("filter=sat2", {"filter": "sat2"}),
                 ("noise_gradient=false", {"noise_gradient": False}), ("noise_terms=4", {"noise_terms": 4}),
                 ("div_bits=0", {"div_bits": 0}), ("hash_bits=8", {"hash_bits": 8}), ("samples=2", {"samples": 2}),
-                ("filter=sat_fc", {"filter": "sat_fc"})],
+                ("filter=sat_fc", {"filter": "sat_fc"}),
+                # issue 27's 100,000-GE goal (stop 43): four samples, and with them the two features whose
+                # gates come back most (the colour map's MIP map for the SAT's; no noise gradient in the width)
+                ("samples=4", {"samples": 4}), ("filter=mip samples=4", {"filter": "mip", "samples": 4}),
+                ("noise_gradient=false samples=4", {"noise_gradient": False, "samples": 4})],
     "reduced": [("noise_terms=4", {"noise_terms": 4, "noise_units": 4}), ("blend=cubic", {"blend": "cubic"}),
                 ("noise_gradient=true", {"noise_gradient": True}), ("noise_units=1", {"noise_units": 1}),
                 ("quadric=full", {"quadric": "full"}), ("filter=sat2", {"filter": "sat2"}),

@@ -36,6 +36,7 @@ import contextlib
 import hashlib
 import os
 import random
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -54,6 +55,28 @@ __all__ = ["ROOT", "RTL_DIR", "SIMS", "CONFIGS", "FPGA_CONFIG", "DEFAULT_VECTORS
            "setup_verilator_env", "need_simulator", "need_tool", "sim_params", "seed", "vectors", "on_sys_path", "environ",
            "run", "rtl_dir", "build_root", "family_params", "block_params", "netlist_wrapper", "coverage_on", "coverage_file", "without_env", "top_params", "texture_unit_source", "latency", "write_if_changed",
            "elaborate", "check_refusals"]
+
+
+_MODULE_RE = re.compile(r"^\s*module\s+(\w+)", re.M)
+
+
+def rtl_modules(rtl: Path | None = None) -> dict[str, Path]:
+    """module name -> the rtl/ file that defines it."""
+    return {m.group(1): p for p in sorted((rtl or RTL_DIR).glob("*.v")) for m in _MODULE_RE.finditer(p.read_text())}
+
+
+def module_names(top: str, rtl: Path | None = None) -> list[str]:
+    """`top` and every rtl/ module it instantiates, transitively (sorted)."""
+    mods = rtl_modules(rtl)
+    seen, todo = set(), [top]
+    while todo:
+        m = todo.pop()
+        if m in seen or m not in mods:
+            continue
+        seen.add(m)
+        text = mods[m].read_text()
+        todo += [n for n in mods if n != m and re.search(rf"^\s*{n}\s*(#|\w+\s*\()", text, re.M)]
+    return sorted(seen)
 
 
 def rtl_dir() -> Path:

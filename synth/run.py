@@ -24,7 +24,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from hdlbuild import ROOT, block_params, config_of
+from hdlbuild import ROOT, block_params, config_of, module_names, rtl_modules
 from model.hw.config import (CONFIG_NAMES, STAMP, ConfigError, base_of, clocks_per_pixel, cmap_family, config_hash, freq_clamp,
                              is_config_file, load_config,
                              noise_term_instances, rtl_source_hash)
@@ -79,11 +79,13 @@ def rtl_files():
     return sorted(str(p) for p in (ROOT / "rtl").glob("*.v"))
 
 
-def synth_one(config, top: str, lib_files=(), out: Path | None = None, keep: Path | None = None) -> dict:
+def synth_one(config, top: str, lib_files=(), out: Path | None = None, keep: Path | None = None,
+              keep_modules=()) -> dict:
     """One block (or the top's glue, with `lib_files` as black boxes) with the parameters the
     configuration (a name or a Config) gives it (hdlbuild block_params); its report is written
     to `out` (default build/synth/<config>/<top>.json). keep: a directory for Yosys's scripts,
-    logs and the mapped netlist netlist.v (synth/netlist.py simulates it)."""
+    logs and the mapped netlist netlist.v (synth/netlist.py simulates it). keep_modules: modules
+    synthesized as modules of their own (the report's "modules" gives each one's GE)."""
     cfg = config_of(config)
     params = block_params(cfg, top)
     files = [f for f in rtl_files() if Path(f).stem in (top, *GLUE)] if lib_files else rtl_files()
@@ -96,8 +98,9 @@ def synth_one(config, top: str, lib_files=(), out: Path | None = None, keep: Pat
         cmd += ["--lib-files", *lib_files]
     if keep is not None:
         cmd += ["--keep", str(keep)]
-    if not lib_files and KEEP_MODULES.get(cmap_family(cfg)):
-        cmd += ["--keep-modules", *KEEP_MODULES[cmap_family(cfg)]]
+    kept = (*KEEP_MODULES.get(cmap_family(cfg), ()), *keep_modules) if not lib_files else ()
+    if kept:
+        cmd += ["--keep-modules", *kept]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         msg = (r.stderr.strip().splitlines() or ["?"])[-1]
@@ -446,6 +449,29 @@ def blocks_table() -> int:
     return 0
 
 
+def hier_table(config: str, top: str) -> int:
+    """Where a block's gates are: `top` synthesized with every module it instantiates kept as a
+    module of its own (so the total can differ from the flattened block's by what optimisation
+    across the boundaries saves); one line a module (its parameterisations together): instances,
+    GE of all of them with their own sub-modules, and without (the shares of the last add up to 1)."""
+    subs = [m for m in module_names(top) if m != top]
+    cfg = config_of(config)
+    rep = synth_one(cfg, top, out=ROOT / "build" / "synth" / cfg.name / f"{top}.hier.json", keep_modules=subs)
+    rows: dict[str, list] = {}
+    for m in rep["modules"].values():
+        r = rows.setdefault(m["module"], [0, 0.0, 0.0])
+        r[0] += m["instances"]
+        r[1] += m["ge_each"] * m["instances"]
+        r[2] += m["ge_own_each"] * m["instances"]
+    tot = rep["ge_total"]
+    rows[f"{top} (own)"] = [1, tot, tot - sum(r[2] for r in rows.values())]
+    print(f"{top} ({cfg.name}): {tot:,.1f} GE with its sub-modules kept (make synth flattens it; its total can be lower)")
+    print(f"{'module':<20}{'instances':>10}{'GE with subs':>14}{'GE own':>10}{'share':>8}")
+    for name, (n, ge_all, ge_own) in sorted(rows.items(), key=lambda kv: -kv[1][2]):
+        print(f"{name:<20}{n:>10}{ge_all:>14,.0f}{ge_own:>10,.0f}{ge_own / tot:>8.1%}")
+    return 0
+
+
 def samples_table() -> int:
     """What sub-pixel samples add to each named configuration (features.samples 2 and 4): the GE of
     sample_expand and sample_average on its formats (the glue's change, a wider latency delay line
@@ -477,6 +503,8 @@ def main(argv=None) -> int:
     ap.add_argument("--all", action="store_true")
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--blocks", action="store_true")
+    ap.add_argument("--hier", metavar="MODULE", help="where MODULE's gates are (with --config): each module it "
+                                                     "instantiates synthesized as its own, one line each")
     ap.add_argument("--samples", action="store_true", help="the GE sub-pixel samples (2, 4) add to each named configuration")
     ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", 2)))
     a = ap.parse_args(argv)
@@ -496,6 +524,17 @@ def main(argv=None) -> int:
         return blocks_table()
     if a.samples:
         return samples_table()
+    if a.hier:
+        if a.hier not in rtl_modules():
+            print(f"synth: --hier {a.hier}: no such module in rtl/", file=sys.stderr)
+            return 2
+        try:
+            block_params(config_of(a.config or "full"), a.hier)
+        except KeyError:
+            print(f"synth: --hier {a.hier}: a module inside a block (no configuration gives it parameters); name "
+                  f"the block that instantiates it", file=sys.stderr)
+            return 2
+        return hier_table(a.config or "full", a.hier)
     cfgs = CONFIG_NAMES if a.all or not a.config else (a.config,)
     for c in cfgs:
         rep = synth_config(c, a.jobs, ROOT / "out" / "synth" if path_cfg else None)

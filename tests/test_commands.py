@@ -363,3 +363,19 @@ def test_report_names_the_width_cap(tmp_path):
     assert len(sat) == 1 and " of 64 pixels" in sat[0], rep["approximations"]
     rep = render.render("zone_plate", "full", 8, truth=False, out_root=tmp_path, progress=False)
     assert not any("saturated" in a for a in rep["approximations"]), rep["approximations"]
+
+
+def test_synth_hier_says_where_a_blocks_gates_are():
+    """`python -m synth.run --config C --hier MODULE` (README): one line a module MODULE instantiates,
+    its own GE's shares adding up to the whole; an unknown module is a one-line error, exit 2."""
+    r = subprocess.run([PY, "-m", "synth.run", "--config", "reduced", "--hier", "filter_width"], cwd=ROOT,
+                       capture_output=True, text=True, timeout=600)
+    _ok(r)
+    rows = {m.group(1): float(m.group(2)) for m in re.finditer(r"^(\S+(?: \(own\))?)\s+\d+\s+[\d,]+\s+[\d,]+\s+([\d.]+)%$",
+                                                              r.stdout, re.M)}
+    assert {"isqrt", "filter_width (own)"} <= set(rows), r.stdout
+    assert abs(sum(rows.values()) - 100) < 0.5, r.stdout
+    for block in ("no_such_block", "sat_integral"):  # not in rtl/; inside a block, with no parameters of its own
+        bad = subprocess.run([PY, "-m", "synth.run", "--config", "reduced", "--hier", block], cwd=ROOT,
+                             capture_output=True, text=True, timeout=60)
+        assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and block in bad.stderr, bad.stderr
