@@ -85,7 +85,7 @@ def synth_one(config, top: str, lib_files=(), out: Path | None = None, keep: Pat
     configuration (a name or a Config) gives it (hdlbuild block_params); its report is written
     to `out` (default build/synth/<config>/<top>.json). keep: a directory for Yosys's scripts,
     logs and the mapped netlist netlist.v (synth/netlist.py simulates it). keep_modules: modules
-    synthesized as modules of their own (the report's "modules" gives each one's GE)."""
+    synthesized as modules of their own (`stat` of the kept hierarchy: keep's stat_hier.txt)."""
     cfg = config_of(config)
     params = block_params(cfg, top)
     files = [f for f in rtl_files() if Path(f).stem in (top, *GLUE)] if lib_files else rtl_files()
@@ -453,19 +453,43 @@ def hier_table(config: str, top: str) -> int:
     """Where a block's gates are: `top` synthesized with every module it instantiates kept as a
     module of its own (so the total can differ from the flattened block's by what optimisation
     across the boundaries saves); one line a module (its parameterisations together): instances,
-    GE of all of them with their own sub-modules, and without (the shares of the last add up to 1)."""
-    subs = [m for m in module_names(top) if m != top]
+    GE of all of them with their own sub-modules, and without (the shares of the last add up to 1).
+    Read from the run's `stat` of the kept hierarchy (synth.py's stat_hier.txt)."""
+    from synth.synth import parse_liberty, parse_stat
+
     cfg = config_of(config)
-    rep = synth_one(cfg, top, out=ROOT / "build" / "synth" / cfg.name / f"{top}.hier.json", keep_modules=subs)
+    keep = ROOT / "build" / "synth" / cfg.name / f"{top}.hier"
+    rep = synth_one(cfg, top, out=keep.with_suffix(".json"), keep=keep,
+                    keep_modules=[m for m in module_names(top) if m != top])
+    hier = parse_stat((keep / "stat_hier.txt").read_text())
+    area = {c: v["area"] for c, v in parse_liberty(ROOT / "synth" / "cells.lib").items()}
+    top_key = next(k for k in hier if k.rsplit("\\", 1)[-1] == top)
+    own = {k: sum(n * area[c] for c, n in m["cells"].items() if c in area) for k, m in hier.items()}
+
+    def subs(k):
+        return {c: n for c, n in hier[k]["cells"].items() if c in hier}
+
+    def inclusive(k):
+        return own[k] + sum(n * inclusive(c) for c, n in subs(k).items())
+
+    count: dict[str, int] = {}
+
+    def walk(k, mult):
+        for c, n in subs(k).items():
+            count[c] = count.get(c, 0) + mult * n
+            walk(c, mult * n)
+
+    walk(top_key, 1)
     rows: dict[str, list] = {}
-    for m in rep["modules"].values():
-        r = rows.setdefault(m["module"], [0, 0.0, 0.0])
-        r[0] += m["instances"]
-        r[1] += m["ge_each"] * m["instances"]
-        r[2] += m["ge_own_each"] * m["instances"]
-    tot = rep["ge_total"]
-    rows[f"{top} (own)"] = [1, tot, tot - sum(r[2] for r in rows.values())]
-    print(f"{top} ({cfg.name}): {tot:,.1f} GE with its sub-modules kept (make synth flattens it; its total can be lower)")
+    for k, n in count.items():
+        r = rows.setdefault(k.rsplit("\\", 1)[-1], [0, 0.0, 0.0])
+        r[0] += n
+        r[1] += n * inclusive(k)
+        r[2] += n * own[k]
+    tot = inclusive(top_key)
+    rows[f"{top} (own)"] = [1, tot, own[top_key]]
+    print(f"{top} ({cfg.name}): {tot:,.1f} GE as kept modules ({rep['ge_total']:,.1f} once flattened, as make synth "
+          f"counts a block)")
     print(f"{'module':<20}{'instances':>10}{'GE with subs':>14}{'GE own':>10}{'share':>8}")
     for name, (n, ge_all, ge_own) in sorted(rows.items(), key=lambda kv: -kv[1][2]):
         print(f"{name:<20}{n:>10}{ge_all:>14,.0f}{ge_own:>10,.0f}{ge_own / tot:>8.1%}")

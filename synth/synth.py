@@ -9,8 +9,7 @@ Usage:
 What it reports (JSON on stdout, and in --json):
   top, yosys_version, ge_total, ge_comb, ge_seq, storage_bits, rom_bits,
   transistors_cmos, ge_cmos_crosscheck, logic_depth, critical_path, cells,
-  blocks, blocks_detail, modules (each kept sub-module: instances, GE each with and
-  without its own sub-modules), memories, unmapped_cells, warnings, memories_mode,
+  blocks, blocks_detail, memories, unmapped_cells, warnings, memories_mode,
   liberty, seconds.
 
 Flow (one Yosys run for the numbers, plus a quick elaboration run when --blocks
@@ -437,24 +436,6 @@ def main_flow(args, yosys):
                                     "ge": round(c + q, 3), "ge_comb": round(c, 3),
                                     "ge_seq": round(q, 3), "storage_bits": b}
 
-        # --- every kept sub-module (--blocks, --keep-modules): its instances under the top and
-        # its GE each, sub-modules included ("ge_each") and its own cells only ("ge_own_each")
-        counts = {}
-
-        def count_instances(name, mult):
-            for ctype, n in hier.get(name, {"cells": {}})["cells"].items():
-                if ctype in hier and ctype not in lib:
-                    counts[ctype] = counts.get(ctype, 0) + mult * n
-                    count_instances(ctype, mult * n)
-
-        count_instances(top, 1)
-        modules_out = {}
-        for key, n in sorted(counts.items()):
-            c, q, b, _ = mod_cost(key)
-            own = sum(k * lib[t]["area"] for t, k in hier[key]["cells"].items() if t in lib)
-            modules_out[key] = {"module": key.rsplit("\\", 1)[-1], "instances": n, "ge_each": round(c + q, 3),
-                                "ge_own_each": round(own, 3), "storage_bits_each": b}
-
         # --- CMOS cross-check
         ctop = cmos.get(top, {"cells": {}, "transistors": None})
         tr, plus = ctop["transistors"] or (0, False)
@@ -506,7 +487,6 @@ def main_flow(args, yosys):
             "unmapped_cells": unmapped,
             "blocks": blocks_out,
             "blocks_detail": blocks_detail,
-            "modules": modules_out,
             "memories": [{k: m.get(k) for k in ("module", "name", "kind", "width", "size",
                                                 "rd_ports", "wr_ports", "bits")} for m in mems],
             "warnings": warnings[:30],

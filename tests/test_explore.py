@@ -275,3 +275,21 @@ def test_goal_100k_counts_only_held_out_figures():
     assert "19/22 (86.4%): broken" in broken and "**not met**" in broken
     assert "**not shown met**" in goal_100k_line(b, "seascape", None)
     assert goal_100k_line({**b, "worst_psnr_truth_db": 35.9}, "seascape", held(22, 22, True)).endswith("**not met**.")
+
+
+def test_goal_100k_gap_gives_the_held_out_safe_points_excess():
+    """The 100,000-GE goal's gap on formats that hold held out: GAP_POINT's GE over the budget, its blocks, and what
+    each trade gives back, from the records (none: no paragraph)."""
+    from explore.report import GAP_POINT, GAP_TRADES, goal_100k_gap
+
+    def rec(label, ge, db, blocks=None):
+        return {"status": "ok", "label": label, "ge_total": ge, "worst_psnr_truth_db": db, "min_pixels_per_clock": 0.05,
+                "scenes": {"marble": {"psnr_truth_db": db}, "wood": {"psnr_truth_db": db + 3}}, "blocks_ge": blocks}
+
+    assert goal_100k_gap([rec("compact", 132_000, 33.0)]) == []
+    recs = [rec(GAP_POINT, 135_500, 37.8, {"colour_map": 33_500, "quadric": 28_400}),
+            rec(GAP_TRADES[0][0], 105_900, 23.9), rec(GAP_TRADES[1][0], 111_200, 38.1)]
+    (text,) = goal_100k_gap(recs)
+    assert "135,500 GE" in text and "+35,500 GE (+35.5%)" in text and "37.8 dB (marble)" in text, text
+    assert text.index("colour_map 33,500") < text.index("quadric 28,400"), text
+    assert "105,900 GE (-29,600)" in text and "111,200 GE (-24,300)" in text and "23.9 dB" in text, text

@@ -181,6 +181,24 @@ def test_generated_docs_are_current():
     assert stamped >= 1  # docs/validation.md at least
 
 
+def test_generated_docs_measured_this_rtl():
+    """Every stamp in docs/ (each generated section's `<!-- measured on: ... rtl=<hash> -->`) names rtl/ as it is
+    now: a change to rtl/ reruns every command whose figures it moves (gates, frames, gate-level simulation,
+    coverage, mutants, the sweep), or the docs would quote figures of another RTL."""
+    from model.hw.config import STAMP, rtl_source_hash
+
+    now, stale, stamps = rtl_source_hash(), [], 0
+    for p in sorted((ROOT / "docs").rglob("*.md")):
+        for line in p.read_text().splitlines():
+            if line.startswith(STAMP) and " rtl=" in line:
+                stamps += 1
+                h = line.split(" rtl=", 1)[1].split()[0]
+                if h != now:
+                    stale.append(f"{p.relative_to(ROOT)} (rtl={h})")
+    assert stamps >= 5, stamps
+    assert not stale, f"measured on another rtl/ than today's ({now}): " + ", ".join(stale) + "; rerun their commands"
+
+
 def test_stamp_round_trip():
     from model.hw.config import doc_stamp, read_stamp, variant
 
