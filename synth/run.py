@@ -383,10 +383,26 @@ def write_doc() -> None:
           "filter_width 11,313 -> 12,997, colour_map 32,895 -> 33,719, control 8,995 -> 9,104), over the paper's "
           "100,000 by 10.4%, its ceiling raised from 110,000 to 115,000 for it; compact by one word (c_frac 8 -> 10), "
           "131,372 -> 132,578 GE (quadric 28,049 -> 28,378, filter_width 10,989 -> 11,610, control 19,455 -> 19,649), "
-          "over its 100,000 budget by 32.6%.", ""]
+          "over its 100,000 budget by 32.6%.", "",
+          "Where compact's gates are (stop 43, for issue 27's 100,000-GE goal; `python -m synth.run --config compact "
+          "--hier <block>`: each module the block instantiates synthesized as a module of its own, which stops "
+          "optimisation across the boundaries, so these run a little above the per-block figures of the table): "
+          "colour_map 33,969 GE (sat_integral x2 16,882, box_divide 5,840, cmap_sat's own 5,027, cmap_divide's own "
+          "3,419, sat_index x2 1,327); quadric_mac 28,813 (qmac_diag_fold, its three multipliers and their fold, "
+          "26,690); noise_term 47,317 (eleven lerps 23,659, noise_grad's own 9,642, noise_blend x3 6,854); "
+          "filter_width 11,750 (its own logic 11,110). compact with 4 samples a pixel, the goal's quality against the "
+          "truth on formats that hold held out (docs/tradeoffs.md: 135,378 GE), takes 5 clocks a sample, and every "
+          "block but the noise unit holds a new sample one clock in five. Folds that would spend those clocks on "
+          "fewer gates (not built; an estimate, not a measurement): the colour map one channel a clock (its four "
+          "channels' integrals and divisions on one lane: about three quarters of sat_integral's and box_divide's "
+          "22,700, less the registers that hold a pixel's four channels, ~15,000); the quadric's six products on one "
+          "multiplier over six clocks (about two thirds of qmac_diag_fold's, less the operand selection, ~16,000; a "
+          "5-term pixel then takes 6 clocks a sample); the filter width's six products over two clocks (~3,000). "
+          "About 34,000 together, close to the 35,378 the goal needs.", ""]
     L += ["## Reproduce", "", "    make setup", "    make synth          # every configuration, synth/reports/",
           "    make synth-check    # each budget met or missed; fails above a ceiling",
-          "    make synth-blocks   # GE of each block for every configuration", ""]
+          "    make synth-blocks   # GE of each block for every configuration",
+          "    python -m synth.run --config compact --hier colour_map   # where a block's gates are, module by module", ""]
     # the stamp: the configurations' hashes the reports recorded (none before issue 26's reports)
     if all("config_hash" in r for r in reps.values()):
         L.append(STAMP + " " + " ".join(f"{c}={r['config_hash']}" for c, r in reps.items())
