@@ -54,7 +54,7 @@ RTL_DIR = ROOT / "rtl"
 __all__ = ["ROOT", "RTL_DIR", "SIMS", "CONFIGS", "FPGA_CONFIG", "DEFAULT_VECTORS", "gen_dir", "config_of", "config_ref",
            "setup_verilator_env", "need_simulator", "need_tool", "sim_params", "seed", "vectors", "on_sys_path", "environ",
            "run", "rtl_dir", "build_root", "family_params", "block_params", "netlist_wrapper", "coverage_on", "coverage_file", "without_env", "top_params", "texture_unit_source", "latency", "write_if_changed",
-           "elaborate", "check_refusals"]
+           "elaborate", "check_refusals", "rtl_modules", "module_names"]
 
 
 _MODULE_RE = re.compile(r"^\s*module\s+(\w+)", re.M)
