@@ -19,6 +19,7 @@ from pathlib import Path
 
 from explore import space
 from explore.measure import ROOT
+from explore.validate import promise_text
 
 PAPER_BUDGETS = {"paper's reduced model (100,000 gates)": 100_000, "paper's full model (1,250,000 gates)": 1_250_000}
 # pixels-per-clock classes (the slowest scene's): marker, label
@@ -180,7 +181,7 @@ def goal_100k_line(b: dict, worst: str, held: dict | None) -> str:
     verdict = "holds" if h["holds"] else "broken"
     return (head + f": met on the eight paper scenes, on which it was chosen; held out (`make validate`, "
             f"docs/validation.md: {held['covered']} covered scenes) against the truth min / 5% / median {t['min']} / "
-            f"{t['p5']} / {t['median']} dB, its promise ({pr['psnr_db']} dB vs {pr['against']} on {pr['share']:.0%}) "
+            f"{t['p5']} / {t['median']} dB, its promise ({promise_text(pr)}) "
             f"{h['keep']}/{h['of']} ({h['share']:.1%}): {verdict}; the goal is "
             + ("**met**." if h["holds"] else "**not met** by a configuration whose figures count (a figure counts "
                                                 "only on scenes the configuration was not tuned on)."))
