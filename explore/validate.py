@@ -18,9 +18,9 @@ left out: model.scene.passes.approximations); rounding of parameters is not a re
 what the promise is measured on. Then K accepted scenes (the rotated marble first, then evenly
 spread) go through the RTL under Verilator at --rtl-size, every pixel against the golden model.
 
-The configuration's [promise] (config/<name>.toml: psnr_db against "reference" or "truth", or loss_db:
-against the truth, no more than loss_db below the float reference's own PSNR against the truth; the
-share of accepted scenes that must keep it) is checked; the summary goes to
+The configuration's [promise] (config/<name>.toml: psnr_db against "reference" or "truth"; against the
+truth also loss_db: a scene below psnr_db keeps it when no more than loss_db below the float reference's own
+PSNR against the truth; the share of accepted scenes that must keep it) is checked; the summary goes to
 docs/validation/<name>.json with the configuration's hash and the RTL source's hash, and
 docs/validation.md is rewritten from every summary there (the ten worst scenes of each on a
 contact sheet, docs/images/validation_<name>.png). Exit status 1 when the promise is broken,
@@ -122,7 +122,7 @@ def measure_scene(config: str, path: str, size: int) -> dict:
         return {**out, "rejected": "no textured pixel at this size"}
     c_ref = compare(np.rint(g[textured]), r[textured])
     c_tru = compare(np.rint(g[textured]), t_img[textured])
-    c_rt = compare(r[textured], t_img[textured])  # the float reference's own distance from the truth
+    c_rt = compare(np.rint(r[textured]), t_img[textured])  # the float reference's own (8 bits, as the unit's output)
     inf = 200.0  # an exact match (compare gives None) counts as 200 dB
     moves = {k: max(pd.info["f_moves"][k] for pd in pds) for k in ("params", "s")}
     return {**out, "psnr_ref": c_ref["psnr_db"] if c_ref["psnr_db"] is not None else inf,
@@ -192,17 +192,20 @@ def _pct(v, q):
 
 def keeps_promise(promise: dict, r: dict) -> bool:
     """Whether one covered scene's figures (scene_quality's) keep the promise: its PSNR against the promised
-    image at least psnr_db, or (loss_db) its PSNR against the truth at most loss_db below the float
-    reference's own against the truth."""
+    image at least psnr_db, or, with loss_db (against the truth), at least the float reference's own PSNR against
+    the truth less loss_db where that is lower (a scene the paper's float algorithm itself renders far from the
+    truth asks only that the unit lose no more than loss_db on it)."""
+    v = r["psnr_ref" if promise["against"] == "reference" else "psnr_truth"]
     if "loss_db" in promise:
-        return r["psnr_truth"] >= r["psnr_ref_truth"] - promise["loss_db"]
-    return r["psnr_ref" if promise["against"] == "reference" else "psnr_truth"] >= promise["psnr_db"]
+        return v >= min(promise["psnr_db"], r["psnr_ref_truth"] - promise["loss_db"])
+    return v >= promise["psnr_db"]
 
 
 def promise_text(p: dict) -> str:
     """A promise in words, for the docs."""
     if "loss_db" in p:
-        return f"within {p['loss_db']} dB of the float reference, vs truth, on {p['share']:.0%}"
+        return (f"{p['psnr_db']} dB vs truth, or within {p['loss_db']} dB of the float reference's, on "
+                f"{p['share']:.0%}")
     return f"{p['psnr_db']} dB vs {p['against']} on {p['share']:.0%}"
 
 
@@ -256,9 +259,10 @@ def write_doc(summary_dir: Path = SUMMARY_DIR, doc: Path = DOC) -> None:
          "noise gradient); rounding a parameter is not a rejection: it is what the figures below measure. PSNR is "
          "over the textured pixels, against the float reference of the scene as written and against the converged "
          "truth (model.scene.truth). The promise is the configuration file's `[promise]`: a PSNR every covered scene "
-         "keeps against the reference or the truth (psnr_db), or, against the truth, the most a scene may fall below "
-         "the float reference's own PSNR against the truth (loss_db: no worse for the eye than the paper's float "
-         "algorithm by more than that; samples and filters other than the box can beat it).", "",
+         "keeps against the reference or the truth (psnr_db); against the truth it may add loss_db: a scene below "
+         "psnr_db still keeps it when it falls no more than loss_db below the float reference's own PSNR against the "
+         "truth (the reference rounded to 8 bits like the unit's output): no worse for the eye than the paper's float "
+         "algorithm by more than that, on the scenes that algorithm itself renders far from the truth.", "",
          "The promise covers the accepted scenes whose textures are all filtered (`covered`): a point-sampled table "
          "changes colour wherever f crosses an entry boundary, so the smallest rounding of f flips whole pixels (up to "
          "255 LSB on a random table); the unfiltered ones are measured apart, in each configuration's section.", "",

@@ -144,7 +144,8 @@ def test_validate_small_run(tmp_path):
     cov = [x for x in s["results"] if "rejected" not in x and "psnr_ref_truth" in x]
     assert cov and len(cov) == s["accepted"], s["results"]
     worst_loss = max(x["psnr_ref_truth"] - x["psnr_truth"] for x in cov)
-    rel = replace(load_config(cfg), promise={"loss_db": max(worst_loss, 0.0), "against": "truth", "share": 1.0})
+    rel = replace(load_config(cfg), promise={"psnr_db": 200.0, "loss_db": max(worst_loss, 0.0), "against": "truth",
+                                             "share": 1.0})
     assert summarize(rel, s["results"], 8, 16)["promise_result"]["holds"]
     if worst_loss > 0:  # a tighter loss than the worst scene's breaks it
         tight = replace(rel, promise={**rel.promise, "loss_db": worst_loss / 2})
@@ -155,25 +156,26 @@ def test_validate_small_run(tmp_path):
 
 
 def test_relative_truth_promise(tmp_path):
-    """[promise] loss_db: against the truth, a scene keeps it when its PSNR against the truth is at most loss_db
-    below the float reference's own; one of psnr_db and loss_db, loss_db only against the truth and not negative."""
+    """[promise] loss_db (against the truth): a scene under psnr_db keeps it when its PSNR against the truth is at
+    most loss_db below the float reference's own; loss_db only against the truth, and not negative."""
     from explore.validate import keeps_promise, promise_text
 
     base = (ROOT / "config" / "reduced.toml").read_text()
     bad = tmp_path / "p.toml"
-    for old, new, msg in (("psnr_db = 30.0", "psnr_db = 30.0\nloss_db = 1.0", "not both"),
-                          ("psnr_db = 30.0", "", "not neither"),
-                          ("psnr_db = 30.0", "loss_db = 1.0", "against 'reference'"),
-                          ('psnr_db = 30.0\nagainst = "reference"', 'loss_db = -1.0\nagainst = "truth"', "0 dB or more")):
+    for old, new, msg in (("psnr_db = 30.0\n", "loss_db = 1.0\n", "missing key 'promise.psnr_db'"),
+                          ("psnr_db = 30.0\n", "psnr_db = 30.0\nloss_db = 1.0\n", "against 'reference'"),
+                          ('against = "reference"', 'against = "truth"\nloss_db = -1.0', "0 dB or more")):
         assert old in base, old
         bad.write_text(base.replace(old, new))
         with pytest.raises(ConfigError, match=msg):
             load_config(bad)
-    bad.write_text(base.replace('psnr_db = 30.0\nagainst = "reference"', 'loss_db = 1.0\nagainst = "truth"'))
+    bad.write_text(base.replace('against = "reference"', 'against = "truth"\nloss_db = 1.0'))
     p = load_config(bad).promise
-    assert p["loss_db"] == 1.0 and "within 1.0 dB of the float reference" in promise_text(p)
-    scene = {"psnr_truth": 30.0, "psnr_ref_truth": 30.9, "psnr_ref": 40.0}
-    assert keeps_promise(p, scene) and not keeps_promise(p, {**scene, "psnr_ref_truth": 31.5})
+    assert p["loss_db"] == 1.0 and "or within 1.0 dB of the float reference" in promise_text(p)
+    scene = {"psnr_truth": 27.0, "psnr_ref_truth": 27.9, "psnr_ref": 40.0}
+    assert keeps_promise(p, scene) and not keeps_promise(p, {**scene, "psnr_ref_truth": 28.5})
+    assert keeps_promise(p, {**scene, "psnr_truth": 30.0, "psnr_ref_truth": 200.0})  # at psnr_db: kept
+    assert not keeps_promise(p, {**scene, "psnr_truth": 29.9, "psnr_ref_truth": 200.0})
     assert keeps_promise({"psnr_db": 35.0, "against": "reference", "share": 1}, scene)
     assert not keeps_promise({"psnr_db": 35.0, "against": "truth", "share": 1}, scene)
 

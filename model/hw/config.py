@@ -478,8 +478,9 @@ def _from_raw(raw: dict, p: Path) -> Config:
 # [promise]: key -> (type, what)
 PROMISE_KEYS = {
     "psnr_db": ((int, float), "the PSNR in dB it keeps, per scene"),
-    "loss_db": ((int, float), "in place of psnr_db, against the truth only: the most dB a scene's PSNR against the "
-                              "truth may fall below the float reference's own (the scene as written) against it"),
+    "loss_db": ((int, float), "against the truth only: a scene below psnr_db still keeps the promise when its PSNR "
+                              "against the truth is at most loss_db below the float reference's own (the scene as "
+                              "written, rounded to 8 bits like the unit's output) against it"),
     "against": (str, '"reference" (the float reference of the scene as written) or "truth" (the converged truth)'),
     "share": ((int, float), "the share of the held-out scenes it accepts that must keep it, 0..1"),
     "note": (str, "where the figure comes from"),
@@ -487,7 +488,7 @@ PROMISE_KEYS = {
 
 
 def _promise(tab, p: Path) -> dict | None:
-    """A file's [promise] table, checked: {psnr_db or loss_db, against, share, note}."""
+    """A file's [promise] table, checked: {psnr_db, against, share, note; loss_db with against "truth"}."""
     if tab is None:
         return None
     if not isinstance(tab, dict):
@@ -498,12 +499,9 @@ def _promise(tab, p: Path) -> dict | None:
         typ, what = PROMISE_KEYS[k]
         if not isinstance(v, typ) or isinstance(v, bool):
             raise ConfigError(f"{p}: 'promise.{k}' = {v!r}: expected {what}")
-    for k in ("against", "share"):
+    for k in ("psnr_db", "against", "share"):
         if k not in tab:
             raise ConfigError(f"{p}: missing key 'promise.{k}'")
-    if ("psnr_db" in tab) == ("loss_db" in tab):
-        raise ConfigError(f"{p}: 'promise' needs one of 'psnr_db' (a PSNR every scene keeps) and 'loss_db' (dB below "
-                          f"the float reference's own PSNR against the truth), not {'both' if 'psnr_db' in tab else 'neither'}")
     if "loss_db" in tab and (tab["against"] != "truth" or tab["loss_db"] < 0):
         raise ConfigError(f"{p}: 'promise.loss_db' = {tab['loss_db']} against {tab['against']!r}: expected a loss of "
                           f"0 dB or more against \"truth\"")
