@@ -191,7 +191,7 @@ def _pct(v, q):
 
 
 def keeps_promise(promise: dict, r: dict) -> bool:
-    """Whether one covered scene's figures (scene_quality's) keep the promise: its PSNR against the promised
+    """Whether one covered scene's figures (measure_scene's) keep the promise: its PSNR against the promised
     image at least psnr_db, or, with loss_db (against the truth), at least the float reference's own PSNR against
     the truth less loss_db where that is lower (a scene the paper's float algorithm itself renders far from the
     truth asks only that the unit lose no more than loss_db on it)."""
