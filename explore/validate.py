@@ -190,12 +190,17 @@ def _pct(v, q):
     return round(float(np.percentile(v, q)), 2) if len(v) else None
 
 
+def promised_key(promise: dict | None) -> str:
+    """The per-scene figure a promise is judged on (against the reference without one)."""
+    return "psnr_ref" if not promise or promise["against"] == "reference" else "psnr_truth"
+
+
 def keeps_promise(promise: dict, r: dict) -> bool:
     """Whether one covered scene's figures (measure_scene's) keep the promise: its PSNR against the promised
     image at least psnr_db, or, with loss_db (against the truth), at least the float reference's own PSNR against
     the truth less loss_db where that is lower (a scene the paper's float algorithm itself renders far from the
     truth asks only that the unit lose no more than loss_db on it)."""
-    v = r["psnr_ref" if promise["against"] == "reference" else "psnr_truth"]
+    v = r[promised_key(promise)]
     if "loss_db" in promise:
         return v >= min(promise["psnr_db"], r["psnr_ref_truth"] - promise["loss_db"])
     return v >= promise["psnr_db"]
@@ -236,8 +241,7 @@ def summarize(cfg, results: list[dict], n: int, size: int) -> dict:
         keep = len(cov) - len(below)
         held = {"keep": keep, "of": len(cov), "share": round(keep / len(cov), 4),
                 "holds": keep / len(cov) >= promise["share"], "below": sorted(below)}
-    key = "psnr_ref" if not promise or promise["against"] == "reference" else "psnr_truth"
-    worst = sorted(cov, key=lambda r: r[key])[:10]
+    worst = sorted(cov, key=lambda r: r[promised_key(promise)])[:10]
     return {"config": cfg.name, "config_path": rel_path(cfg.path),
             "config_hash": config_hash(cfg), "source_hash": source_hash(), "corpus_seed": HELDOUT_SEED, "n": n,
             "hard_cases": True, "size": size, "scenes": len(results), "accepted": len(acc), "covered": len(cov), "rejected": len(rej),
