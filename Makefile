@@ -56,6 +56,7 @@ help:
 	@echo "make bench-sim       Verilator vs golden model pixels/s and ratio (full, compact, reduced), and Icarus"
 	@echo "make icarus-perf     where Icarus spends its time, per block (CONFIG=full)"
 	@echo "make synth [CONFIG=] Yosys gate counts; make synth-check: budgets; make synth-blocks"
+	@echo "make regen [REGEN_FLAGS=--dry-run|--all|--only synth,frames]   rerun every command whose doc stamp names another rtl/ or configuration (two lanes; out/regen/)"
 	@echo "make coverage [COVERAGE_TESTS=tb/x,...] [COVERAGE_REUSE=1]   line and toggle coverage of rtl/ over the block and frame tests (Verilator): out/coverage/, docs/verification.md"
 	@echo "make gls CONFIG=reduced [GLS_SIZE=32] [GLS_SCENES=a,b]   the synthesized netlists simulated on every scene, bit-exact (docs/verification.md)"
 	@echo "make fpga CONFIG=reduced [FREQ=100] [SEED=1] [FPGA_REGS=0] [DSP_REGS=0]   ECP5 85F place and route (yowasp) of the fpga_regs variant (FPGA_REGS=0: as configured): synth/reports/fpga_<name>[-fpga].json, docs/fpga.md"
@@ -231,6 +232,11 @@ fpga: gen
 # COVERAGE_REUSE=1: no test run, the last run's points summarized again, e.g. after app/coverage_reasons.toml changed)
 coverage: gen
 	$(VENV_ENV) $(PY) -m app.coverage --jobs $(JOBS) $(if $(COVERAGE_TESTS),--tests $(COVERAGE_TESTS)) $(if $(COVERAGE_REUSE),--reuse)
+
+# every command behind a stale doc stamp (rtl/ or a configuration changed since), on two lanes (app/regen.py;
+# REGEN_FLAGS=--all every one, --dry-run the plan, --only synth,frames)
+regen: gen
+	$(VENV_ENV) $(PY) -m app.regen $(REGEN_FLAGS)
 
 clean:
 	rm -rf build out

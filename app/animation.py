@@ -36,7 +36,7 @@ from app.common import add_truth_args, check_truth_args, git_describe
 from hdlbuild import need_tool
 from model.cli import Parser, UserError, check_config, config_label, check_range, progress_bar, run_main, staged
 from model.hw import golden
-from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, load_config
+from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, load_config, rtl_source_hash
 from model.imageio import compare
 from model.scene.passes import composite, frame_size, prepare_passes, scene_approximations, scene_path, to8
 from model.scene import truth as T
@@ -222,7 +222,7 @@ def run(scene_arg: str, config_name: str, frames: int | None, size: int, rtl: bo
             return round(float(np.mean(v)), 3) if v else None
 
         rep = {"status": "ok", "animation": name, "scene": anim["scene"], "config": config_name, "frames": n,
-               "width": W, "height": H, "command": command, "git": git_describe(),
+               "width": W, "height": H, "command": command, "git": git_describe(), "rtl_hash": rtl_source_hash(),
                "truth": f"{truth_ss}x{truth_ss}, {band_ss}x{band_ss} in the band's tiles", "approximations": approx,
                "mean": {k: mean(k) for k in ("band_psnr_filtered_db", "band_psnr_unfiltered_db", "psnr_filtered_db",
                                              "psnr_unfiltered_db", "flicker_filtered_lsb", "flicker_unfiltered_lsb",
@@ -307,7 +307,12 @@ def write_docs(rep: dict, docs: Path) -> None:
                      f"{x.get('flicker_filtered_lsb', '-')} | {x.get('flicker_unfiltered_lsb', '-')} | "
                      f"{x['truth_moves_band_db']} |")
         L.append("")
-    L.append(doc_stamp(sorted({r["config"] for r in reps.values()})))
+    # the rtl/ of the stamp: today's only when every section's run had it (a section of an older run, or one
+    # from before the runs recorded it, keeps the doc stale until `make regen` reruns it)
+    now = rtl_source_hash()
+    old = [r.get("rtl_hash", "unrecorded") for r in reps.values() if r.get("rtl_hash") != now]
+    L.append(doc_stamp(sorted({r["config"] for r in reps.values()}), rtl=False)[:-len(" -->")]
+             + f" rtl={old[0] if old else now} -->")
     (docs / "animation.md").write_text("\n".join(L) + "\n")
 
 

@@ -24,7 +24,7 @@ from pathlib import Path
 from app.common import git_describe, write_doc_section
 from hdlbuild import need_tool
 from model.cli import Parser, UserError, check_config, check_range, config_label, run_main
-from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, load_config
+from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, load_config, read_stamp, rtl_source_hash
 from model.scene.passes import SCENES
 
 REPORTS = ROOT / "synth" / "reports"
@@ -87,18 +87,28 @@ def write_doc() -> None:
          "its block's netlist was synthesized with, then dropped. The netlists replace rtl/ in the frame harness "
          "(sim/frame_rtl.py `netlists=`, Verilator; the C++ of a gate-level netlist is compiled at -O0, where -O2 "
          "takes many times longer), and every scene runs through them, every pixel against the golden model.",
-         "", "| configuration | scenes | size | pixels | pixels differing | synthesis s | build s | simulation s | "
-         "total s |", "|---|---|---|---|---|---|---|---|---|"]
-    for r in reps:
-        L.append(f"| {r['config']} | {len(r['scenes'])} | {r['size']}x{r['size']} | {r['pixels']:,} | "
+         "", "| configuration | rtl/ | scenes | size | pixels | pixels differing | synthesis s | build s | simulation s | "
+         "total s |", "|---|---|---|---|---|---|---|---|---|---|"]
+    rtls = [(read_stamp(r.get("stamp", "")) or {}).get("rtl", "?") for r in reps]
+    for r, h in zip(reps, rtls):
+        L.append(f"| {r['config']} | {h} | {len(r['scenes'])} | {r['size']}x{r['size']} | {r['pixels']:,} | "
                  f"{r['mismatched_pixels']} | {r['synth_seconds']} | {r['build_seconds']} | {r['sim_seconds']} | "
                  f"{r['seconds']} |")
     L += ["", "Times are wall seconds on this machine's 2 cores (synthesis: every piece, JOBS at a time; a netlist "
           "cached in build/gls/ under a stamp of the RTL, the flow and the parameters, or a current build, costs "
           "nothing, so the synthesis column is small when an earlier run of the same RTL synthesized the pieces). "
           "`make test` runs reduced and compact on every scene at 4x4 (tests/test_gls.py).", "",
-          doc_stamp([r["config"] for r in reps])]
+          _section_stamp([r["config"] for r in reps], rtls)]
     write_doc_section(TITLE, "\n".join(L))
+
+
+def _section_stamp(configs, rtls) -> str:
+    """The section's stamp: its configurations, and the rtl/ its rows ran on: today's only when every
+    row ran on it (a row of an older run names its own, and the section is stale until that
+    configuration runs again: `make regen`)."""
+    now = rtl_source_hash()
+    old = [h for h in rtls if h != now]
+    return doc_stamp(configs, rtl=False)[:-len(" -->")] + f" rtl={old[0] if old else now} -->"
 
 
 def main(argv=None) -> int:

@@ -12,8 +12,10 @@ words in Python and reading the colours back included) and their ratios to the g
 checked bit-exact; and the same in CPU seconds (`*_cpu*`: this process's CPU time for the golden
 model, the simulator process's own for Verilator, streaming and whole run): less moved by other jobs than wall time, though not
 immune (under load the memory-bound golden model loses more; docs/simulation.md). Then one line for Icarus on the first configuration (PIXELS_ICARUS= pixels,
-default 16384: Icarus streams about a thousand full pixels a second). docs/simulation.md
-explains the figures.
+default 16384: Icarus streams about a thousand full pixels a second). Each configuration also
+gives the same pass cut in BENCH_PROCS runs (default: the machine's cores) on as many simulator
+processes at once (`procs` fields: their wall time with start-ups, and the whole call; the golden
+model stays on one core). docs/simulation.md explains the figures.
 """
 from __future__ import annotations
 
@@ -30,6 +32,9 @@ import numpy as np
 from sim import frame_rtl
 
 CONFIGS = ("full", "compact", "reduced")
+# simulator processes at once in the `procs` figures (the frame cut in that many runs): the machine's
+# cores, BENCH_PROCS= another count (the golden model runs on one core: docs/simulation.md)
+PROCS = int(os.environ.get("BENCH_PROCS") or os.cpu_count() or 1)
 
 
 def _best(fn, repeat: int):
@@ -68,10 +73,14 @@ def versus_golden(config: str, pixels: int, repeat: int = 3) -> dict:
         run_cpu = (ch2.ru_utime + ch2.ru_stime) - (ch.ru_utime + ch.ru_stime)
         stream_s = sum(x.get("stream_wall_us", 0) for x in st) / 1e6
         stream_cpu = sum(x.get("stream_cpu_us", 0) for x in st) / 1e6
-        runs.append((stream_s, run_s, frame_s, stream_cpu, run_cpu))
-        if np.any(rgba != exp):
+        # the same pass cut in PROCS runs, PROCS simulator processes at once (the machine's cores)
+        t = time.perf_counter()
+        rgba_p, _, par_s, _ = frame_rtl.run_frame_rtl(cfg, "verilator", tex, s, Jm, je, return_stats=True, procs=PROCS)
+        par_frame_s = time.perf_counter() - t
+        runs.append((stream_s, run_s, frame_s, stream_cpu, run_cpu, par_s, par_frame_s))
+        if np.any(rgba != exp) or np.any(rgba_p != exp):
             break
-    stream_s, run_s, frame_s, stream_cpu, run_cpu = (min(r[i] for r in runs) for i in range(5))
+    stream_s, run_s, frame_s, stream_cpu, run_cpu, par_s, par_frame_s = (min(r[i] for r in runs) for i in range(7))
     golden = pixels / golden_s
     golden_c = pixels / max(golden_cpu, 1e-9)
     out = {
@@ -89,8 +98,13 @@ def versus_golden(config: str, pixels: int, repeat: int = 3) -> dict:
         "ratio_stream_cpu": round(pixels / max(stream_cpu, 1e-9) / golden_c, 3),
         "ratio_run_cpu": round(pixels / max(run_cpu, 1e-9) / golden_c, 3),
         "fixed_seconds": round(frame_s - stream_s, 3),
+        "procs": PROCS,
+        "verilator_procs_pixels_per_second_run": round(pixels / par_s),
+        "verilator_procs_pixels_per_second_frame": round(pixels / par_frame_s),
+        "ratio_procs_run": round(pixels / par_s / golden, 3),
+        "ratio_procs_frame": round(pixels / par_frame_s / golden, 3),
         "build_seconds": round(build_s, 2),
-        "mismatches": int(np.count_nonzero(np.any(rgba != exp, axis=-1))),
+        "mismatches": int(np.count_nonzero(np.any(rgba != exp, axis=-1)) + np.count_nonzero(np.any(rgba_p != exp, axis=-1))),
     }
     out["bit_exact"] = out["mismatches"] == 0
     return out
@@ -154,10 +168,36 @@ def steps(config: str, pixels: int, repeat: int, only=None) -> int:
     return 0 if ok else 1
 
 
+def pgo(config: str, pixels: int, repeat: int) -> int:
+    """python -m sim.bench pgo: gcc's profile-guided build of the frame harness (docs/simulation.md, stop
+    44): built with -fprofile-generate into build/sim/pgo/<config>, trained on the bench frame, rebuilt
+    in the same build directory with -fprofile-use; one JSON line of the trained build beside the golden
+    model (compare with `make bench-sim` in the same minutes: the default build is not timed here)."""
+    import shutil
+
+    prof = frame_rtl.build_root() / "sim" / "pgo" / config
+    shutil.rmtree(prof, ignore_errors=True)
+    default = (frame_rtl.VERILATOR_ARGS, frame_rtl.BUILD_TAG)
+    try:
+        frame_rtl.BUILD_TAG = "-pgo"
+        frame_rtl.VERILATOR_ARGS = [*default[0], "-CFLAGS", f"-fprofile-generate={prof}",
+                                    "-LDFLAGS", f"-fprofile-generate={prof}"]
+        versus_golden(config, pixels, 1)  # the build and its training run
+        frame_rtl.VERILATOR_ARGS = [*default[0], "-CFLAGS", f"-fprofile-use={prof} -fprofile-correction -Wno-missing-profile",
+                                    "-LDFLAGS", f"-fprofile-use={prof}"]
+        rep = {"step": "pgo", "what": "gcc -fprofile-use (trained on this frame)", **versus_golden(config, pixels, repeat)}
+    finally:
+        frame_rtl.VERILATOR_ARGS, frame_rtl.BUILD_TAG = default
+    print(json.dumps(rep), flush=True)
+    return 0 if rep["bit_exact"] else 1
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     pixels = int(os.environ.get("PIXELS_VERILATOR", 512 * 512))
     repeat = int(os.environ.get("REPEAT", 3))
+    if argv[:1] == ["pgo"]:
+        return pgo(os.environ.get("CONFIG", "full"), pixels, repeat)
     if argv[:1] == ["steps"]:
         only = {int(x) for x in argv[1].split(",")} if len(argv) > 1 else None
         return steps(os.environ.get("CONFIG", "full"), pixels, repeat, only)

@@ -280,9 +280,10 @@ def main(argv=None) -> int:
     ap.add_argument("--scenes", help="--all: only these scenes (comma-separated names; default all)")
     ap.add_argument("--quiet", action="store_true")
     a = ap.parse_args(argv)
-    from sim.frame_rtl import FrameRunError
+    from sim.frame_rtl import FrameRunError, frame_procs
 
     def go():
+        frame_procs()  # FRAME_PROCS checked before any work
         if a.all:
             scenes = SCENES
             if a.scenes:

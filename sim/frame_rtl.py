@@ -36,6 +36,7 @@ import os
 import shutil
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -71,6 +72,7 @@ RUN_PLUSARGS: list[str] = []  # more plusargs of every Verilator run (sim/bench.
 _built: dict[tuple[str, str, str], str] = {}
 _run_counter = itertools.count()
 STARTS = 0  # simulator starts (runs) in this process
+_STARTS_LOCK = threading.Lock()
 
 
 class FrameRunError(RuntimeError):
@@ -399,7 +401,8 @@ def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, see
     if reset_at is not None:
         env["FRAME_RESET_AT"] = str(int(reset_at))
     t0 = time.perf_counter()
-    STARTS += 1
+    with _STARTS_LOCK:  # (run_passes_rtl's pool runs several at once)
+        STARTS += 1
     if sim == "verilator":
         _run_verilator(bdir, rdir, config, plusargs + [
             f"+TIMEOUT={timeout_cycles}", f"+NPIXTOTAL={n}", f"+WALL={files['pystats']}",
@@ -431,8 +434,9 @@ def run_segments(config, sim: str, segments, gaps: int = 0, stalls: int = 0, see
 
 def run_passes_rtl(cfg_name, sim: str, passes, gaps: int = 0, stalls: int = 0, seed: int = 1,
                    reset_at: int | None = None, return_stats: bool = False, extra_writes=(),
-                   fault_hold: bool = False, limits: dict | None = None, netlists=None):
-    """RGBA8 of texture passes through the RTL, in as few simulator runs as the harness takes.
+                   fault_hold: bool = False, limits: dict | None = None, netlists=None, procs: int | None = None):
+    """RGBA8 of texture passes through the RTL, in as few simulator runs as the harness takes
+    (procs > 1: in at least procs runs of about equal pixel counts, procs simulator processes at once).
 
     passes: [(texint, s_int, Jm, je), ...], each a texture and its quantized pixel stream
     (model.hw.quantize; s_int [..., 3], Jm [..., 3, 2], je [...]); a pass may have no pixels.
@@ -446,26 +450,48 @@ def run_passes_rtl(cfg_name, sim: str, passes, gaps: int = 0, stalls: int = 0, s
     stream again. extra_writes: (address, data) writes issued after each texture's (tests:
     unmapped addresses). fault_hold: plant a fault in the harness's AXI-Stream hold check.
     limits: {"MAX_PIX", "MAX_WR", "MAX_SEG"} to split at, each at most the harness memory
-    (tests: several runs with few pixels)."""
+    (tests: several runs with few pixels). procs: simulator processes running at once (default
+    FRAME_PROCS from the environment, else 1): the pixels are cut into at least procs runs of about
+    equal size (each piece reloads its pass's writes) and the runs go to a pool of procs threads,
+    each waiting on its own simulator; the colours are the same, only the wall time changes
+    (docs/simulation.md: the frame's halves on the two cores). info["seconds"] is then the pool's
+    wall time, start-ups included, not the sum of the runs'."""
     cfg = config_of(cfg_name)
     mem = memory(sim)
     for k, v in (limits or {}).items():
         if k not in mem or not 1 <= int(v) <= mem[k]:
             raise ValueError(f"limits {k}={v}: expected one of {', '.join(mem)}, 1..its memory depth")
         mem[k] = int(v)
+    procs = frame_procs() if procs is None else int(procs)
+    if procs < 1:
+        raise ValueError(f"procs {procs}: expected 1 or more simulator processes")
     extra = [(int(a), int(d)) for a, d in extra_writes]
     writes, words = [], []
     for texint, s_int, Jm, je in passes:
         s_int = np.asarray(s_int, dtype=np.int64).reshape(-1, 3)
         writes.append(write_sequence(cfg, texint) + extra)
         words.append(pack_pixels_u32(cfg, s_int, np.asarray(Jm).reshape(-1, 3, 2), np.asarray(je).reshape(-1)))
-    plan = plan_runs([(len(wr), len(w)) for wr, w in zip(writes, words)], mem["MAX_PIX"], mem["MAX_WR"], mem["MAX_SEG"])
+    total = sum(len(w) for w in words)
+    max_pix = mem["MAX_PIX"] if procs == 1 else max(1, min(mem["MAX_PIX"], -(-total // procs)))
+    plan = plan_runs([(len(wr), len(w)) for wr, w in zip(writes, words)], max_pix, mem["MAX_WR"], mem["MAX_SEG"])
     out: list[list[np.ndarray]] = [[] for _ in words]
     cycles = [0] * len(words)
+
+    def one(r):
+        return run_segments(cfg, sim, [(writes[i], words[i][a:b]) for i, a, b in plan[r]], gaps, stalls, seed + r,
+                            reset_at, fault_hold=fault_hold, netlists=netlists)
+
+    t0 = time.perf_counter()
+    if procs == 1 or len(plan) == 1:
+        results = [one(r) for r in range(len(plan))]
+    else:
+        build(cfg, sim, netlists)  # once, before the pool (run_segments' own call then finds it built)
+        from concurrent.futures import ThreadPoolExecutor
+        with ThreadPoolExecutor(max_workers=procs) as pool:
+            results = list(pool.map(one, range(len(plan))))
+    wall = time.perf_counter() - t0
     runs = []
-    for r, segs in enumerate(plan):
-        outs, st = run_segments(cfg, sim, [(writes[i], words[i][a:b]) for i, a, b in segs], gaps, stalls, seed + r,
-                                reset_at, fault_hold=fault_hold, netlists=netlists)
+    for segs, (outs, st) in zip(plan, results):
         for (i, _, _), o, sst in zip(segs, outs, st["segments"]):
             out[i].append(o)
             cycles[i] += sst["stream_cycles"]
@@ -473,23 +499,36 @@ def run_passes_rtl(cfg_name, sim: str, passes, gaps: int = 0, stalls: int = 0, s
     rgba = [unpack_rgba(np.concatenate(o)) if o else np.zeros((0, 4), np.uint8) for o in out]
     if not return_stats:
         return rgba
-    return rgba, {"starts": len(runs), "seconds": sum(st["run_seconds"] for st in runs),
+    parallel = procs > 1 and len(runs) > 1
+    return rgba, {"starts": len(runs), "procs": procs,
+                  "seconds": wall if parallel else sum(st["run_seconds"] for st in runs),
                   "stream_seconds": sum(st.get("stream_wall_us", 0) for st in runs) / 1e6,
                   "cycles": cycles, "runs": runs}
 
 
+def frame_procs() -> int:
+    """FRAME_PROCS from the environment (simulator processes at once; default 1): a clear error
+    for a value that is no positive integer."""
+    from model.cli import UserError
+
+    v = os.environ.get("FRAME_PROCS", "1")
+    if not v.isdigit() or int(v) < 1:
+        raise UserError(f"FRAME_PROCS={v!r}: expected a positive integer (simulator processes at once)")
+    return int(v)
+
+
 def run_frame_rtl(cfg_name: str, sim: str, texint, s_int, Jm, je, gaps: int = 0, stalls: int = 0,
                   seed: int = 1, reset_at: int | None = None, return_stats: bool = False,
-                  extra_writes=(), fault_hold: bool = False):
+                  extra_writes=(), fault_hold: bool = False, procs: int | None = None):
     """RGBA8 of one texture pass through the RTL: (rgba uint8 [P, 4], cycles, sim_seconds);
     run_passes_rtl of the one pass (its arguments).
 
     cycles: clocks from the first pixel offered to the last colour taken (summed over runs);
     sim_seconds: wall-clock seconds of the simulator runs (including simulator start-up).
-    return_stats: also return the list of per-run statistics dicts.
+    return_stats: also return the list of per-run statistics dicts. procs: as run_passes_rtl's.
     """
     (rgba,), info = run_passes_rtl(cfg_name, sim, [(texint, s_int, Jm, je)], gaps, stalls, seed, reset_at, True,
-                                   extra_writes, fault_hold)
+                                   extra_writes, fault_hold, procs=procs)
     if return_stats:
         return rgba, info["cycles"][0], info["seconds"], info["runs"]
     return rgba, info["cycles"][0], info["seconds"]

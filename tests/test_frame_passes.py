@@ -82,7 +82,9 @@ def _passes(cfg, sizes, seed):
 def test_passes_split_across_runs_and_in_one_run_are_bit_exact():
     """Passes of 300, 0, 900, 250 and 100 pixels, split at 1000 pixels and 2 passes a run (three
     runs: a pass cut across two, random gaps and stalls), then all in one run: every pass's
-    colours equal the golden model's, and the counted simulator starts are the planned runs."""
+    colours equal the golden model's, and the counted simulator starts are the planned runs; then
+    cut for 3 simulator processes at once (procs=3: 3 runs of 517 pixels or fewer, the pool's wall
+    time reported), the same colours."""
     cfg = load_config("full")
     seed = int(os.environ.get("SEED", "5"))
     sizes = [300, 0, 900, 250, 100]
@@ -92,11 +94,14 @@ def test_passes_split_across_runs_and_in_one_run_are_bit_exact():
     nwr = len(F.write_sequence(cfg, passes[0][0]))
     plan = F.plan_runs([(nwr, n) for n in sizes], 1000, F.memory("verilator")["MAX_WR"], 2)
     assert len(plan) == 3 and (2, 0, 700) in plan[0] and (2, 700, 900) in plan[1]
-    for lim, gaps, starts in ((limits, 20, 3), (None, 0, 1)):
+    for lim, gaps, starts, procs in ((limits, 20, 3, 1), (None, 0, 1, 1), (None, 10, 3, 3)):
         before = F.STARTS
         got, info = F.run_passes_rtl(cfg, "verilator", passes, gaps=gaps, stalls=gaps, seed=seed,
-                                     return_stats=True, limits=lim)
-        assert info["starts"] == starts == F.STARTS - before == len(info["runs"])
+                                     return_stats=True, limits=lim, procs=procs)
+        assert info["starts"] == starts == F.STARTS - before == len(info["runs"]) and info["procs"] == procs
+        if procs > 1:  # runs of ceil(1550 / 3) pixels at most, at once: the pool's wall time is below their sum
+            assert len(F.plan_runs([(nwr, n) for n in sizes], 517, F.memory("verilator")["MAX_WR"], 4096)) == 3
+            assert 0 < info["seconds"] < sum(st["run_seconds"] for st in info["runs"])
         assert [len(g) for g in got] == sizes
         for i, (g, e) in enumerate(zip(got, gold)):
             bad = np.nonzero(np.any(g != e, axis=-1))[0]

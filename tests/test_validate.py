@@ -221,21 +221,21 @@ def test_generated_docs_are_current():
 
 
 def test_generated_docs_measured_this_rtl():
-    """Every stamp in docs/ (each generated section's `<!-- measured on: ... rtl=<hash> -->`) names rtl/ as it is
-    now: a change to rtl/ reruns every command whose figures it moves (gates, frames, gate-level simulation,
-    coverage, mutants, the sweep), or the docs would quote figures of another RTL."""
-    from model.hw.config import read_stamp, rtl_source_hash
+    """Every stamp in docs/ (each generated section's `<!-- measured on: ... rtl=<hash> -->`) names rtl/ and the
+    configurations as they are now, or its section says under its heading that it does not (app/regen.py's mark:
+    what it was measured on, today's hashes and the command; `make regen` reruns the commands and marks what is
+    left): nothing stale looks current, and no mark stays on a section measured since."""
+    from app.regen import banner_text, banners, is_stale, jobs, stamped_sections
 
-    now, stale, stamps = rtl_source_hash(), [], 0
-    for p in sorted((ROOT / "docs").rglob("*.md")):
-        for line in p.read_text().splitlines():  # a doc with sections of its own has a stamp each
-            h = (read_stamp(line) or {}).get("rtl")
-            if h:
-                stamps += 1
-                if h != now:
-                    stale.append(f"{p.relative_to(ROOT)} (rtl={h})")
-    assert stamps >= 5, stamps
-    assert not stale, f"measured on another rtl/ than today's ({now}): " + ", ".join(stale) + "; rerun their commands"
+    secs, marks = stamped_sections(), banners()
+    cmds = {j.section: j.commands for j in jobs()}
+    assert sum(1 for st in secs.values() if "rtl" in st) >= 12, secs
+    unmarked = [f"docs/{d}{f' ({t})' if t else ''}" for (d, t), st in secs.items() if is_stale(st) and (d, t) not in marks]
+    assert not unmarked, ("measured on another rtl/ or configuration than today's, and not marked so: "
+                          + ", ".join(unmarked) + "; `make regen` reruns them (or --mark marks them)")
+    for (d, t), line in marks.items():
+        assert is_stale(secs[(d, t)]), f"docs/{d} ({t}): marked stale, but its stamp names today's sources; `make regen --mark`"
+        assert line == banner_text(secs[(d, t)], cmds[(d, t)]), f"docs/{d} ({t}): its mark names other hashes: {line}"
 
 
 def test_stamp_round_trip():
