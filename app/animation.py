@@ -307,12 +307,8 @@ def write_docs(rep: dict, docs: Path) -> None:
                      f"{x.get('flicker_filtered_lsb', '-')} | {x.get('flicker_unfiltered_lsb', '-')} | "
                      f"{x['truth_moves_band_db']} |")
         L.append("")
-    # the rtl/ of the stamp: today's only when every section's run had it (a section of an older run, or one
-    # from before the runs recorded it, keeps the doc stale until `make regen` reruns it)
-    now = rtl_source_hash()
-    old = [r.get("rtl_hash", "unrecorded") for r in reps.values() if r.get("rtl_hash") != now]
-    L.append(doc_stamp(sorted({r["config"] for r in reps.values()}), rtl=False)[:-len(" -->")]
-             + f" rtl={old[0] if old else now} -->")
+    # a section of an older run (or from before the runs recorded their rtl/) keeps the doc stale
+    L.append(doc_stamp(sorted({r["config"] for r in reps.values()}), ran_on=[r.get("rtl_hash") for r in reps.values()]))
     (docs / "animation.md").write_text("\n".join(L) + "\n")
 
 

@@ -24,7 +24,7 @@ from pathlib import Path
 from app.common import git_describe, write_doc_section
 from hdlbuild import need_tool
 from model.cli import Parser, UserError, check_config, check_range, config_label, run_main
-from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, load_config, read_stamp, rtl_source_hash
+from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, load_config, read_stamp
 from model.scene.passes import SCENES
 
 REPORTS = ROOT / "synth" / "reports"
@@ -98,17 +98,8 @@ def write_doc() -> None:
           "cached in build/gls/ under a stamp of the RTL, the flow and the parameters, or a current build, costs "
           "nothing, so the synthesis column is small when an earlier run of the same RTL synthesized the pieces). "
           "`make test` runs reduced and compact on every scene at 4x4 (tests/test_gls.py).", "",
-          _section_stamp([r["config"] for r in reps], rtls)]
+          doc_stamp([r["config"] for r in reps], ran_on=rtls)]  # a row of an older run keeps the section stale
     write_doc_section(TITLE, "\n".join(L))
-
-
-def _section_stamp(configs, rtls) -> str:
-    """The section's stamp: its configurations, and the rtl/ its rows ran on: today's only when every
-    row ran on it (a row of an older run names its own, and the section is stale until that
-    configuration runs again: `make regen`)."""
-    now = rtl_source_hash()
-    old = [h for h in rtls if h != now]
-    return doc_stamp(configs, rtl=False)[:-len(" -->")] + f" rtl={old[0] if old else now} -->"
 
 
 def main(argv=None) -> int:

@@ -480,12 +480,8 @@ def write_doc() -> Path:
                          "device or fewer multipliers.")
     tools = next((r["tools"] for r in reps if r.get("tools")), {})
     L += ["", "Tools: " + ", ".join(f"{k} {v}" for k, v in tools.items()) + ". Logs: build/fpga/<name>/.", ""]
-    # the rtl/ of the stamp: today's only when every report placed it (a report of an older run, or one from
-    # before reports recorded it, keeps the doc stale until `make regen` places it again)
-    now = rtl_source_hash()
-    old = [r.get("rtl", "unrecorded") for r in reps if r.get("rtl") != now]
-    L.append(doc_stamp(sorted({str(r.get("config", "")) for r in reps}), rtl=False)[:-len(" -->")]
-             + f" rtl={old[0] if old else now} -->")
+    # a report of an older run (or from before reports recorded their rtl/) keeps the doc stale
+    L.append(doc_stamp(sorted({str(r.get("config", "")) for r in reps}), ran_on=[r.get("rtl") for r in reps]))
     DOC.parent.mkdir(parents=True, exist_ok=True)
     DOC.write_text("\n".join(L) + "\n")
     return DOC

@@ -245,6 +245,11 @@ def test_stamp_round_trip():
     st = read_stamp("# doc\n\n" + doc_stamp(cfgs) + "\n")
     assert st["full"] == config_hash(cfgs[0]) and st["reduced"] != config_hash(load_config("reduced"))
     assert len(st["rtl"]) == 12 and read_stamp("no stamp") is None
+    # a doc assembled from several runs' reports names the first row not measured on today's rtl/
+    now = st["rtl"]
+    assert read_stamp(doc_stamp(cfgs, ran_on=[now, now]))["rtl"] == now
+    assert read_stamp(doc_stamp(cfgs, ran_on=[now, "0" * 12, None]))["rtl"] == "0" * 12
+    assert read_stamp(doc_stamp(cfgs, ran_on=[None, now]))["rtl"] == "unrecorded"
 
 
 def test_derive_descends_to_where_no_move_keeps_the_promise(tmp_path):

@@ -604,10 +604,13 @@ def rtl_source_hash() -> str:
 STAMP = "<!-- measured on:"
 
 
-def doc_stamp(configs, rtl: bool = True) -> str:
+def doc_stamp(configs, rtl: bool = True, ran_on=None) -> str:
     """The line a generated doc ends with: the hash of each configuration it measured (and of rtl/),
     as `<!-- measured on: full=<hash> reduced=<hash> rtl=<hash> -->`;
-    tests/test_validate.py fails when a configuration changed since (rerun the doc's command)."""
+    tests/test_validate.py fails when a configuration changed since (rerun the doc's command).
+    ran_on: for a doc assembled from several runs' reports, the rtl/ hash each row ran on (None: a
+    report that did not record it); the stamp names the first that is not today's ("unrecorded" for
+    None), so a doc with a row of an older run stays stale until that row is measured again."""
     cfgs = []
     for c in configs:  # Configs, or names (a name that is no configuration file, e.g. "compact-fpga", is skipped)
         if isinstance(c, Config):
@@ -615,7 +618,11 @@ def doc_stamp(configs, rtl: bool = True) -> str:
         elif is_config_file(str(c)) and all(x.name != c for x in cfgs):
             cfgs.append(load_config(str(c)))
     parts = [f"{c.name}={config_hash(c)}" for c in cfgs]
-    return f"{STAMP} {' '.join(parts)}{' rtl=' + rtl_source_hash() if rtl else ''} -->"
+    if rtl:
+        now = rtl_source_hash()
+        old = [h or "unrecorded" for h in (ran_on or ()) if h != now]
+        parts.append(f"rtl={old[0] if old else now}")
+    return f"{STAMP} {' '.join(parts)} -->"
 
 
 def read_stamp(text: str) -> dict | None:
