@@ -20,9 +20,15 @@
 // Latency Q_W (register stages); throughput one division per enabled clock.
 // Reset (synchronous, active high) clears the valid chain and q_out; the quotient
 // register loads only with a valid result, so q_out is never X after reset.
-// Written for event-driven simulation speed: one small always @* per (stage, lane) with
-// constant part-selects (in Icarus a loop variable read costs more than a wake-up), one
-// clocked process per stage, no bus driven piecewise, no net-level arithmetic.
+// Written for simulation speed: each stage's next values are computed in its one clocked
+// process (blocking temporaries) and only on a clock that brings the stage a valid vector,
+// so that a simulator skips an idle stage (its registers hold; only the valid chain and
+// q_out are reset, and q_out loads only a valid result); no bus driven piecewise, no
+// net-level arithmetic.
+// Each such process first assigns its temporaries whole, outside any if, so that they are
+// C++ locals in the Verilator model (it localizes only a variable wholly assigned outside
+// any branch; one first assigned under the if stays a member of the model, a store on every
+// write).
 
 `default_nettype none
 
@@ -62,114 +68,119 @@ always @(posedge clk) begin
         valid_reg <= {valid_reg[Q_W-2:0], in_valid};
 end
 
-genvar s, l;
+genvar s;
 generate
     for (s = 0; s < Q_W; s = s + 1) begin : g_stage
         localparam integer I = Q_W - 1 - s;  // quotient bit decided by this stage
         // the remainder bits below I (they pass unchanged)
         localparam [RW-1:0]  LOW  = ~({RW{1'b1}} << I);
 
-        // this stage's inputs: the previous stage's registers (stage 0: the ports), lane l
-        // at [l*RW +: RW] (remainder < den 2^(I+1)) and [l*Q_W +: Q_W] (quotient bits so far)
+        // this stage's inputs: the previous stage's registers (stage 0: the ports, widened
+        // in the stage's process), lane l at [l*RW +: RW] (remainder < den 2^(I+1)) and
+        // [l*Q_W +: Q_W] (quotient bits so far), and their valid
+        wire                 v_in;
         wire [DEN_W-1:0]     den;
         wire [LANES*RW-1:0]  rem_in;
         wire [LANES*Q_W-1:0] q_in;
         wire [LANES-1:0]     ovf_in;  // SAT: num >= den 2^Q_W (q saturates); else 0
 
-        // next values of this stage's registers, lane l computed by g_lane[l]
-        reg  [LANES*RW-1:0]  rem_nx;
-        reg  [LANES*Q_W-1:0] q_nx;
-
         if (s == 0) begin : g_in
-            reg [LANES*RW-1:0] num_x;
-            reg [LANES-1:0]    ovf_x;
-            integer            k;
-            always @* begin
-                num_x = {(LANES*RW){1'b0}};
-                ovf_x = {LANES{1'b0}};
-                for (k = 0; k < LANES; k = k + 1) begin
-                    num_x[k*RW +: NW] = num_in[k*NUM_W +: NW];
-                    // SAT = 0, or num < 2^Q_W <= den 2^Q_W (den >= 1): no overflow
-                    if (SAT != 0 && NUM_W > Q_W)
-                        ovf_x[k] = (num_hi(num_in[k*NUM_W +: NUM_W]) >= den_ow(den_in));
-                end
-            end
+            assign v_in   = in_valid;
             assign den    = den_in;
-            assign rem_in = num_x;
+            assign rem_in = {(LANES*RW){1'b0}};   // not read: stage 0 widens num_in itself
             assign q_in   = {(LANES*Q_W){1'b0}};
-            assign ovf_in = ovf_x;
+            assign ovf_in = {LANES{1'b0}};        // not read: stage 0 compares num_in itself
         end else begin : g_in
+            assign v_in   = valid_reg[s-1];
             assign den    = g_stage[s-1].g_mid.den_reg;
             assign rem_in = g_stage[s-1].g_mid.rem_reg;
             assign q_in   = g_stage[s-1].g_mid.q_reg;
             assign ovf_in = g_stage[s-1].g_mid.ovf_reg;
         end
 
-        for (l = 0; l < LANES; l = l + 1) begin : g_lane
-            // one compare-subtract on bits [I +: DEN_W+1] of the partial remainder rem
-            // (< 2 den under the precondition): hi >= den iff hi - den does not borrow
-            // (both < 2^(DEN_W+1), no wrap)
-            reg [RW-1:0]  rem;
-            reg [DEN_W:0] diff;   // hi - den, hi = rem >> I
-            always @* begin
-                rem  = rem_in[l*RW +: RW];
-                diff = rem[I +: DEN_W+1] - {1'b0, den};
-                // the bits above I+DEN_W are zero after the stage, the bits below I pass;
-                // hi >= den (!diff[DEN_W]): bits [I +: DEN_W] take hi - den, else hi
-                rem_nx[l*RW +: RW] = rem & LOW;
-                rem_nx[l*RW+I +: DEN_W] = diff[DEN_W] ? rem[I +: DEN_W] : diff[DEN_W-1:0];
-                q_nx[l*Q_W +: Q_W] = q_in[l*Q_W +: Q_W];
-                q_nx[l*Q_W+I] = !diff[DEN_W];
-            end
-        end
+        // the stage's next values, computed in its clocked process only on a clock that
+        // brings it a valid vector (the registers hold otherwise): per lane one
+        // compare-subtract on bits [I +: DEN_W+1] of the partial remainder rem (< 2 den
+        // under the precondition): hi >= den iff hi - den does not borrow (both
+        // < 2^(DEN_W+1), no wrap); the bits above I+DEN_W are zero after the stage, the bits
+        // below I pass; hi >= den (!diff[DEN_W]): bits [I +: DEN_W] take hi - den, else hi
+        /* verilator lint_off UNUSEDSIGNAL */  // the last stage reads only rem[DEN_W:0]
+        reg [RW-1:0]         rem;     // lane temporaries (blocking, in the clocked process)
+        /* verilator lint_on UNUSEDSIGNAL */
+        reg [DEN_W:0]        diff;    // hi - den, hi = rem >> I
+        reg [LANES*Q_W-1:0]  q_nx;
+        integer              k;
 
         if (s < Q_W - 1) begin : g_mid
             reg [DEN_W-1:0]     den_reg;
             reg [LANES*RW-1:0]  rem_reg;  // remainder after this stage: < den 2^I
             reg [LANES*Q_W-1:0] q_reg;    // quotient bits decided so far
-            wire [LANES-1:0]    ovf_reg;  // SAT: the overflow flags (registers only if SAT)
+            reg [LANES-1:0]     ovf_r;    // SAT: the overflow flags (else not read)
+            wire [LANES-1:0]    ovf_reg;
+            reg [LANES*RW-1:0]  rem_nx;   // temporaries of the process below
+            reg [LANES-1:0]     ovf_nx;
+            /* verilator lint_off BLKSEQ */
             always @(posedge clk) begin
-                if (ce) begin
+                // the temporaries wholly assigned first, outside the if (C++ locals: the header)
+                rem    = {RW{1'b0}};
+                diff   = {(DEN_W+1){1'b0}};
+                q_nx   = {(LANES*Q_W){1'b0}};
+                rem_nx = {(LANES*RW){1'b0}};
+                ovf_nx = {LANES{1'b0}};
+                if (ce && v_in) begin
+                    for (k = 0; k < LANES; k = k + 1) begin
+                        if (s == 0) begin
+                            rem = {RW{1'b0}};
+                            rem[NW-1:0] = num_in[k*NUM_W +: NW];
+                            q_nx[k*Q_W +: Q_W] = {Q_W{1'b0}};
+                            // SAT = 0, or num < 2^Q_W <= den 2^Q_W (den >= 1): no overflow
+                            ovf_nx[k] = (SAT != 0 && NUM_W > Q_W)
+                                      && (num_hi(num_in[k*NUM_W +: NUM_W]) >= den_ow(den_in));
+                        end else begin
+                            rem = rem_in[k*RW +: RW];
+                            q_nx[k*Q_W +: Q_W] = q_in[k*Q_W +: Q_W];
+                            ovf_nx[k] = ovf_in[k];
+                        end
+                        diff = rem[I +: DEN_W+1] - {1'b0, den};
+                        rem_nx[k*RW +: RW] = rem & LOW;
+                        rem_nx[k*RW+I +: DEN_W] = diff[DEN_W] ? rem[I +: DEN_W] : diff[DEN_W-1:0];
+                        q_nx[k*Q_W+I] = !diff[DEN_W];
+                    end
                     den_reg <= den;
                     rem_reg <= rem_nx;
                     q_reg   <= q_nx;
+                    ovf_r   <= ovf_nx;
                 end
             end
-            if (SAT != 0) begin : g_sat
-                reg [LANES-1:0] ovf_r;
-                always @(posedge clk) begin
-                    if (ce)
-                        ovf_r <= ovf_in;
-                end
-                assign ovf_reg = ovf_r;
-            end else begin : g_nosat
-                assign ovf_reg = {LANES{1'b0}};
-                /* verilator lint_off UNUSEDSIGNAL */
-                wire [LANES-1:0] unused_ovf = ovf_in;  // constant 0 without SAT
-                /* verilator lint_on UNUSEDSIGNAL */
-            end
+            /* verilator lint_on BLKSEQ */
+            assign ovf_reg = (SAT != 0) ? ovf_r : {LANES{1'b0}};  // SAT = 0: ovf_r unread
         end else begin : g_last
             // output register: reset to 0, loads only a valid result; the final remainder
             // is not needed (floor division); SAT: an overflowed lane's quotient is all ones
             /* verilator lint_off UNUSEDSIGNAL */
-            wire [LANES*RW-1:0] unused_rem = rem_nx;
+            wire [LANES*RW-1:0] unused_rem = rem_in;  // read only at [0 +: DEN_W+1] a lane
             /* verilator lint_on UNUSEDSIGNAL */
-            reg [LANES*Q_W-1:0] q_fin;
             reg [LANES*Q_W-1:0] q_out_reg;
-            integer             k;
-            always @* begin
-                q_fin = q_nx;
-                if (SAT != 0)
-                    for (k = 0; k < LANES; k = k + 1)
-                        if (ovf_in[k])
-                            q_fin[k*Q_W +: Q_W] = {Q_W{1'b1}};
-            end
+            /* verilator lint_off BLKSEQ */
             always @(posedge clk) begin
+                rem  = {RW{1'b0}};
+                diff = {(DEN_W+1){1'b0}};
+                q_nx = {(LANES*Q_W){1'b0}};
                 if (rst)
                     q_out_reg <= {(LANES*Q_W){1'b0}};
-                else if (ce && valid_reg[Q_W-2])
-                    q_out_reg <= q_fin;
+                else if (ce && v_in) begin
+                    for (k = 0; k < LANES; k = k + 1) begin
+                        rem = rem_in[k*RW +: RW];
+                        diff = rem[I +: DEN_W+1] - {1'b0, den};
+                        q_nx[k*Q_W +: Q_W] = q_in[k*Q_W +: Q_W];
+                        q_nx[k*Q_W+I] = !diff[DEN_W];
+                        if (SAT != 0 && ovf_in[k])
+                            q_nx[k*Q_W +: Q_W] = {Q_W{1'b1}};
+                    end
+                    q_out_reg <= q_nx;
+                end
             end
+            /* verilator lint_on BLKSEQ */
             assign q_out = q_out_reg;
         end
     end

@@ -32,8 +32,16 @@
 // Latency `LAT_CMAP_SAT = 13 register stages (FPGA_REGS: `LAT_CMAP_SAT_FPGA = 17) from the
 // stage-1 registers of colour_map; throughput one pixel per enabled clock.
 // Reset (synchronous, active high) clears the valid chain and rgba_out (no X after reset).
-// Written for event-driven simulation speed: combinational logic in one always @* per
-// stage, one clocked process per stage group, no bus driven piecewise.
+// Written for simulation speed: stages 2..5 load only on the enabled clocks that bring them a
+// valid pixel (stage 5 and sat_integral with FPGA_REGS: every enabled clock) and hold
+// otherwise; stage 2's words, sat_index's and sat_integral's logic are computed in their
+// clocked processes, so a simulator skips them on the other clocks; the multiplier operand
+// select of stage 5 and D (stage 6) stay in always @* (their results are read by other
+// modules in the same clock); one clocked process per stage group, no bus driven piecewise.
+// Each such process first assigns its temporaries whole, outside any if, so that they are
+// C++ locals in the Verilator model (it localizes only a variable wholly assigned outside
+// any branch; one first assigned under the if stays a member of the model, a store on every
+// write).
 
 `default_nettype none
 
@@ -90,18 +98,13 @@ generate
     end
 endgenerate
 
-// ---- stage 2: window ends a = 2u - w, b = 2u + w (filter off: w = 0, a = b = 2u)
+// ---- stage 2: window ends a = 2u - w, b = 2u + w (filter off: w = 0, a = b = 2u), formed
+// in the clocked process below
 reg [X_W-1:0] u2;
 reg [X_W-1:0] w_x;
-always @* begin
-    u2 = {X_W{u_in[U_W-1]}};
-    u2[U_W:1] = u_in;
-    u2[0] = 1'b0;
-    w_x = {X_W{1'b0}};
-    w_x[W_W-1:0] = w_in;
-end
 
-// the registers of stages 2..5 (loaded by one clocked process below)
+// the registers of stages 2..5 (loaded by one clocked process below, each stage only on the
+// enabled clocks that bring it a valid pixel: they hold otherwise)
 reg [3:0]       sv_reg;         // valid of stage s (2..5) at bit s - 2
 reg [X_W-1:0]   s2_a_reg;
 reg [X_W-1:0]   s2_b_reg;
@@ -110,6 +113,13 @@ reg             s2_mode_reg;
 reg [NL_W-1:0]  s2_n_log2_reg;
 reg [NMAX-1:0]  s2_nm1_reg;     // FPGA_REGS: N - 1 for sat_index (else not read)
 
+// each stage's enable: ce on a clock that brings the stage a valid pixel (stages 2..4; stage
+// 5 and sat_integral: FPGA_REGS, whose words pass the extra stages 4b and 5a, on every
+// enabled clock)
+wire ce3 = ce && sv_reg[0];
+wire ce4 = ce && sv_reg[1];
+wire ce5 = ce && (sv_reg[2] || P != 0);
+
 // ---- stage 3: table addresses and weights of both ends
 wire [NMAX-1:0] kk_a, kk_b, km1_a, km1_b;
 wire            first_a, first_b;
@@ -117,11 +127,11 @@ wire [XF-1:0]   fr_a, fr_b;
 wire [KW-1:0]   kx_a, kx_b;
 
 sat_index #(.X_W(X_W), .XF(XF), .NMAX(NMAX), .NL_W(NL_W), .NM1_IN(FPGA_REGS)) u_index_a (
-    .clk(clk), .ce(ce), .x_in(s2_a_reg), .mode(s2_mode_reg), .n_log2(s2_n_log2_reg),
+    .clk(clk), .ce(ce3), .x_in(s2_a_reg), .mode(s2_mode_reg), .n_log2(s2_n_log2_reg),
     .nm1_in(s2_nm1_reg), .kk_out(kk_a), .km1_out(km1_a), .first_out(first_a), .fr_out(fr_a), .kx_out(kx_a)
 );
 sat_index #(.X_W(X_W), .XF(XF), .NMAX(NMAX), .NL_W(NL_W), .NM1_IN(FPGA_REGS)) u_index_b (
-    .clk(clk), .ce(ce), .x_in(s2_b_reg), .mode(s2_mode_reg), .n_log2(s2_n_log2_reg),
+    .clk(clk), .ce(ce3), .x_in(s2_b_reg), .mode(s2_mode_reg), .n_log2(s2_n_log2_reg),
     .nm1_in(s2_nm1_reg), .kk_out(kk_b), .km1_out(km1_b), .first_out(first_b), .fr_out(fr_b), .kx_out(kx_b)
 );
 
@@ -139,7 +149,7 @@ wire [31:0]       unused_mip_data;
 /* verilator lint_on UNUSEDSIGNAL */
 
 colour_table #(.FILTER(1), .NMAX(NMAX), .CS_W(CS_W), .NL_W(NL_W)) u_table (
-    .clk(clk), .ce(ce),
+    .clk(clk), .ce(ce4),
     .wr_en(wr_en), .wr_table(wr_table), .wr_addr(wr_addr), .wr_data(wr_data),
     .clut_addr_a(kk_a), .clut_addr_b(kk_b), .csat_addr_a(km1_a), .csat_addr_b(km1_b),
     .n_log2(s3_n_log2_reg), .mip_addr({(NMAX+1){1'b0}}),
@@ -203,11 +213,11 @@ wire [4*D_W-1:0] p_a, p_b;
 wire [4*TW-1:0]  e_a, e_b;
 
 sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W), .PIPE(P)) u_integral_a (
-    .clk(clk), .ce(ce), .c_in(clut_ax), .before_in(csat_ax), .first_in(s4x_first_a),
+    .clk(clk), .ce(ce5), .c_in(clut_ax), .before_in(csat_ax), .first_in(s4x_first_a),
     .fr_in(s4x_fr_a), .k_in(s4x_k_a), .q_in(q_a), .p_out(p_a), .e_out(e_a)
 );
 sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W), .PIPE(P)) u_integral_b (
-    .clk(clk), .ce(ce), .c_in(clut_bx), .before_in(csat_bx), .first_in(s4x_first_b),
+    .clk(clk), .ce(ce5), .c_in(clut_bx), .before_in(csat_bx), .first_in(s4x_first_b),
     .fr_in(s4x_fr_b), .k_in(s4x_k_b), .q_in(q_b), .p_out(p_b), .e_out(e_b)
 );
 
@@ -215,23 +225,36 @@ reg             s5_mode_reg;
 reg [31:0]      s5_point_reg;   // clut[ka]: the point lookup when w = 0
 
 // ---- stages 2..5 registers
+/* verilator lint_off BLKSEQ */
 always @(posedge clk) begin
+    // the temporaries wholly assigned first, outside any if (C++ locals: the header)
+    u2  = {X_W{1'b0}};
+    w_x = {X_W{1'b0}};
     if (rst)
         sv_reg <= 4'b0000;
     else if (ce)
         sv_reg <= {sv_reg[2:0], in_valid};
-    if (ce) begin
+    if (ce && in_valid) begin
         // stage 2
+        u2 = {X_W{u_in[U_W-1]}};
+        u2[U_W:1] = u_in;
+        u2[0] = 1'b0;
+        w_x = {X_W{1'b0}};
+        w_x[W_W-1:0] = w_in;
         s2_a_reg       <= u2 - w_x;
         s2_b_reg       <= u2 + w_x;
         s2_w_reg       <= w_in;
         s2_mode_reg    <= mode;
         s2_n_log2_reg  <= n_log2;
         s2_nm1_reg     <= ~({NMAX{1'b1}} << n_log2);
+    end
+    if (ce3) begin
         // stage 3
         s3_w_reg       <= s2_w_reg;
         s3_mode_reg    <= s2_mode_reg;
         s3_n_log2_reg  <= s2_n_log2_reg;
+    end
+    if (ce4) begin
         // stage 4 (mod: dw = kx_b - kx_a on both ends)
         s4_w_reg       <= s3_w_reg;
         s4_mode_reg    <= s3_mode_reg;
@@ -241,11 +264,14 @@ always @(posedge clk) begin
         s4_fr_b_reg    <= fr_b;
         s4_first_a_reg <= first_a;
         s4_first_b_reg <= first_b;
+    end
+    if (ce5) begin
         // stage 5
         s5_mode_reg    <= s4y_mode;
         s5_point_reg   <= clut_ay;
     end
 end
+/* verilator lint_on BLKSEQ */
 
 // ---- stage 6(a): D = (whole << XF) + p_b - p_a per channel (mod 2^D_W), whole = e_b - e_a
 // (clamp) or e_b + (e_a << 8) (mod), two carry chains deep: both whole forms side by side and

@@ -56,8 +56,14 @@
 // throughput one pixel per enabled clock.
 // Reset (synchronous, active high) clears the valid chain and rgba_out (no X after reset);
 // rgba_out loads only with a valid result.
-// Written for event-driven simulation speed: combinational logic in one always @* per
-// stage, one clocked process per stage group, no bus driven piecewise.
+// Written for simulation speed: stage 1(b)'s comparisons and selection computed in its
+// clocked process (blocking temporaries) only on an enabled clock that brings a valid pixel,
+// the stage-1 registers holding otherwise (the families do the same per stage); stage 1(a)'s
+// shifts in one always @*; no bus driven piecewise.
+// Each such process first assigns its temporaries whole, outside any if, so that they are
+// C++ locals in the Verilator model (it localizes only a variable wholly assigned outside
+// any branch; one first assigned under the if stays a member of the model, a store on every
+// write).
 
 `default_nettype none
 
@@ -180,26 +186,6 @@ reg [U_W-1:0] n_u;       // N << FF
 reg [U_W-1:0] u_mod;
 /* verilator coverage_on */
 reg [U_W-1:0] u_clamp;
-always @* begin
-    gsh = {CW{1'b0}};
-    gsh[GUARD:GL] = gsh_i;
-    lo_thr = -gsh;
-    hi_thr = {CW{1'b0}};
-    hi_thr[FF] = 1'b1;
-    hi_thr = hi_thr + gsh;
-    guard_u = {U_W{1'b0}};
-    guard_u[GUARD] = 1'b1;
-    n_u = {U_W{1'b0}};
-    n_u[FF+NMAX:FF] = n_i;
-    u_mod = {U_W{1'b0}};
-    u_mod[MW-1:0] = u_mod_i;
-    if ($signed(f_i) < $signed(lo_thr))
-        u_clamp = -guard_u;
-    else if ($signed(f_i) > $signed(hi_thr))
-        u_clamp = n_u + guard_u;
-    else
-        u_clamp = u_sh_i;
-end
 
 reg             s1_valid_reg;
 reg [U_W-1:0]   s1_u_reg;
@@ -207,18 +193,48 @@ reg [NW*W_W-1:0] s1_w_reg;         // w (sat2: {b, a}), 0 when the filter is off
 reg             s1_mode_reg;
 reg [NL_W-1:0]  s1_n_log2_reg;
 
+// (computed in the clocked process, blocking temporaries, only on an enabled clock that
+// brings a valid pixel: the stage-1 registers hold otherwise)
+/* verilator lint_off BLKSEQ */
 always @(posedge clk) begin
+    // the temporaries wholly assigned first, outside any if (C++ locals: the header)
+    gsh     = {CW{1'b0}};
+    lo_thr  = {CW{1'b0}};
+    hi_thr  = {CW{1'b0}};
+    guard_u = {U_W{1'b0}};
+    n_u     = {U_W{1'b0}};
+    u_mod   = {U_W{1'b0}};
+    u_clamp = {U_W{1'b0}};
     if (rst)
         s1_valid_reg <= 1'b0;
     else if (ce)
         s1_valid_reg <= in_valid_i;
-    if (ce) begin
+    if (ce && in_valid_i) begin
+        gsh = {CW{1'b0}};
+        gsh[GUARD:GL] = gsh_i;
+        lo_thr = -gsh;
+        hi_thr = {CW{1'b0}};
+        hi_thr[FF] = 1'b1;
+        hi_thr = hi_thr + gsh;
+        guard_u = {U_W{1'b0}};
+        guard_u[GUARD] = 1'b1;
+        n_u = {U_W{1'b0}};
+        n_u[FF+NMAX:FF] = n_i;
+        u_mod = {U_W{1'b0}};
+        u_mod[MW-1:0] = u_mod_i;
+        if ($signed(f_i) < $signed(lo_thr))
+            u_clamp = -guard_u;
+        else if ($signed(f_i) > $signed(hi_thr))
+            u_clamp = n_u + guard_u;
+        else
+            u_clamp = u_sh_i;
         s1_u_reg         <= mode_i ? u_clamp : u_mod;
         s1_w_reg         <= filter_en_i ? w_i : {(NW*W_W){1'b0}};  // filter off: w = 0
         s1_mode_reg      <= mode_i;
         s1_n_log2_reg    <= n_log2_i;
     end
 end
+/* verilator lint_on BLKSEQ */
 
 // ---------------------------------------------------------------------------
 // Filter

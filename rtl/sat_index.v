@@ -16,7 +16,12 @@
 // with FPGA_REGS registers it beside x, taking the decode off the clamp comparison's path);
 // NM1_IN = 0: nm1_in is not read, N - 1 is decoded from n_log2 here. Latency 1 (outputs registered, not reset: an internal
 // stage of colour_map, which carries the valid bit); one x per enabled clock.
-// Written for event-driven simulation speed: combinational logic in one always @*.
+// Written for simulation speed: the logic in the one clocked process (blocking temporaries),
+// computed only on an enabled clock (cmap_sat enables it only on a valid pixel's).
+// Each such process first assigns its temporaries whole, outside any if, so that they are
+// C++ locals in the Verilator model (it localizes only a variable wholly assigned outside
+// any branch; one first assigned under the if stays a member of the model, a store on every
+// write).
 
 `default_nettype none
 
@@ -52,44 +57,52 @@ reg [KW-1:0]   k_hi;   // k - (N - 1): clamp's kx above the table
 reg            above;  // clamp: k > N - 1
 reg [KW-1:0]   kx;
 
-always @* begin
-    k   = x_in[X_W-1:XF];
-    fr  = x_in[XF-1:0];
-    nm1 = (NM1_IN != 0) ? nm1_in : ~({NMAX{1'b1}} << n_log2);
-    nm1_x = {KW{1'b0}};
-    nm1_x[NMAX-1:0] = nm1;
-    // clamp: kx = k - kk taken case by case (below: k; above: k - (N - 1); inside: 0), so
-    // that the subtraction runs beside the comparison instead of after it (one carry chain
-    // on the path, not two)
-    above = !k[KW-1] && (k > $signed(nm1_x));
-    k_hi  = k - nm1_x;
-    if (!mode)
-        kk = k[NMAX-1:0] & nm1;
-    else if (k[KW-1])
-        kk = {NMAX{1'b0}};
-    else if (above)
-        kk = nm1;
-    else
-        kk = k[NMAX-1:0];
-    // (separate statements: in one ?: an unsigned operand would make >>> a logical shift)
-    if (!mode)
-        kx = k >>> n_log2;
-    else if (k[KW-1])
-        kx = k;
-    else if (above)
-        kx = k_hi;
-    else
-        kx = {KW{1'b0}};
-end
-
 reg [NMAX-1:0] kk_reg;
 reg [NMAX-1:0] km1_reg;
 reg            first_reg;
 reg [XF-1:0]   fr_reg;
 reg [KW-1:0]   kx_reg;
 
+// computed in the clocked process (blocking temporaries) only on an enabled clock
+/* verilator lint_off BLKSEQ */
 always @(posedge clk) begin
+    // every temporary wholly assigned first, outside the if (C++ locals: the header)
+    k     = {KW{1'b0}};
+    fr    = {XF{1'b0}};
+    nm1   = {NMAX{1'b0}};
+    nm1_x = {KW{1'b0}};
+    above = 1'b0;
+    k_hi  = {KW{1'b0}};
+    kk    = {NMAX{1'b0}};
+    kx    = {KW{1'b0}};
     if (ce) begin
+        k   = x_in[X_W-1:XF];
+        fr  = x_in[XF-1:0];
+        nm1 = (NM1_IN != 0) ? nm1_in : ~({NMAX{1'b1}} << n_log2);
+        nm1_x = {KW{1'b0}};
+        nm1_x[NMAX-1:0] = nm1;
+        // clamp: kx = k - kk taken case by case (below: k; above: k - (N - 1); inside: 0), so
+        // that the subtraction runs beside the comparison instead of after it (one carry chain
+        // on the path, not two)
+        above = !k[KW-1] && (k > $signed(nm1_x));
+        k_hi  = k - nm1_x;
+        if (!mode)
+            kk = k[NMAX-1:0] & nm1;
+        else if (k[KW-1])
+            kk = {NMAX{1'b0}};
+        else if (above)
+            kk = nm1;
+        else
+            kk = k[NMAX-1:0];
+        // (separate statements: in one ?: an unsigned operand would make >>> a logical shift)
+        if (!mode)
+            kx = k >>> n_log2;
+        else if (k[KW-1])
+            kx = k;
+        else if (above)
+            kx = k_hi;
+        else
+            kx = {KW{1'b0}};
         kk_reg    <= kk;
         km1_reg   <= kk - 1'b1;
         first_reg <= (kk == {NMAX{1'b0}});
@@ -97,6 +110,7 @@ always @(posedge clk) begin
         kx_reg    <= kx;
     end
 end
+/* verilator lint_on BLKSEQ */
 
 assign kk_out    = kk_reg;
 assign km1_out   = km1_reg;

