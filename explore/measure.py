@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hdlbuild import ROOT, block_params, module_names, rtl_modules
+from hdlbuild import ROOT, block_params
 from model.hw.config import ConfigError, config_values, load_config, variant
 
 BLOCK_CACHE = ROOT / "build" / "explore" / "blocks"
@@ -89,10 +89,11 @@ def point_key(values: dict, opts: dict, src: str) -> str:
 # ---------------------------------------------------------------------------- gates
 
 def module_closure(top: str) -> list[Path]:
-    """The RTL files `top` is built from: its own and those of every module it instantiates,
-    transitively, and the include files."""
-    mods = rtl_modules()
-    return sorted({mods[m] for m in module_names(top)} | set((ROOT / "rtl").glob("*.vh")))
+    """The RTL files `top` is built from (synth.run.block_files: all synth_one reads of it) and
+    the include files."""
+    from synth.run import block_files
+
+    return sorted({Path(f) for f in block_files(top)} | set((ROOT / "rtl").glob("*.vh")))
 
 
 @contextlib.contextmanager
@@ -110,7 +111,9 @@ def synth_block(cfg, label: str, module: str, lib: tuple, stats: dict) -> dict:
 
     files = [str(p) for p in (sorted((ROOT / "rtl").glob("*.v*")) if lib else module_closure(module))]
     flow = [ROOT / "synth" / "synth.py", ROOT / "synth" / "cells.lib"]
-    key = _hash(module, sorted(block_params(cfg, module).items()), bool(lib),
+    from synth.run import READS
+
+    key = _hash(module, sorted(block_params(cfg, module).items()), bool(lib), READS,
                 *[Path(f).read_bytes() for f in files], *[p.read_bytes() for p in flow])[:20]
     out = BLOCK_CACHE / f"{module}-{key}.json"
     with _locked(out):
