@@ -420,7 +420,9 @@ def write_doc() -> None:
           "sat_integral one channel a clock, checked against sat_integral on 3,000 vectors x 4 channels): 2,373 GE "
           "against sat_integral's 8,475 with compact's formats, twice; box_divide on one lane 1,761 against four "
           "lanes' 5,751: -16,194 measured, before cmap_sat's and cmap_divide's per-channel lanes (~2,000-3,000, not "
-          "measured). The two measured folds: -30,944 of the 35,378.", "",
+          "measured). The two measured folds: -30,944 GE; on today's compact (130,357 GE, each block read alone, below, "
+          "plus the sample blocks' 2,801) they leave compact samples=4 at about 102,200 GE, the estimated rest and the "
+          "filter width over two clocks (~3,000) at about 96,000-97,000: an estimate from measured parts.", "",
           "Each block read alone (stop 45): `make synth` hands Yosys a block's module closure (synth.run.block_files: "
           "its file and those of every module it instantiates), no longer all of rtl/. Yosys numbers the cells it "
           "creates across every file it reads, and ABC's mapping follows the numbering, so a block read with all of "
