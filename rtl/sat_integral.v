@@ -89,11 +89,11 @@ always @(posedge clk) begin
             e_nx[ch*TW +: TW]     = $signed(k_in) * $signed({1'b0, q_in[ch*QW +: QW]});
             // PIPE = 0: p itself; PIPE = 1: stage 1's registered words summed (stage 2);
             // both addends zero-extended to D_W on purpose
-            /* verilator lint_off WIDTHEXPAND */
+            /* verilator lint_off WIDTH */
             p_nx[ch*D_W +: D_W]   = (PIPE == 0)
                 ? {b_x, {XF{1'b0}}} + m_nx[ch*M_W +: M_W]
                 : {b_p[ch*CS_W +: CS_W], {XF{1'b0}}} + m_p[ch*M_W +: M_W];
-            /* verilator lint_on WIDTHEXPAND */
+            /* verilator lint_on WIDTH */
         end
         if (PIPE == 0) begin
             p_reg <= p_nx;

@@ -42,9 +42,9 @@ reg [D_W-1:0] p_reg;
 reg [TW-1:0]  e_reg;
 always @(posedge clk) begin
     if (ce) begin
-        /* verilator lint_off WIDTHEXPAND */  // both addends zero-extended to D_W on purpose
+        /* verilator lint_off WIDTH */  // both addends zero-extended to D_W on purpose
         p_reg <= {b, {XF{1'b0}}} + m;
-        /* verilator lint_on WIDTHEXPAND */
+        /* verilator lint_on WIDTH */
         e_reg <= $signed(k_in) * $signed({1'b0, q});
     end
 end
