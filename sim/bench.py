@@ -223,7 +223,7 @@ def main(argv=None) -> int:
         pixels = _env_int("PIXELS_VERILATOR", 512 * 512)
         repeat = _env_int("REPEAT", 3)
         PROCS = _env_int("BENCH_PROCS", PROCS)
-        _env_int("PIXELS_ICARUS", 16384)
+        pixels_icarus = _env_int("PIXELS_ICARUS", 16384)
     except ValueError as e:
         print(f"sim.bench: {e} ({USAGE})", file=sys.stderr)
         return 2
@@ -238,7 +238,7 @@ def main(argv=None) -> int:
         rep = versus_golden(config, pixels, repeat)
         ok &= rep["bit_exact"]
         print(json.dumps(rep), flush=True)
-    rep = icarus(configs[0], _env_int("PIXELS_ICARUS", 16384))
+    rep = icarus(configs[0], pixels_icarus)
     ok &= rep["bit_exact"]
     print(json.dumps(rep), flush=True)
     return 0 if ok else 1
