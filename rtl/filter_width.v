@@ -1,9 +1,16 @@
 /*
  * filter_width: the box-filter width w = |c^T J| N in colour-table entries.
  * Twin of model/hw/golden.py filter_width().
- * Written for event-driven simulation speed: combinational logic in a few always @*
- * blocks (blocking assigns, straight-line code), all registers in one clocked process,
- * no bus driven piecewise.
+ * Written for simulation speed: each stage's logic computed in the clocked processes
+ * (blocking temporaries, straight-line code) only on an enabled clock that brings the stage
+ * a valid vector, its registers holding otherwise (FPGA_REGS: the extra stages, the
+ * products on mul_pipe and the last stage's split on every enabled clock); what another
+ * module reads (the leading-one detectors' inputs) and the small squares of stage 4 stay in
+ * always @*; no bus driven piecewise.
+ * Each such process first assigns its temporaries whole, outside any if, so that they are
+ * C++ locals in the Verilator model (it localizes only a variable wholly assigned outside
+ * any branch; one first assigned under the if stays a member of the model, a store on every
+ * write).
  *
  *   gx = sum_k c_k Jm[k][0],  gy = sum_k c_k Jm[k][1]       (exact, G_W bits)
  *   sh = max(bitlen(max(|gx|, |gy|)) - NORM_BITS, 0)        (leading-one detector)
@@ -116,9 +123,9 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------------------
-// Registers are loaded by one clocked process at the end; a value that only feeds
-// a register is computed there, the others in one combinational process per stage
-// group (evaluated once per clock: their inputs all change on the clock edge).
+// Registers are loaded by the clocked processes at the end; a value that only feeds a
+// register is computed there (blocking temporaries), each stage's only on the enabled
+// clocks that bring it a valid vector; the others in always @*.
 
 // e without sh: je + n_log2 + F_FRAC - C_FRAC (modulo 2^E_W; the final e fits)
 localparam signed [E_W-1:0] E_CONST = F_FRAC - C_FRAC;
@@ -161,14 +168,8 @@ generate
             end
         end
     end else begin : g_comb
-        // one always @*, one driver of the whole word (event-driven simulation speed)
-        reg [6*PJ_W-1:0] prod_c;
-        integer          pc;
-        always @* begin
-            for (pc = 0; pc < 6; pc = pc + 1)
-                prod_c[pc*PJ_W +: PJ_W] = $signed(c_in[(pc/2)*C_W +: C_W]) * $signed(jm_in[pc*J_W +: J_W]);
-        end
-        assign prod_1a = prod_c;
+        // not read: stage 1 forms the products in the clocked process below
+        assign prod_1a = {(6*PJ_W){1'b0}};
     end
 endgenerate
 //
@@ -178,6 +179,7 @@ endgenerate
 // products sign-extended to G_W (>= C_W + J_W, since cmax >= 2^(C_W-2)): the sign
 // bit replicated G_W - PJ_W + 1 times; the sum fits G_W by the precondition on c,
 // so it is exact
+// (stage 2's gx, gy and their absolute values: in the clocked process)
 reg signed [G_W-1:0]  gx, gy;
 /* verilator lint_off UNUSEDSIGNAL */
 // the MSB of |g| in G_W bits is zero: |g| < 2^GABS_W (model/hw/config.py: gabs_w)
@@ -192,22 +194,11 @@ reg [2*NORM_BITS-1:0] ax2, ay2;
 reg [MH_W-1:0]        mh;  // bitlen input: (ax | ay) >> NORM_BITS
 
 always @* begin
-    gx = {{(G_W-PJ_W+1){px0_reg[PJ_W-1]}}, px0_reg[PJ_W-2:0]}
-       + {{(G_W-PJ_W+1){px1_reg[PJ_W-1]}}, px1_reg[PJ_W-2:0]}
-       + {{(G_W-PJ_W+1){px2_reg[PJ_W-1]}}, px2_reg[PJ_W-2:0]};
-    gy = {{(G_W-PJ_W+1){py0_reg[PJ_W-1]}}, py0_reg[PJ_W-2:0]}
-       + {{(G_W-PJ_W+1){py1_reg[PJ_W-1]}}, py1_reg[PJ_W-2:0]}
-       + {{(G_W-PJ_W+1){py2_reg[PJ_W-1]}}, py2_reg[PJ_W-2:0]};
-    gx_abs = gx[G_W-1] ? -gx : gx;
-    gy_abs = gy[G_W-1] ? -gy : gy;
-
     mh = ax_reg[GABS_W-1:NORM_BITS] | ay_reg[GABS_W-1:NORM_BITS];
 
     ax2 = axn_reg * axn_reg;
     ay2 = ayn_reg * ayn_reg;
     l_x = {{L_W{1'b0}}, ax2} + {{L_W{1'b0}}, ay2};
-
-    e_dly_cat = {e_dly_reg, e_4_reg};
 end
 
 // ---------------------------------------------------------------------------
@@ -233,10 +224,7 @@ wire signed [E_W-1:0] ek_2_p;
 delay_line #(.W(SH_W + 2*GABS_W + E_W), .N(P)) u_dly_3a (.clk(clk), .rst(rst), .ce(ce),
     .d_in({sh, ax_reg, ay_reg, ek_2_reg}), .d_out({sh_p, ax_p, ay_p, ek_2_p}));
 
-always @* begin
-    ax_sh = ax_p >> sh_p;
-    ay_sh = ay_p >> sh_p;
-end
+// (ax, ay >> sh: in the clocked process)
 
 // stage 4 (FPGA_REGS: 4a) the squares, registered with sh and the exponent before their sum
 // (a square on an FPGA's multiplier block, its output off the adder's path); without, L is
@@ -327,32 +315,19 @@ reg signed [CMP_W-1:0]   top_l;
 reg [NLN*W_W-1:0]        w_all; // the shifted lanes
 integer                  li;
 
-always @* begin
-    e     = e_dly_reg[(SQ_LAT-1)*E_W +: E_W];
-    for (li = 0; li < NLN; li = li + 1) begin
-        top_l = {{(CMP_W-BLR_W){1'b0}}, r_bl[li*BLR_W +: BLR_W]} + {{(CMP_W-E_W){e[E_W-1]}}, e};
-        top[li*CMP_W +: CMP_W] = top_l;
-        over[li] = r_nz[li] && (top_l > CAP_S);
-        r_x   = {SW{1'b0}};
-        r_x[R_W-1:0] = lane[li*R_W +: R_W];
-        // left by e (e >= 0) or right by -e (e < 0; -e in E_W bits: 2^(E_W-1) reads
-        // correctly unsigned)
-        w_sh  = e[E_W-1] ? (r_x >> -e) : (r_x << e[E_W-2:0]);
-        w_all[li*W_W +: W_W] = w_sh[W_W-1:0];
-    end
-end
-
-// the output register's inputs: directly, or (FPGA_REGS) with lane > 0, bitlen(lane) + e and
-// the shifted lane registered before the comparison with the cap (the valid beside them, reset)
-wire               fin_valid;
-wire [NLN-1:0]     fin_over;
-wire [NLN*W_W-1:0] fin_w;
+// FPGA_REGS: lane > 0, bitlen(lane) + e and the shifted lane registered (in the last stage's
+// clocked process below) before the comparison with the cap (the valid beside them, reset);
+// without FPGA_REGS the output register takes the lanes directly (not read)
+/* verilator lint_off UNUSEDSIGNAL */
+reg [NLN-1:0]       nz_r;
+reg [NLN*CMP_W-1:0] top_r;
+reg [NLN*W_W-1:0]   wsh_r;
+/* verilator lint_on UNUSEDSIGNAL */
+wire                fin_valid;
+wire [NLN-1:0]      fin_over;  // FPGA_REGS: from the registers above (else not read)
 generate
     if (FPGA_REGS) begin : g_split
         reg                 sqv_r;
-        reg [NLN-1:0]       nz_r;
-        reg [NLN*CMP_W-1:0] top_r;
-        reg [NLN*W_W-1:0]   wsh_r;
         reg [NLN-1:0]       ov_c;
         integer             lj;
         always @(posedge clk) begin
@@ -360,11 +335,6 @@ generate
                 sqv_r <= 1'b0;
             else if (ce)
                 sqv_r <= sq_valid;
-            if (ce) begin
-                nz_r  <= r_nz;
-                top_r <= top;
-                wsh_r <= w_all;
-            end
         end
         always @* begin
             for (lj = 0; lj < NLN; lj = lj + 1)
@@ -372,49 +342,119 @@ generate
         end
         assign fin_valid = sqv_r;
         assign fin_over  = ov_c;
-        assign fin_w     = wsh_r;
     end else begin : g_direct
         assign fin_valid = sq_valid;
-        assign fin_over  = over;
-        assign fin_w     = w_all;
+        assign fin_over  = {NLN{1'b0}};
     end
 endgenerate
 
 // the saturated lanes
 reg [NLN*W_W-1:0] w_fin;
 integer           lk;
-always @* begin
-    for (lk = 0; lk < NLN; lk = lk + 1)
-        w_fin[lk*W_W +: W_W] = fin_over[lk] ? W_CAP : fin_w[lk*W_W +: W_W];
-end
 
 // ---------------------------------------------------------------------------
-// all registers: one clocked process
+// all registers: the clocked processes below, each stage computed (blocking temporaries)
+// and loaded only on an enabled clock that brings it a valid vector: stage 1 in_valid (FPGA_REGS:
+// the products' 1a), stage 2 stage 1's, stage 3 stage 2's (FPGA_REGS: 3a's), stage 4 stage 3's
+// (FPGA_REGS: 4a's); the e delay line on every enabled clock
+wire v_1 = (P != 0) ? valid_reg[0] : in_valid;
+wire v_2 = valid_reg[P];
+wire v_3 = valid_reg[1 + 2*P];
+wire v_4 = valid_reg[2 + 3*P];
+reg  [6*PJ_W-1:0] prod_x;
+integer           pc;
 
+/* verilator lint_off BLKSEQ */
 always @(posedge clk) begin
-    if (ce) begin
-        // stage 1
-        px0_reg  <= prod_1a[0*PJ_W +: PJ_W];  // c0 Jm[0][0]
-        px1_reg  <= prod_1a[2*PJ_W +: PJ_W];  // c1 Jm[1][0]
-        px2_reg  <= prod_1a[4*PJ_W +: PJ_W];  // c2 Jm[2][0]
-        py0_reg  <= prod_1a[1*PJ_W +: PJ_W];  // c0 Jm[0][1]
-        py1_reg  <= prod_1a[3*PJ_W +: PJ_W];  // c1 Jm[1][1]
-        py2_reg  <= prod_1a[5*PJ_W +: PJ_W];  // c2 Jm[2][1]
+    // every temporary wholly assigned first, outside the ifs (C++ locals: the header)
+    prod_x    = {(6*PJ_W){1'b0}};
+    gx        = {G_W{1'b0}};
+    gy        = {G_W{1'b0}};
+    gx_abs    = {G_W{1'b0}};
+    gy_abs    = {G_W{1'b0}};
+    ax_sh     = {GABS_W{1'b0}};
+    ay_sh     = {GABS_W{1'b0}};
+    e_dly_cat = {((SQ_LAT+1)*E_W){1'b0}};
+    if (ce && v_1) begin
+        // stage 1 (FPGA_REGS: from mul_pipe)
+        if (P != 0)
+            prod_x = prod_1a;
+        else
+            for (pc = 0; pc < 6; pc = pc + 1)
+                prod_x[pc*PJ_W +: PJ_W] = $signed(c_in[(pc/2)*C_W +: C_W]) * $signed(jm_in[pc*J_W +: J_W]);
+        px0_reg  <= prod_x[0*PJ_W +: PJ_W];  // c0 Jm[0][0]
+        px1_reg  <= prod_x[2*PJ_W +: PJ_W];  // c1 Jm[1][0]
+        px2_reg  <= prod_x[4*PJ_W +: PJ_W];  // c2 Jm[2][0]
+        py0_reg  <= prod_x[1*PJ_W +: PJ_W];  // c0 Jm[0][1]
+        py1_reg  <= prod_x[3*PJ_W +: PJ_W];  // c1 Jm[1][1]
+        py2_reg  <= prod_x[5*PJ_W +: PJ_W];  // c2 Jm[2][1]
         ek_1_reg <= ek_1a;
+    end
+    if (ce && v_2) begin
         // stage 2
+        gx = {{(G_W-PJ_W+1){px0_reg[PJ_W-1]}}, px0_reg[PJ_W-2:0]}
+           + {{(G_W-PJ_W+1){px1_reg[PJ_W-1]}}, px1_reg[PJ_W-2:0]}
+           + {{(G_W-PJ_W+1){px2_reg[PJ_W-1]}}, px2_reg[PJ_W-2:0]};
+        gy = {{(G_W-PJ_W+1){py0_reg[PJ_W-1]}}, py0_reg[PJ_W-2:0]}
+           + {{(G_W-PJ_W+1){py1_reg[PJ_W-1]}}, py1_reg[PJ_W-2:0]}
+           + {{(G_W-PJ_W+1){py2_reg[PJ_W-1]}}, py2_reg[PJ_W-2:0]};
+        gx_abs = gx[G_W-1] ? -gx : gx;
+        gy_abs = gy[G_W-1] ? -gy : gy;
         ax_reg   <= gx_abs[GABS_W-1:0];
         ay_reg   <= gy_abs[GABS_W-1:0];
         ek_2_reg <= ek_1_reg;
+    end
+    if (ce && v_3) begin
         // stage 3
+        ax_sh = ax_p >> sh_p;
+        ay_sh = ay_p >> sh_p;
         axn_reg  <= ax_sh[NORM_BITS-1:0];
         ayn_reg  <= ay_sh[NORM_BITS-1:0];
         sh_reg   <= sh_p;
         ek_3_reg <= ek_2_p;
+    end
+    if (ce && v_4) begin
         // stage 4: e = sh + ek (FPGA_REGS: from stage 4a)
         l_reg    <= l_4[L_W-1:0];
         e_4_reg  <= $signed({{(E_W-SH_W){1'b0}}, sh_4}) + ek_4;
+    end
+    if (ce) begin
         // stages 5..LATENCY-1: e delayed alongside the square root
+        e_dly_cat = {e_dly_reg, e_4_reg};
         e_dly_reg <= e_dly_cat[SQ_LAT*E_W-1:0];
+    end
+end
+
+// the last stage: w = lane scaled by 2^e, saturated, loaded only with a valid result
+// (FPGA_REGS: the scaled lanes registered on every enabled clock, then saturated)
+always @(posedge clk) begin
+    // every temporary wholly assigned first, outside the ifs (C++ locals: the header)
+    e     = {E_W{1'b0}};
+    top_l = {CMP_W{1'b0}};
+    top   = {(NLN*CMP_W){1'b0}};
+    over  = {NLN{1'b0}};
+    r_x   = {SW{1'b0}};
+    w_sh  = {SW{1'b0}};
+    w_all = {(NLN*W_W){1'b0}};
+    w_fin = {(NLN*W_W){1'b0}};
+    if (ce && (P != 0 || sq_valid)) begin
+        e     = e_dly_reg[(SQ_LAT-1)*E_W +: E_W];
+        for (li = 0; li < NLN; li = li + 1) begin
+            top_l = {{(CMP_W-BLR_W){1'b0}}, r_bl[li*BLR_W +: BLR_W]} + {{(CMP_W-E_W){e[E_W-1]}}, e};
+            top[li*CMP_W +: CMP_W] = top_l;
+            over[li] = r_nz[li] && (top_l > CAP_S);
+            r_x   = {SW{1'b0}};
+            r_x[R_W-1:0] = lane[li*R_W +: R_W];
+            // left by e (e >= 0) or right by -e (e < 0; -e in E_W bits: 2^(E_W-1) reads
+            // correctly unsigned)
+            w_sh  = e[E_W-1] ? (r_x >> -e) : (r_x << e[E_W-2:0]);
+            w_all[li*W_W +: W_W] = w_sh[W_W-1:0];
+        end
+        if (P != 0) begin
+            nz_r  <= r_nz;
+            top_r <= top;
+            wsh_r <= w_all;
+        end
     end
     if (rst) begin
         valid_reg     <= {VR{1'b0}};
@@ -424,10 +464,17 @@ always @(posedge clk) begin
         valid_reg     <= {valid_reg[VR-2:0], in_valid};
         out_valid_reg <= fin_valid;
         if (fin_valid) begin
+            // without FPGA_REGS the lanes just scaled above (fin_valid = sq_valid)
+            for (lk = 0; lk < NLN; lk = lk + 1)
+                if (P != 0)
+                    w_fin[lk*W_W +: W_W] = fin_over[lk] ? W_CAP : wsh_r[lk*W_W +: W_W];
+                else
+                    w_fin[lk*W_W +: W_W] = over[lk] ? W_CAP : w_all[lk*W_W +: W_W];
             w_reg <= w_fin;
         end
     end
 end
+/* verilator lint_on BLKSEQ */
 
 assign out_valid = out_valid_reg;
 assign w_out     = w_reg;

@@ -24,8 +24,13 @@
  * ce = 0 holds every register. rst (synchronous) clears the valid chain and the
  * output register; the output register loads only valid vectors (no X after reset).
  *
- * Written for event-driven simulation speed: all iterations in one always @*
- * (blocking assigns, constant stage masks), one clocked process, no bus driven piecewise.
+ * Written for simulation speed: all iterations in the one clocked process (blocking
+ * temporaries, constant stage masks), each stage's only on an enabled clock that brings it
+ * a valid vector (its registers hold otherwise), no bus driven piecewise.
+ * Each such process first assigns its temporaries whole, outside any if, so that they are
+ * C++ locals in the Verilator model (it localizes only a variable wholly assigned outside
+ * any branch; one first assigned under the if stays a member of the model, a store on every
+ * write).
  */
 
 
@@ -74,8 +79,8 @@ endgenerate
 // Iteration t belongs to stage (t LATENCY) / R_W. The state after the last
 // iteration of stage k < LATENCY - 1 is registered in segment k of the *_reg
 // vectors; the first iteration of stage k > 0 starts from segment k - 1.
-// (One combinational process for all iterations: event-driven simulators
-// evaluate it once per change instead of waking R_W^2 part-select readers.
+// (One process for all iterations: event-driven simulators evaluate it once a
+// clock instead of waking R_W^2 part-select readers.
 // The stage boundaries are constant masks, so the loop body is only the
 // iteration and its few reads.)
 
@@ -101,12 +106,12 @@ localparam [R_W-1:0] LAST  = FIRST >> 1;
 /* verilator lint_off UNUSEDSIGNAL */
 // with LATENCY = 1 there is no internal stage and these registers are never read;
 // x is consumed from the top, so its low bits in a stage register are zeros
-reg [S_NN*R_W-1:0] root_reg, root_d;  // partial roots
-reg [S_NN*R_W-1:0] rem_reg, rem_d;    // remainders
-reg [S_NN*X_W-1:0] x_reg, x_d;        // radicand bits not yet consumed, MSBs first
+reg [S_NN*R_W-1:0] root_reg;  // partial roots
+reg [S_NN*R_W-1:0] rem_reg;   // remainders
+reg [S_NN*X_W-1:0] x_reg;     // radicand bits not yet consumed, MSBs first
+reg [S_NN*R_W-1:0] root_d, rem_d;  // their next values (blocking temporaries: whole words,
+reg [S_NN*X_W-1:0] x_d;            // one non-blocking load each; a skipped stage's segment holds)
 /* verilator lint_on UNUSEDSIGNAL */
-reg [R_W-1:0]      root_o;            // the root after the last iteration
-
 reg [R_W-1:0]  root, rem;
 // x: a scratch word (shifted up iteration by iteration); Verilator samples it at the end of
 // the evaluation, when its low bits are 0 (no coverage points)
@@ -119,60 +124,65 @@ reg [R_W+1:0]  rs;
 reg [R_W+1:0]  diff;
 /* verilator lint_on UNUSEDSIGNAL */
 integer        t, k;
-
-always @* begin
+reg [R_W-1:0]  r_reg;
+// the iterations (blocking temporaries) and every register: one clocked process; a stage's
+// iterations run, and its registers load, only on an enabled clock that brings the stage a
+// valid vector (vin[k]); the stage registers hold otherwise
+/* verilator lint_off BLKSEQ */
+always @(posedge clk) begin
+    // every temporary wholly assigned first, outside the if (C++ locals: the header)
     root   = {R_W{1'b0}};
     rem    = {R_W{1'b0}};
     x      = l_pad;
-    root_d = {S_NN*R_W{1'b0}};
-    rem_d  = {S_NN*R_W{1'b0}};
-    x_d    = {S_NN*X_W{1'b0}};
-    k      = 0;  // the stage of iteration t
-    for (t = 0; t < R_W; t = t + 1) begin
-        if (FIRST[t]) begin
-            // first iteration of stage k + 1: start from the stage register
-            root = root_reg[k*R_W +: R_W];
-            rem  = rem_reg[k*R_W +: R_W];
-            x    = x_reg[k*X_W +: X_W];
-            k    = k + 1;
-        end
-        // rs = 4 rem + (next two bits of x), trial = 4 root + 1; the new bit
-        // goes straight into root (root[0] below)
-        rs    = {rem, x[X_W-1 -: 2]};
-        diff  = rs - {root, 2'b01};
-        root  = {root[R_W-2:0], rs >= {root, 2'b01}};
-        rem   = root[0] ? diff[R_W-1:0] : rs[R_W-1:0];
-        x     = x << 2;
-        if (LAST[t]) begin
-            // last iteration of stage k: into the stage register
-            root_d[k*R_W +: R_W] = root;
-            rem_d[k*R_W +: R_W]  = rem;
-            x_d[k*X_W +: X_W]    = x;
-        end
-    end
-    root_o = root;
-end
-
-// output register (stage LATENCY - 1) and stage registers: one clocked process
-reg [R_W-1:0] r_reg;
-
-always @(posedge clk) begin
+    rs     = {(R_W+2){1'b0}};
+    diff   = {(R_W+2){1'b0}};
+    root_d = root_reg;
+    rem_d  = rem_reg;
+    x_d    = x_reg;
     if (ce) begin
+        for (t = 0; t < R_W; t = t + 1) begin
+            // k = the stage of iteration t, a constant of the loop index (Yosys folds it;
+            // a variable stepped through the loop in a clocked process it does not, and
+            // makes multipliers and shifters of the part-selects)
+            k = (t * LATENCY) / R_W;
+            if (FIRST[t]) begin
+                // first iteration of stage k: start from stage k - 1's register
+                root = root_reg[(k-1)*R_W +: R_W];
+                rem  = rem_reg[(k-1)*R_W +: R_W];
+                x    = x_reg[(k-1)*X_W +: X_W];
+            end
+            if (vin[k]) begin
+                // rs = 4 rem + (next two bits of x), trial = 4 root + 1; the new bit
+                // goes straight into root (root[0] below)
+                rs    = {rem, x[X_W-1 -: 2]};
+                diff  = rs - {root, 2'b01};
+                root  = {root[R_W-2:0], rs >= {root, 2'b01}};
+                rem   = root[0] ? diff[R_W-1:0] : rs[R_W-1:0];
+                x     = x << 2;
+                if (LAST[t]) begin
+                    // last iteration of stage k: into the stage register
+                    root_d[k*R_W +: R_W] = root;
+                    rem_d[k*R_W +: R_W]  = rem;
+                    x_d[k*X_W +: X_W]    = x;
+                end
+            end
+        end
         root_reg <= root_d;
         rem_reg  <= rem_d;
         x_reg    <= x_d;
     end
+    // output register (stage LATENCY - 1): root after the last iteration
     if (rst) begin
         valid_reg <= {LATENCY{1'b0}};
         r_reg     <= {R_W{1'b0}};
     end else if (ce) begin
         valid_reg <= vin[LATENCY-1:0];
         if (vin[LATENCY-1]) begin
-            r_reg <= root_o;
+            r_reg <= root;
         end
     end
 end
-
+/* verilator lint_on BLKSEQ */
 assign r_out = r_reg;
 
 endmodule
