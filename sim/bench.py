@@ -155,6 +155,12 @@ STEPS = [
      {"OPT_FAST": "-O3", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O3"}),
     ("--output-split 0 (one C++ file)", ["-Wno-fatal", *X_FAST, "-O3", "--output-split", "0"],
      {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}),
+    # stop 46 (docs/simulation.md): the clocked function split, and gcc's hardening options off
+    ("--output-split-cfuncs 2000", ["-Wno-fatal", *X_FAST, "-O3", "--output-split-cfuncs", "2000"],
+     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}),
+    ("-fno-stack-protector -fno-plt -fomit-frame-pointer",
+     ["-Wno-fatal", *X_FAST, "-O3", "-CFLAGS", "-fno-stack-protector -fno-plt -fomit-frame-pointer"],
+     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}),
 ]
 
 
