@@ -96,13 +96,15 @@ b = load_config("config/candidates/full_bfp.toml")
 endef
 export LINT_EXP_PY
 
-# the trapezoid's candidates (filter sat2; sat2_fc: with frequency clamping) and sat2_fc's fpga_regs variant
-LINT_CAND = full_sat2 full_sat2_fc full_sat2_fc-fpga
+# the trapezoid's candidates (filter sat2; sat2_fc: with frequency clamping) and sat2_fc's fpga_regs variant;
+# issue 27's folds (the quadric on one multiplier; with the colour map a channel a clock and 4 samples)
+LINT_CAND = full_sat2 full_sat2_fc full_sat2_fc-fpga compact_q6 compact_q6c4_s4
 define LINT_CAND_PY
 from hdlbuild import gen_dir
 from model.hw.config import load_config, variant
 c = load_config("config/candidates/full_sat2_fc.toml")
-[gen_dir(x) for x in (load_config("config/candidates/full_sat2.toml"), c, variant(c, "full_sat2_fc-fpga", fpga_regs=True))]
+[gen_dir(x) for x in (load_config("config/candidates/full_sat2.toml"), c, variant(c, "full_sat2_fc-fpga", fpga_regs=True),
+                      load_config("config/candidates/compact_q6.toml"), load_config("config/candidates/compact_q6c4_s4.toml"))]
 endef
 export LINT_CAND_PY
 

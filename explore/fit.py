@@ -46,7 +46,7 @@ import time
 from pathlib import Path
 
 from explore import measure
-from model.hw.config import (CONFIG_NAMES, SAT_FILTERS, ConfigError, clocks_per_pixel, config_toml, config_values,
+from model.hw.config import (CONFIG_NAMES, QUADRIC_CLOCKS, SAT_FILTERS, ConfigError, clocks_per_pixel, config_toml, config_values,
                              load_config)
 from model.hw.quantize import FormatError
 from model.cli import Parser, UserError, check_range, progress_bar, run_main
@@ -120,8 +120,14 @@ def shape(v: dict, need: dict, pxclk: float, fixed: bool) -> dict:
     v["noise_units"] = min(max(1, k), max(units_for(k, pxclk), 1)) if not fixed else v["noise_units"]
     per = max(1, int(1 / pxclk + 1e-9))
     folded = 0 < v["noise_units"] < k
-    v["quadric_clocks"] = 2 if (per >= 2 and folded and v["quadric"] == "diagonal" and not fixed) else \
+    per_s = max(1, per // v.get("samples", 1))  # clocks a sample allowed
+    # the quadric folds as far as the clocks a sample allow: 6 clocks on one multiplier, 2 on three
+    fold = max([c for c in QUADRIC_CLOCKS if c <= per_s] or [1])
+    v["quadric_clocks"] = fold if (folded and v["quadric"] == "diagonal" and not fixed) else \
         (v["quadric_clocks"] if fixed else 1)
+    # and the colour map's box filter a channel a clock where a sample has 4 clocks (cmap_clocks = 4)
+    cm = 4 if (folded and per_s >= 4 and v["filter"] == "sat" and not v.get("fpga_regs")) else 1
+    v["cmap_clocks"] = v.get("cmap_clocks", 1) if fixed else cm
     return v
 
 

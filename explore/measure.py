@@ -305,3 +305,52 @@ def values_of(name_or_cfg) -> dict:
     """A configuration's keys (a name of config/, or a Config)."""
     cfg = load_config(name_or_cfg) if isinstance(name_or_cfg, str) else name_or_cfg
     return config_values(cfg)
+
+
+def main(argv=None) -> int:
+    """`python -m explore.measure --config C`: one configuration's images measured as a sweep point's
+    (`images`: per scene the pixels a clock, PSNR against the float reference and against the truth
+    with the sweep's sample counts), without its gates or RTL check (`python -m synth.run --config C`
+    and `make frame` give those): a configuration file's figures against the truth without a sweep."""
+    import sys
+
+    from model.cli import Parser, UserError, check_config, check_range, progress_bar, run_main
+    from model.scene.passes import SCENES
+
+    ap = Parser(prog="python -m explore.measure", description=main.__doc__.split("\n\n")[0])
+    ap.add_argument("--config", required=True, help="a configuration of config/ or a configuration file's path")
+    ap.add_argument("--size", type=int, default=256, help="frame side in pixels (the sweep's: 256)")
+    ap.add_argument("--scenes", default=",".join(SCENES), help="comma-separated scene names (default: all eight)")
+    ap.add_argument("--json", action="store_true", help="one JSON object per scene instead of a table")
+    ap.add_argument("--quiet", action="store_true", help="no progress bar")
+    a = ap.parse_args(argv)
+
+    def go():
+        check_range("--size", a.size, 8, 1024)
+        cfg = load_config(check_config(a.config))
+        scenes = [s for s in a.scenes.split(",") if s]
+        bad = [s for s in scenes if s not in SCENES]
+        if bad or not scenes:
+            raise UserError(f"--scenes {a.scenes}: expected names of {', '.join(SCENES)}")
+        opts = {"truth_ss": TRUTH_SS, "truth_band_ss": TRUTH_BAND_SS}
+        rows = {}
+        for s in progress_bar(not a.quiet and sys.stderr.isatty(), iterable=scenes, desc=cfg.name, unit="scene"):
+            rows.update(images(cfg, [s], a.size, opts))
+            if a.json:
+                print(json.dumps({"config": cfg.name, "scene": s, **rows[s]}), flush=True)
+        if not a.json:
+            print(f"{cfg.name} at {a.size} px (truth {TRUTH_SS}x{TRUTH_SS} samples a pixel, {TRUTH_BAND_SS}x"
+                  f"{TRUTH_BAND_SS} in the band): PSNR dB")
+            print("| scene | pixels a clock | vs reference | vs truth (interior) | vs truth (textured) |\n|---|---:|---:|---:|---:|")
+            for s, v in rows.items():
+                print(f"| {s} | {v['pixels_per_clock']} | {v['psnr_ref_db']:.2f} | {v['psnr_truth_db']:.2f} | "
+                      f"{v['psnr_truth_textured_db']:.2f} |")
+            worst = min(rows, key=lambda s: rows[s]["psnr_truth_db"])
+            print(f"worst against the truth: {worst} {rows[worst]['psnr_truth_db']:.2f} dB; against the reference: "
+                  f"{min(v['psnr_ref_db'] for v in rows.values()):.2f} dB")
+        return 0
+    return run_main(ap.prog, go)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

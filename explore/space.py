@@ -68,7 +68,11 @@ FEATURE_STEPS = {
                 # issue 27's 100,000-GE goal (stop 43): four samples, and with them the two features whose
                 # gates come back most (the colour map's MIP map for the SAT's; no noise gradient in the width)
                 ("samples=4", {"samples": 4}), ("filter=mip samples=4", {"filter": "mip", "samples": 4}),
-                ("noise_gradient=false samples=4", {"noise_gradient": False, "samples": 4})],
+                ("noise_gradient=false samples=4", {"noise_gradient": False, "samples": 4}),
+                # the quadric on one multiplier (qmac_diag_serial, six clocks a sample), alone and with four samples
+                ("quadric_clocks=6", {"quadric_clocks": 6}), ("quadric_clocks=6 samples=4", {"quadric_clocks": 6, "samples": 4}),
+                # and the colour map a channel a clock (cmap_sat CLOCKS = 4): both folds with four samples
+                ("quadric_clocks=6 cmap_clocks=4 samples=4", {"quadric_clocks": 6, "cmap_clocks": 4, "samples": 4})],
     "reduced": [("noise_terms=4", {"noise_terms": 4, "noise_units": 4}), ("blend=cubic", {"blend": "cubic"}),
                 ("noise_gradient=true", {"noise_gradient": True}), ("noise_units=1", {"noise_units": 1}),
                 ("quadric=full", {"quadric": "full"}), ("filter=sat2", {"filter": "sat2"}),

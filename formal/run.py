@@ -83,7 +83,7 @@ def _fold_params(cfg) -> dict:
     the fold's K, U, MIN_CLOCKS, sum widths; PERM left at its default: noise_term is cut)."""
     nt = {k: v for k, v in block_params(cfg, "noise_term").items() if k not in ("PARAM_PIPE", "PERM")}
     return {**nt, "NOISE_TERMS": cfg.noise_terms, "NOISE_UNITS": cfg.noise_units, "F_W": cfg.f_w,
-            "C_W": cfg.c_w, "SIDE_W": 1, "MIN_CLOCKS": cfg.quadric_clocks}
+            "C_W": cfg.c_w, "SIDE_W": 1, "MIN_CLOCKS": max(cfg.quadric_clocks, cfg.cmap_clocks)}
 
 
 def tasks() -> list[Task]:

@@ -68,9 +68,10 @@ def exponent_params(cfg: Config) -> dict:
 
 def sample_params(cfg: Config) -> dict:
     """SAMPLES (features.samples: sub-pixel samples a pixel, sample_expand and sample_average)
-    only where it is not 1 (a one-sample configuration's generated top and caches stay as they
-    were; 1 is texture_pipeline's default)."""
-    return {"SAMPLES": cfg.samples} if cfg.samples != 1 else {}
+    and CMAP_CLOCKS (features.cmap_clocks: colour_map's fold) only where they are not 1 (such a
+    configuration's generated top and caches stay as they were; 1 is texture_pipeline's default)."""
+    return {**({"SAMPLES": cfg.samples} if cfg.samples != 1 else {}),
+            **({"CMAP_CLOCKS": cfg.cmap_clocks} if cfg.cmap_clocks != 1 else {})}
 
 
 def top_params(cfg: Config) -> dict:
@@ -110,7 +111,8 @@ def block_params(cfg: Config, module: str) -> dict:
     if module == "noise_fold":  # folded terms (texture_pipeline's g_fold; side: {tlast, je, Jm})
         nt = {k: v for k, v in block_params(cfg, "noise_term").items() if k != "PARAM_PIPE"}
         return {**nt, "NOISE_TERMS": cfg.noise_terms, "NOISE_UNITS": cfg.noise_units, "F_W": cfg.f_w,
-                "C_W": cfg.c_w, "SIDE_W": 6 * cfg.j_w + cfg.je_w + 1, "MIN_CLOCKS": cfg.quadric_clocks}
+                "C_W": cfg.c_w, "SIDE_W": 6 * cfg.j_w + cfg.je_w + 1,
+                "MIN_CLOCKS": max(cfg.quadric_clocks, cfg.cmap_clocks)}  # texture_pipeline's MIN_CLK
     if module == "noise_hash":
         return {"H": cfg.hash_bits, "N_FRAC": cfg.n_frac, "N_W": cfg.n_w, "PERM": perm_literal(cfg)}
     if module == "filter_width":
@@ -119,7 +121,8 @@ def block_params(cfg: Config, module: str) -> dict:
                 **({"COMPONENTS": 1} if cmap_family(cfg) == "sat2" else {})}  # sat2: the two screen components
     if module == "colour_map":  # its family alone (sat_fc: the box, sat2_fc: the trapezoid; the fade is before it)
         return {"F_W": cfg.f_w, **_pick(cfg, "f_frac", "w_cap_log2", "n_log2_max", "div_bits", "fpga_regs"),
-                "FILTER": {"none": 0, "sat": 1, "mip": 2, "sat2": 3}[cmap_family(cfg)]}
+                "FILTER": {"none": 0, "sat": 1, "mip": 2, "sat2": 3}[cmap_family(cfg)],
+                **({"CLOCKS": cfg.cmap_clocks} if cfg.cmap_clocks != 1 else {})}
     if module == "fc_weight":
         return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "j_w", "je_w", "t_w", "t_frac", "a_w", "a_frac", "f_frac",
                                                         "w_cap_log2", "n_log2_max", "fc_log_frac", "fc_knee",
@@ -127,19 +130,22 @@ def block_params(cfg: Config, module: str) -> dict:
                 "FC_KS": cfg.fc_ks, "FC_KSF": FC_KSF, **exponent_params(cfg)}
     if module == "fc_scale":
         return {"AN_W": cfg.an_w, "AG_W": cfg.ag_w, "AF": cfg.fc_af, "NOISE_GRADIENT": value(cfg, "noise_gradient")}
-    if module == "box_divide":  # as colour_map divides: exact, or on a div_bits-bit w
-        b = cfg.div_bits
+    if module == "box_divide":  # as colour_map divides: exact, or on a div_bits-bit w (cmap_clocks 4: one lane)
+        b, lanes = cfg.div_bits, 4 // cfg.cmap_clocks
         if cmap_family(cfg) == "sat2":  # the trapezoid's divisor 4ab, w2_w bits
             if 0 < b < cfg.w2_w:
                 sat = 1 if b <= 9 else 0
-                return {"NUM_W": b + 8 + sat, "DEN_W": b, "Q_W": 8, "LANES": 4, "SAT": sat}
-            return {"NUM_W": cfg.d2_w - 1, "DEN_W": cfg.w2_w, "Q_W": 8, "LANES": 4, "SAT": 0}
+                return {"NUM_W": b + 8 + sat, "DEN_W": b, "Q_W": 8, "LANES": lanes, "SAT": sat}
+            return {"NUM_W": cfg.d2_w - 1, "DEN_W": cfg.w2_w, "Q_W": 8, "LANES": lanes, "SAT": 0}
         if cfg.filter in SAT_FILTERS and 0 < b < cfg.w_w:
             sat = 1 if b <= 9 else 0
-            return {"NUM_W": b + 8 + sat, "DEN_W": b, "Q_W": 8, "LANES": 4, "SAT": sat}
-        return {"NUM_W": cfg.d_w - 1, "DEN_W": cfg.w_w, "Q_W": 8, "LANES": 4, "SAT": 0}
+            return {"NUM_W": b + 8 + sat, "DEN_W": b, "Q_W": 8, "LANES": lanes, "SAT": sat}
+        return {"NUM_W": cfg.d_w - 1, "DEN_W": cfg.w_w, "Q_W": 8, "LANES": lanes, "SAT": 0}
+    if module == "sat_integral_serial":  # cmap_sat's two with cmap_clocks = 4 (colour_map's words)
+        return {"XF": cfg.f_frac + 1, "KW": cfg.x_w - cfg.f_frac - 1, "QW": max(8, cfg.csat_w - 8),
+                "CS_W": cfg.csat_w, "D_W": cfg.d_w}
     if module == "texture_sum":  # the top's keys but the filter's (FC: sat_fc's fades), and its latency
-        top = {k: v for k, v in top_params(cfg).items() if k not in ("FILTER", "NORM_BITS", "DIV_BITS")}
+        top = {k: v for k, v in top_params(cfg).items() if k not in ("FILTER", "NORM_BITS", "DIV_BITS", "CMAP_CLOCKS")}
         return {**top, "FC": int(_fc(cfg)), "LATENCY": texture_sum_latency(cfg)}
     if module == "tex_regs":
         return {"NOISE_TERMS": cfg.noise_terms, **_pick(cfg, "q_w", "a_w", "t_w", "hash_bits", "p_frac", "n_log2_max"),

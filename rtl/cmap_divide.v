@@ -1,6 +1,7 @@
 // cmap_divide: the box-filter division of colour_map's SAT filter families, one module with
 // its two methods as a parameter (DIV_BITS); the bit-exact twin of model/hw/golden.py
-// cmap_divide. Per channel c of a pixel:
+// cmap_divide. Per channel c of a pixel (LANES channels an enabled clock: 4, or 1 when
+// colour_map takes a pixel's channels on four clocks, features.cmap_clocks = 4):
 //   w > 0: out_c = the box average D_c / (2w) rounded (docs/numerics.md, "Colour map"):
 //     DIV_BITS = 0 (exact): out = floor((D + w) / (2w)) = floor(((D + w) >> 1) / w) by
 //       box_divide on u{D_W-1} / u{W_W} (8 quotient bits: D + w <= 511 w < 2^8 * 2w, so
@@ -13,7 +14,7 @@
 //         out = min(floor(num' / den'), 255) by box_divide on u{NQ_W} / u{B}, NQ_W = B + 8
 //         (num' < 256 den' for B >= 10: no saturation needed) or B + 9 with SAT (B <= 9:
 //         num' < 384 den', quotients up to 383 saturate); sh0, den', sh and w + 2 h(sh) are
-//         computed once for the four channels; error <= 1/2 + 513 / 2^(B+1) LSB;
+//         computed once for the vector's LANES channels; error <= 1/2 + 513 / 2^(B+1) LSB;
 //   w = 0: out = pt_c (the point lookup clut[k]), fed through the divider as num = pt_c,
 //     den = 1 (normalised: sh = 0).
 //
@@ -45,7 +46,8 @@ module cmap_divide #(
     parameter W_W       = 28,  // width of w: W_CAP_LOG2 + F_FRAC + 1 (rtl/colour_map.v)
     parameter D_W       = 37,  // width of D (tw_d_w in rtl/tex_widths.vh): D < 2^D_W
     parameter DIV_BITS  = 0,   // [div_bits] the method: 0 exact; B > 0 w normalised to B bits
-    parameter FPGA_REGS = 0    // [fpga_regs] 1: the register stages above
+    parameter FPGA_REGS = 0,   // [fpga_regs] 1: the register stages above
+    parameter LANES     = 4    // [cmap_clocks] channels a vector: 4 (cmap_clocks 1) or 1 (cmap_clocks 4)
 ) (clk, rst, ce, w_in, in_valid, d_in, pt_in, out_valid, q_out);
 
 localparam Q_W    = 8;                 // quotient bits: one RGBA8 channel (box_divide stages)
@@ -65,15 +67,18 @@ input  wire               rst;
 input  wire               ce;
 input  wire [W_W-1:0]     w_in;       // WLEAD enabled clocks before its D
 input  wire               in_valid;
-input  wire [4*D_W-1:0]   d_in;
-input  wire [31:0]        pt_in;
+input  wire [LANES*D_W-1:0] d_in;
+input  wire [LANES*Q_W-1:0] pt_in;
 output wire               out_valid;
-output wire [4*Q_W-1:0]   q_out;
+output wire [LANES*Q_W-1:0] q_out;
 
 // elaboration fails (unknown module) on an unsupported configuration or latency
 generate
     if (NORM && NQ_W > D_W - 1) begin : g_bad_params
         cmap_divide_unsupported_div_bits u_error ();
+    end
+    if (LANES != 1 && LANES != 4) begin : g_bad_lanes
+        cmap_divide_lanes_must_be_1_or_4 u_error ();
     end
     if (LAT != 1 + P + Q_W) begin : g_bad_latency
         cmap_divide_latency_mismatch u_error ();
@@ -84,7 +89,7 @@ endgenerate
 wire [W_W-1:0] w_y;
 delay_line #(.W(W_W), .N(P)) u_dly_wy (.clk(clk), .rst(rst), .ce(ce), .d_in(w_in), .d_out(w_y));
 
-wire [4*NUM_DW-1:0] num;   // stage-6 operands (FPGA_REGS: after 6c)
+wire [LANES*NUM_DW-1:0] num;   // stage-6 operands (FPGA_REGS: after 6c)
 wire [DEN_DW-1:0]   den;
 
 generate
@@ -102,7 +107,7 @@ generate
         reg                  w_zero;
         reg  [D_W-1:0]       d_w;    // w zero-extended
         reg  [W_W-1:0]       den_x;
-        reg  [4*(D_W-1)-1:0] num_x;
+        reg  [LANES*(D_W-1)-1:0] num_x;
         integer              c;
         // D + w (< 2^D_W); floor((D + w) / 2w) = floor(((D + w) >> 1) / w): the LSB of
         // D + w is not needed
@@ -117,7 +122,7 @@ generate
             den_x = w_s;
             if (w_zero)
                 den_x[0] = 1'b1;
-            for (c = 0; c < 4; c = c + 1) begin
+            for (c = 0; c < LANES; c = c + 1) begin
                 sum = d_in[c*D_W +: D_W] + d_w;
                 pt = {(D_W-1){1'b0}};
                 pt[Q_W-1:0] = pt_in[Q_W*c +: Q_W];
@@ -126,7 +131,7 @@ generate
         end
         // FPGA_REGS: stage 6c (the normalised method's shift stage) as a register of the
         // operands, so that both methods have the block's one latency
-        delay_line #(.W(4*(D_W-1) + W_W), .N(P)) u_dly_6c (.clk(clk), .rst(rst), .ce(ce),
+        delay_line #(.W(LANES*(D_W-1) + W_W), .N(P)) u_dly_6c (.clk(clk), .rst(rst), .ce(ce),
             .d_in({num_x, den_x}), .d_out({num, den}));
 
     end else begin : g_norm
@@ -233,7 +238,7 @@ generate
         reg  [D_W-1:0]      d_wn;   // w + 2 h(sh) zero-extended
         reg  [B-1:0]        den_x;
         /* verilator lint_off UNUSEDSIGNAL */  // FPGA_REGS: stage 6c forms num from the sums
-        reg  [4*NQ_W-1:0]   num_x;
+        reg  [LANES*NQ_W-1:0] num_x;
         /* verilator lint_on UNUSEDSIGNAL */
         integer             c;
         // sum = D + w + 2 h(sh), one bit wider: with B = 1, 2 h(sh) reaches w (w = 2^sh),
@@ -248,8 +253,8 @@ generate
         // FPGA_REGS: the sums (and the words stage 6c reads) of the four channels, registered
         // (else not read)
         /* verilator lint_off UNUSEDSIGNAL */
-        reg  [4*(D_W+1)-1:0] sum_all;
-        reg  [4*NQ_W-1:0]    pt_all;
+        reg  [LANES*(D_W+1)-1:0] sum_all;
+        reg  [LANES*NQ_W-1:0]    pt_all;
         /* verilator lint_on UNUSEDSIGNAL */
         always @* begin
             w_zero = (wn_s == {(W_W+1){1'b0}});
@@ -258,7 +263,7 @@ generate
             den_x = den_s;   // 0 when w = 0
             if (w_zero)
                 den_x[0] = 1'b1;
-            for (c = 0; c < 4; c = c + 1) begin
+            for (c = 0; c < LANES; c = c + 1) begin
                 sum = {1'b0, d_in[c*D_W +: D_W]} + {1'b0, d_wn};
                 nsh = sum[D_W:1] >> sh_s;
                 pt = {NQ_W{1'b0}};
@@ -271,20 +276,20 @@ generate
         if (P != 0) begin : g_6c
             // ---- stage 6c (FPGA_REGS): the sums registered with sh, w = 0 and den'; then
             // the shift and the operand select (the adder and the shifter on two clocks)
-            wire [4*(D_W+1)-1:0] sum_c;
-            wire [4*NQ_W-1:0]    pt_c;
+            wire [LANES*(D_W+1)-1:0] sum_c;
+            wire [LANES*NQ_W-1:0]    pt_c;
             wire [SH_W-1:0]      sh_c;
             wire                 wz_c;
             wire [B-1:0]         den_c;
-            delay_line #(.W(4*(D_W+1) + 4*NQ_W + SH_W + 1 + B), .N(1)) u_dly_6c (.clk(clk), .rst(rst),
+            delay_line #(.W(LANES*(D_W+1) + LANES*NQ_W + SH_W + 1 + B), .N(1)) u_dly_6c (.clk(clk), .rst(rst),
                 .ce(ce), .d_in({sum_all, pt_all, sh_s, w_zero, den_x}), .d_out({sum_c, pt_c, sh_c, wz_c, den_c}));
-            reg [4*NQ_W-1:0] num_c;
+            reg [LANES*NQ_W-1:0] num_c;
             /* verilator lint_off UNUSEDSIGNAL */
             reg [D_W-1:0]    nsh_c;
             /* verilator lint_on UNUSEDSIGNAL */
             integer          c6c;
             always @* begin
-                for (c6c = 0; c6c < 4; c6c = c6c + 1) begin
+                for (c6c = 0; c6c < LANES; c6c = c6c + 1) begin
                     nsh_c = sum_c[c6c*(D_W+1) + 1 +: D_W] >> sh_c;
                     num_c[c6c*NQ_W +: NQ_W] = wz_c ? pt_c[c6c*NQ_W +: NQ_W] : nsh_c[NQ_W-1:0];
                 end
@@ -299,7 +304,7 @@ generate
 endgenerate
 
 // the operands registered (stage 6), with their valid (FPGA_REGS: after 6c)
-reg [4*NUM_DW-1:0] s6_num_reg;
+reg [LANES*NUM_DW-1:0] s6_num_reg;
 reg [DEN_DW-1:0]   s6_den_reg;
 always @(posedge clk) begin
     if (ce) begin
@@ -314,7 +319,7 @@ delay_line #(.W(1), .N(1 + P), .CLEAR(1)) u_dly_dv (.clk(clk), .rst(rst), .ce(ce
 // ---- stages 7..14: one quotient bit per stage; exact: divisor w itself; normalised: B-bit
 // divisors, and for B <= 9 the quotient can reach 256 (up to 383), saturated to 255 (SAT)
 box_divide #(
-    .NUM_W(NUM_DW), .DEN_W(DEN_DW), .Q_W(Q_W), .LANES(4), .SAT(NORM ? SAT : 0)
+    .NUM_W(NUM_DW), .DEN_W(DEN_DW), .Q_W(Q_W), .LANES(LANES), .SAT(NORM ? SAT : 0)
 ) u_divide (
     .clk(clk), .rst(rst), .ce(ce), .in_valid(div_valid),
     .num_in(s6_num_reg), .den_in(s6_den_reg),

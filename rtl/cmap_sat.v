@@ -53,7 +53,9 @@ module cmap_sat #(
     parameter W_CAP_LOG2 = 16,  // [w_cap_log2] w saturates at 2^W_CAP_LOG2 entries
     parameter N_LOG2_MAX = 8,   // [n_log2_max] log2 of the largest colour table (>= 1)
     parameter DIV_BITS   = 0,   // [div_bits] box-filter division: 0 exact, B > 0 on B-bit w
-    parameter FPGA_REGS  = 0    // [fpga_regs] 1: the register stages above
+    parameter FPGA_REGS  = 0,   // [fpga_regs] 1: the register stages above
+    parameter CLOCKS     = 1    // [cmap_clocks] 1: a pixel a clock; 4: a channel a clock, a pixel in at
+                                // most every 4 enabled clocks (FPGA_REGS = 0 only; the fold above)
 ) (clk, rst, ce, in_valid, u_in, w_in, mode, n_log2, wr_en, wr_table, wr_addr, wr_data, out_valid, rgba_out);
 
 `include "tex_widths.vh"
@@ -71,7 +73,8 @@ localparam TW     = D_W - XF;           // whole-entry part of D
 localparam QW     = (CS_W - 8 > 8) ? CS_W - 8 : 8;  // multiplier operand: a byte of total, or clut
 
 localparam P      = FPGA_REGS ? 1 : 0;  // each optional register stage (delay_line of P stages)
-localparam LAT    = FPGA_REGS ? `LAT_CMAP_SAT_FPGA : `LAT_CMAP_SAT;
+localparam LAT    = `LAT_CMS(FPGA_REGS, CLOCKS);  // the rule of rtl/tex_latency.vh
+localparam SER    = (CLOCKS == 4) ? 1 : 0;  // the fold: three channels later, the assembly register
 localparam LAT_DV = FPGA_REGS ? `LAT_CMAP_DIVIDE_FPGA : `LAT_CMAP_DIVIDE;
 
 input  wire                 clk;
@@ -90,10 +93,14 @@ input  wire [4*CS_W-1:0]    wr_data;
 output wire                 out_valid;
 output wire [31:0]          rgba_out;
 
-// elaboration fails (unknown module) when the stages below do not add up to the latency:
-// 2..5, 4b, 5a, 6a, then cmap_divide
+// elaboration fails (unknown module) on an unsupported fold, or when the stages below do not
+// add up to the latency: 2..5, 4b, 5a, 6a, then cmap_divide (CLOCKS = 4: then three channels
+// and the assembly register)
 generate
-    if (LAT != 4 + 3*P + LAT_DV) begin : g_bad_latency
+    if ((CLOCKS != 1 && CLOCKS != 4) || (CLOCKS == 4 && FPGA_REGS != 0)) begin : g_bad_params
+        cmap_sat_clocks_must_be_1_or_4_without_fpga_regs u_error ();
+    end
+    if (LAT != 4 + 3*P + LAT_DV + 4*SER) begin : g_bad_latency
         cmap_sat_latency_mismatch u_error ();
     end
 endgenerate
@@ -114,11 +121,10 @@ reg [NL_W-1:0]  s2_n_log2_reg;
 reg [NMAX-1:0]  s2_nm1_reg;     // FPGA_REGS: N - 1 for sat_index (else not read)
 
 // each stage's enable: ce on a clock that brings the stage a valid pixel (stages 2..4; stage
-// 5 and sat_integral: FPGA_REGS, whose words pass the extra stages 4b and 5a, on every
-// enabled clock)
+// 5 and sat_integral below: FPGA_REGS, whose words pass the extra stages 4b and 5a, on every
+// enabled clock; CLOCKS = 4, on the pixel's four channel clocks)
 wire ce3 = ce && sv_reg[0];
 wire ce4 = ce && sv_reg[1];
-wire ce5 = ce && (sv_reg[2] || P != 0);
 
 // ---- stage 3: table addresses and weights of both ends
 wire [NMAX-1:0] kk_a, kk_b, km1_a, km1_b;
@@ -209,22 +215,7 @@ wire [4*QW-1:0] q_a, q_b;
 delay_line #(.W(8*QW), .N(P)) u_dly_q (.clk(clk), .rst(rst), .ce(ce), .d_in({q_a_n, q_b_n}),
                                        .d_out({q_a, q_b}));
 
-wire [4*D_W-1:0] p_a, p_b;
-wire [4*TW-1:0]  e_a, e_b;
-
-sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W), .PIPE(P)) u_integral_a (
-    .clk(clk), .ce(ce5), .c_in(clut_ax), .before_in(csat_ax), .first_in(s4x_first_a),
-    .fr_in(s4x_fr_a), .k_in(s4x_k_a), .q_in(q_a), .p_out(p_a), .e_out(e_a)
-);
-sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W), .PIPE(P)) u_integral_b (
-    .clk(clk), .ce(ce5), .c_in(clut_bx), .before_in(csat_bx), .first_in(s4x_first_b),
-    .fr_in(s4x_fr_b), .k_in(s4x_k_b), .q_in(q_b), .p_out(p_b), .e_out(e_b)
-);
-
-reg             s5_mode_reg;
-reg [31:0]      s5_point_reg;   // clut[ka]: the point lookup when w = 0
-
-// ---- stages 2..5 registers
+// ---- stages 2..4 registers
 /* verilator lint_off BLKSEQ */
 always @(posedge clk) begin
     // the temporaries wholly assigned first, outside any if (C++ locals: the header)
@@ -265,11 +256,6 @@ always @(posedge clk) begin
         s4_first_a_reg <= first_a;
         s4_first_b_reg <= first_b;
     end
-    if (ce5) begin
-        // stage 5
-        s5_mode_reg    <= s4y_mode;
-        s5_point_reg   <= clut_ay;
-    end
 end
 /* verilator lint_on BLKSEQ */
 
@@ -289,28 +275,137 @@ function [D_W-1:0] d_of;
         d_of  = {whole, {XF{1'b0}}} + pd;
     end
 endfunction
-reg [4*D_W-1:0] d_all;
-integer         c6;
-always @* begin
-    for (c6 = 0; c6 < 4; c6 = c6 + 1)
-        d_all[c6*D_W +: D_W] = d_of(s5_mode_reg, e_a[c6*TW +: TW], e_b[c6*TW +: TW], p_a[c6*D_W +: D_W],
-                                    p_b[c6*D_W +: D_W]);
-end
-wire [4*D_W-1:0] d_6;
-wire [31:0]      point_6;
-delay_line #(.W(4*D_W + 32), .N(P)) u_dly_d (.clk(clk), .rst(rst), .ce(ce), .d_in({d_all, s5_point_reg}),
-                                            .d_out({d_6, point_6}));
 
-// D's valid: stage 5's (FPGA_REGS: three stages later, 4b, 5a, 6a)
-wire d_valid;
-delay_line #(.W(1), .N(3*P), .CLEAR(1)) u_dly_dv (.clk(clk), .rst(rst), .ce(ce), .d_in(sv_reg[3]),
-                                                 .d_out(d_valid));
+generate
+    if (CLOCKS == 1) begin : g_lanes
+        // ---- stage 5: both ends' sat_integral, the four channels at once
+        wire ce5 = ce && (sv_reg[2] || P != 0);
+        wire [4*D_W-1:0] p_a, p_b;
+        wire [4*TW-1:0]  e_a, e_b;
 
-// ---- stages 6..14: the division (w from stage 4, 4b with FPGA_REGS: 1 + 2P stages before D)
-cmap_divide #(.W_W(W_W), .D_W(D_W), .DIV_BITS(DIV_BITS), .FPGA_REGS(FPGA_REGS)) u_divide (
-    .clk(clk), .rst(rst), .ce(ce), .w_in(s4x_w), .in_valid(d_valid), .d_in(d_6), .pt_in(point_6),
-    .out_valid(out_valid), .q_out(rgba_out)
-);
+        sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W), .PIPE(P)) u_integral_a (
+            .clk(clk), .ce(ce5), .c_in(clut_ax), .before_in(csat_ax), .first_in(s4x_first_a),
+            .fr_in(s4x_fr_a), .k_in(s4x_k_a), .q_in(q_a), .p_out(p_a), .e_out(e_a)
+        );
+        sat_integral #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W), .PIPE(P)) u_integral_b (
+            .clk(clk), .ce(ce5), .c_in(clut_bx), .before_in(csat_bx), .first_in(s4x_first_b),
+            .fr_in(s4x_fr_b), .k_in(s4x_k_b), .q_in(q_b), .p_out(p_b), .e_out(e_b)
+        );
+
+
+        reg             s5_mode_reg;
+        reg [31:0]      s5_point_reg;   // clut[ka]: the point lookup when w = 0
+        always @(posedge clk) begin
+            if (ce5) begin
+                s5_mode_reg    <= s4y_mode;
+                s5_point_reg   <= clut_ay;
+            end
+        end
+
+        reg [4*D_W-1:0] d_all;
+        integer         c6;
+        always @* begin
+            for (c6 = 0; c6 < 4; c6 = c6 + 1)
+                d_all[c6*D_W +: D_W] = d_of(s5_mode_reg, e_a[c6*TW +: TW], e_b[c6*TW +: TW], p_a[c6*D_W +: D_W],
+                                            p_b[c6*D_W +: D_W]);
+        end
+        wire [4*D_W-1:0] d_6;
+        wire [31:0]      point_6;
+        delay_line #(.W(4*D_W + 32), .N(P)) u_dly_d (.clk(clk), .rst(rst), .ce(ce), .d_in({d_all, s5_point_reg}),
+                                                    .d_out({d_6, point_6}));
+
+        // D's valid: stage 5's (FPGA_REGS: three stages later, 4b, 5a, 6a)
+        wire d_valid;
+        delay_line #(.W(1), .N(3*P), .CLEAR(1)) u_dly_dv (.clk(clk), .rst(rst), .ce(ce), .d_in(sv_reg[3]),
+                                                         .d_out(d_valid));
+
+        // ---- stages 6..14: the division (w from stage 4, 4b with FPGA_REGS: 1 + 2P stages before D)
+        cmap_divide #(.W_W(W_W), .D_W(D_W), .DIV_BITS(DIV_BITS), .FPGA_REGS(FPGA_REGS)) u_divide (
+            .clk(clk), .rst(rst), .ce(ce), .w_in(s4x_w), .in_valid(d_valid), .d_in(d_6), .pt_in(point_6),
+            .out_valid(out_valid), .q_out(rgba_out)
+        );
+    end else begin : g_serial
+        // ---- CLOCKS = 4: a pixel's channels c = 0..3 on the four enabled clocks from stage 4's
+        // valid (its registers and the table outputs hold meanwhile: the next pixel comes at
+        // least four enabled clocks later); ch_d[c - 1]: channel c is at stage 5's input
+        reg  [2:0] ch_d;
+        always @(posedge clk) begin
+            if (rst)
+                ch_d <= 3'b000;
+            else if (ce)
+                ch_d <= {ch_d[1:0], sv_reg[2]};
+        end
+        wire       ch_on = sv_reg[2] || (|ch_d);           // a channel enters stage 5
+        wire [1:0] ch    = {ch_d[1] | ch_d[2], ch_d[0] | ch_d[2]};
+        wire       ce5s  = ce && ch_on;
+        /* verilator lint_off UNUSEDSIGNAL */  // stage 5's valid is s5_valid_reg, a channel's
+        wire       unused_sv3 = sv_reg[3];
+        /* verilator lint_on UNUSEDSIGNAL */
+
+        // ---- stage 5: one channel of both ends' integrals (sat_integral_serial)
+        wire [D_W-1:0] p_a, p_b;
+        wire [TW-1:0]  e_a, e_b;
+        sat_integral_serial #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W)) u_integral_a (
+            .clk(clk), .ce(ce5s), .ch_in(ch), .c_in(clut_ax), .before_in(csat_ax), .first_in(s4x_first_a),
+            .fr_in(s4x_fr_a), .k_in(s4x_k_a), .q_in(q_a), .p_out(p_a), .e_out(e_a)
+        );
+        sat_integral_serial #(.XF(XF), .KW(KW), .QW(QW), .CS_W(CS_W), .D_W(D_W)) u_integral_b (
+            .clk(clk), .ce(ce5s), .ch_in(ch), .c_in(clut_bx), .before_in(csat_bx), .first_in(s4x_first_b),
+            .fr_in(s4x_fr_b), .k_in(s4x_k_b), .q_in(q_b), .p_out(p_b), .e_out(e_b)
+        );
+        reg       s5_valid_reg;      // stage 5 holds a channel
+        reg       s5_mode_reg;
+        reg [7:0] s5_point_reg;      // clut[ka][ch]: the point lookup when w = 0
+        always @(posedge clk) begin
+            if (rst)
+                s5_valid_reg <= 1'b0;
+            else if (ce)
+                s5_valid_reg <= ch_on;
+            if (ce5s) begin
+                s5_mode_reg  <= s4y_mode;
+                s5_point_reg <= clut_ay[8*ch +: 8];
+            end
+        end
+
+        // ---- stage 6: D of the channel (cmap_divide reads it from the stage-5 registers)
+        reg [D_W-1:0] d_1;
+        always @* d_1 = d_of(s5_mode_reg, e_a, e_b, p_a, p_b);
+
+        // ---- stages 6..14: the division, one channel a vector (w from stage 4, which holds
+        // it for the pixel's four channels)
+        wire       dv_valid;
+        wire [7:0] dv_q;
+        cmap_divide #(.W_W(W_W), .D_W(D_W), .DIV_BITS(DIV_BITS), .FPGA_REGS(0), .LANES(1)) u_divide (
+            .clk(clk), .rst(rst), .ce(ce), .w_in(s4x_w), .in_valid(s5_valid_reg), .d_in(d_1),
+            .pt_in(s5_point_reg), .out_valid(dv_valid), .q_out(dv_q)
+        );
+
+        // ---- stage 18: the four bytes assembled (channel 0 first: R at [7:0]); out_valid
+        // with the fourth
+        reg [1:0]  oc;               // the channel dv_q holds
+        reg [23:0] bytes_reg;        // channels 0..2, the latest at [23:16]
+        reg        out_valid_reg;
+        reg [31:0] rgba_reg;
+        always @(posedge clk) begin
+            if (rst) begin
+                oc            <= 2'd0;
+                out_valid_reg <= 1'b0;
+                rgba_reg      <= 32'd0;
+            end else if (ce) begin
+                out_valid_reg <= dv_valid && (oc == 2'd3);
+                if (dv_valid) begin
+                    oc <= oc + 2'd1;
+                    if (oc == 2'd3)
+                        rgba_reg  <= {dv_q, bytes_reg};
+                    else
+                        bytes_reg <= {dv_q, bytes_reg[23:8]};
+                end
+            end
+        end
+        assign out_valid = out_valid_reg;
+        assign rgba_out  = rgba_reg;
+    end
+endgenerate
 
 endmodule
 

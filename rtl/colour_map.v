@@ -52,8 +52,9 @@
 // thresholds' live bits, N, (f mod 1) N and the shifted f, registered; 1b: the comparisons),
 // and four in the family
 // (cmap_sat: 4b, 5a, 6a and cmap_divide's 6c; mip, none: a longer delay line).
-// Latency `LAT_COLOUR_MAP = 14 (FPGA_REGS: `LAT_COLOUR_MAP_FPGA = 19) register stages;
-// throughput one pixel per enabled clock.
+// Latency `LAT_COLOUR_MAP = 14 (FPGA_REGS: `LAT_COLOUR_MAP_FPGA = 19; CLOCKS = 4:
+// `LAT_COLOUR_MAP_SERIAL = 18) register stages; throughput one pixel per enabled clock (CLOCKS
+// = 4: one per four).
 // Reset (synchronous, active high) clears the valid chain and rgba_out (no X after reset);
 // rgba_out loads only with a valid result.
 // Written for simulation speed: stage 1(b)'s comparisons and selection computed in its
@@ -78,7 +79,9 @@ module colour_map #(
     parameter N_LOG2_MAX = 8,   // [n_log2_max] log2 of the largest colour table (>= 1)
     parameter FILTER     = 1,   // [filter] 0 none (point lookup), 1 sat, 2 mip, 3 sat2
     parameter DIV_BITS   = 0,   // [div_bits] box-filter division: 0 exact, B > 0 on B-bit w
-    parameter FPGA_REGS  = 0    // [fpga_regs] 1: the five extra register stages above
+    parameter FPGA_REGS  = 0,   // [fpga_regs] 1: the five extra register stages above
+    parameter CLOCKS     = 1    // [cmap_clocks] 4: cmap_sat takes a pixel's channels on four clocks
+                                // (FILTER 1 without FPGA_REGS; a pixel in at most every 4 enabled clocks)
 ) (clk, rst, ce, in_valid, f_in, w_in, mode, n_log2, filter_en, wr_en, wr_table, wr_addr, wr_data,
    out_valid, rgba_out);
 
@@ -111,22 +114,26 @@ input  wire [4*CS_W-1:0]    wr_data;
 output wire                 out_valid;
 output wire [31:0]          rgba_out;
 
-localparam LAT    = FPGA_REGS ? `LAT_COLOUR_MAP_FPGA : `LAT_COLOUR_MAP;
+localparam LAT    = `LAT_CM(FPGA_REGS, CLOCKS);   // the rule of rtl/tex_latency.vh
 localparam P      = FPGA_REGS ? 1 : 0;  // each optional register stage (delay_line of P stages)
 
 localparam GUARD  = WCAP + FF - 1 + GW; // clamp guard W/2 (sat2: W) = 2^GUARD (units 2^-FF entries)
 localparam CW     = (F_W > U_W) ? F_W : U_W;  // clamp comparison width
 
 // the filter family's latency (after stage 1)
-localparam LAT_FAM = (FILTER == 1) ? (FPGA_REGS ? `LAT_CMAP_SAT_FPGA : `LAT_CMAP_SAT)
+localparam LAT_FAM = (FILTER == 1) ? `LAT_CMS(FPGA_REGS, CLOCKS)
                    : (FILTER == 3) ? (FPGA_REGS ? `LAT_CMAP_SAT2_FPGA : `LAT_CMAP_SAT2)
                    : (FILTER == 2) ? (FPGA_REGS ? `LAT_CMAP_MIP_FPGA : `LAT_CMAP_MIP)
                    :                 (FPGA_REGS ? `LAT_CMAP_POINT_FPGA : `LAT_CMAP_POINT);
 
 // elaboration fails (unknown module) when stage 1 and the family do not add up to the latency
+// or on a fold of another family (cmap_sat checks its own)
 generate
     if (LAT != 1 + P + LAT_FAM) begin : g_bad_latency
         colour_map_latency_mismatch u_error ();
+    end
+    if (CLOCKS != 1 && FILTER != 1) begin : g_bad_clocks
+        colour_map_clocks_needs_filter_sat u_error ();
     end
 endgenerate
 
@@ -244,7 +251,7 @@ generate
         // ---- stages 2..14 (FPGA_REGS: ..19): the box filter and its division
         cmap_sat #(
             .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .DIV_BITS(DIV_BITS),
-            .FPGA_REGS(FPGA_REGS)
+            .FPGA_REGS(FPGA_REGS), .CLOCKS(CLOCKS)
         ) u_family (
             .clk(clk), .rst(rst), .ce(ce), .in_valid(s1_valid_reg), .u_in(s1_u_reg), .w_in(s1_w_reg),
             .mode(s1_mode_reg), .n_log2(s1_n_log2_reg),

@@ -8,7 +8,7 @@
 // two's complement sums, so their order does not change a bit: the golden model's
 // texture_stages is the twin for every U). Terms k >= K_used are skipped: a pixel takes
 // P = max(MIN_CLOCKS, ceil(K_used / U)) clocks, so a texture with fewer terms costs fewer clocks
-// (MIN_CLOCKS = 2 where the quadric MAC takes two clocks a pixel).
+// (MIN_CLOCKS = 2 or 6 where the quadric MAC takes two or six clocks a pixel).
 //
 // Schedule: a pixel is taken into hold registers (s and `side`, the data that travel with
 // it: texture_pipeline's Jm, je and tlast); on the next P enabled clocks, issue j = 0..P-1
@@ -63,7 +63,7 @@ module noise_fold #(
     parameter F_W            = 32,  // f_sum word (texture_pipeline's exact-sum width)
     parameter C_W            = 24,  // c_sum element word (likewise)
     parameter SIDE_W         = 1,   // data that travel with a pixel (held, not read)
-    parameter MIN_CLOCKS     = 1,   // [quadric_clocks] a pixel takes at least this many clocks (1, 2)
+    parameter MIN_CLOCKS     = 1,   // [quadric_clocks] a pixel takes at least this many clocks (>= 1)
     parameter FPGA_REGS      = 0,   // [fpga_regs] the noise units' extra register stages (noise_term)
     parameter T_EXP_W        = 0,   // [t_exp_w] T's per-term exponent te above its mantissas (0: none)
     parameter A_EXP_W        = 0,   // [a_exp_w] a's per-term exponent ae above its mantissa (0: none)
@@ -113,7 +113,7 @@ output wire [3*C_W-1:0]     c_sum;
 
 // elaboration fails (unknown module) on an unsupported fold
 generate
-    if (U < 1 || U > K || F_W < AN_W || C_W < AG_W || MIN_CLOCKS < 1 || MIN_CLOCKS > 2) begin : g_bad_params
+    if (U < 1 || U > K || F_W < AN_W || C_W < AG_W || MIN_CLOCKS < 1) begin : g_bad_params
         noise_fold_needs_1_le_units_le_terms u_error ();
     end
 endgenerate

@@ -37,13 +37,16 @@
  *                   the products s_k x_k
  *   qmac_diag_fold  DIAG = 1, CLOCKS = 2: the same on 3 multipliers, a vector at most every
  *                   other enabled clock
- *   qmac_diag_pipe  DIAG = 1, FPGA_REGS = 1 (CLOCKS 1 or 2: the FPGA has multipliers to
+ *   qmac_diag_serial DIAG = 1, CLOCKS = 6: the same on 1 multiplier, a vector at most every
+ *                   sixth enabled clock
+ *   qmac_diag_pipe  DIAG = 1, FPGA_REGS = 1 (CLOCKS 1, 2 or 6: the FPGA has multipliers to
  *                   spare, the products are not folded): each product on mul_pipe (18x18
  *                   partial products registered before their sum), x_k in one adder
  * Stage 4 (here): q = (sum >>> s_frac) + v_3, and the output shifts.
- * Latency `LAT_QUADRIC_MAC (4) register stages (FPGA_REGS: `LAT_QUADRIC_MAC_FPGA, 6): the
- * datapath's `LAT_QMAC_* and stage 4, checked at elaboration. Throughput one vector per
- * enabled clock (CLOCKS = 2: one every other enabled clock, on half the multipliers). ce = 0
+ * Latency `LAT_QM(FPGA_REGS, DIAG, CLOCKS): `LAT_QUADRIC_MAC (4) register stages (FPGA_REGS:
+ * `LAT_QUADRIC_MAC_FPGA, 6; CLOCKS = 6: `LAT_QUADRIC_MAC_SERIAL, 8): the datapath's `LAT_QMAC_*
+ * and stage 4, checked at elaboration. Throughput one vector per enabled clock (CLOCKS = 2: one
+ * every other enabled clock, on half the multipliers; CLOCKS = 6: one in six, on one). ce = 0
  * holds every register. rst (synchronous) clears the valid chains and the output registers;
  * the output registers load only valid vectors, so the outputs are never X after reset.
  *
@@ -67,7 +70,8 @@ module quadric_mac #(
     parameter DIAG   = 0,   // [quadric] 0 full (10 coefficients), 1 diagonal (B = C = F = 0, not read)
     // [quadric_clocks] 1: a vector every enabled clock; 2 (diagonal only): a vector at most
     // every other enabled clock, the 6 products on 3 multipliers (stage 1's Q_kk s_k in the
-    // vector's first clock, stage 2's s_k x_k in its second)
+    // vector's first clock, stage 2's s_k x_k in its second); 6 (diagonal only): a vector at
+    // most every sixth enabled clock, the 6 products on 1 multiplier
     parameter CLOCKS = 1,
     parameter S_W    = 24,  // [s_w] texture coordinate word width
     parameter S_FRAC = 16,  // [s_frac] texture coordinate fraction bits
@@ -97,10 +101,11 @@ output wire              out_valid;
 output wire [QF_W-1:0]   q_out;
 output wire [3*C_W-1:0]  cq_out;
 
-localparam LATENCY = FPGA_REGS ? `LAT_QUADRIC_MAC_FPGA : `LAT_QUADRIC_MAC;
+localparam LATENCY = `LAT_QM(FPGA_REGS, DIAG, CLOCKS);
 // the datapath's latency (rtl/tex_latency.vh, the one source; each datapath checks its own)
 localparam LAT_DP  = (DIAG != 0 && FPGA_REGS != 0) ? `LAT_QMAC_DIAG_PIPE
                    : (DIAG != 0 && CLOCKS == 2)    ? `LAT_QMAC_DIAG_FOLD
+                   : (DIAG != 0 && CLOCKS == 6)    ? `LAT_QMAC_DIAG_SERIAL
                    : (DIAG != 0)                   ? `LAT_QMAC_DIAG
                    : (FPGA_REGS != 0)              ? `LAT_QMAC_FULL_FPGA
                    :                                 `LAT_QMAC_FULL;
@@ -108,8 +113,8 @@ localparam LAT_DP  = (DIAG != 0 && FPGA_REGS != 0) ? `LAT_QMAC_DIAG_PIPE
 // elaboration fails (unknown module) on an unsupported CLOCKS, or when the datapath and
 // stage 4 do not add up to this block's latency in rtl/tex_latency.vh
 generate
-    if (CLOCKS != 1 && (CLOCKS != 2 || DIAG == 0)) begin : g_bad_clocks
-        quadric_mac_clocks_must_be_1_or_2_diagonal u_error ();
+    if (CLOCKS != 1 && ((CLOCKS != 2 && CLOCKS != 6) || DIAG == 0)) begin : g_bad_clocks
+        quadric_mac_clocks_must_be_1_or_2_or_6_diagonal u_error ();
     end
     if (LATENCY != LAT_DP + 1) begin : g_bad_latency
         quadric_mac_latency_mismatch_see_tex_latency_vh u_error ();
@@ -144,6 +149,10 @@ generate
             .out_valid(dp_valid), .r_out(dp_r), .v_out(dp_v));
     end else if (DIAG != 0 && CLOCKS == 2) begin : g_diag_fold
         qmac_diag_fold #(.S_W(S_W), .S_FRAC(S_FRAC), .Q_W(Q_W)) u_dp (
+            .clk(clk), .rst(rst), .ce(ce), .in_valid(in_valid), .s_in(s_in), .q_coef(q_coef),
+            .out_valid(dp_valid), .r_out(dp_r), .v_out(dp_v));
+    end else if (DIAG != 0 && CLOCKS == 6) begin : g_diag_serial
+        qmac_diag_serial #(.S_W(S_W), .S_FRAC(S_FRAC), .Q_W(Q_W)) u_dp (
             .clk(clk), .rst(rst), .ce(ce), .in_valid(in_valid), .s_in(s_in), .q_coef(q_coef),
             .out_valid(dp_valid), .r_out(dp_r), .v_out(dp_v));
     end else if (DIAG != 0) begin : g_diag

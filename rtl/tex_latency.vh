@@ -9,11 +9,17 @@
 `define TEX_LATENCY_VH
 `define LAT_QUADRIC_MAC       4
 `define LAT_QUADRIC_MAC_FPGA  6
+// quadric_mac with quadric_clocks = 6 (diagonal, FPGA_REGS = 0): qmac_diag_serial's six clocks
+`define LAT_QUADRIC_MAC_SERIAL 8
+// quadric_mac's latency for its parameters (FPGA_REGS, DIAG, CLOCKS): the one rule, used by
+// quadric_mac, texture_sum and texture_pipeline (model/hw/config.py latency("quadric_mac", cfg))
+`define LAT_QM(fpga, diag, clocks) (((fpga) != 0) ? `LAT_QUADRIC_MAC_FPGA : (((diag) != 0 && (clocks) == 6) ? `LAT_QUADRIC_MAC_SERIAL : `LAT_QUADRIC_MAC))
 // quadric_mac's datapaths (stages 1-3; quadric_mac adds its output stage, checked there)
 `define LAT_QMAC_FULL         3
 `define LAT_QMAC_FULL_FPGA    5
 `define LAT_QMAC_DIAG         3
 `define LAT_QMAC_DIAG_FOLD    3
+`define LAT_QMAC_DIAG_SERIAL  7
 `define LAT_QMAC_DIAG_PIPE    5
 `define LAT_NOISE_TERM        8
 `define LAT_NOISE_TERM_FPGA   16
@@ -28,6 +34,14 @@
 `define LAT_COLOUR_MAP_FPGA   19
 `define LAT_CMAP_SAT          13
 `define LAT_CMAP_SAT_FPGA     17
+// cmap_sat with cmap_clocks = 4 (a channel a clock, FPGA_REGS = 0): the later three channels
+// and the assembly register after `LAT_CMAP_SAT; colour_map adds its stage 1
+`define LAT_CMAP_SAT_SERIAL   17
+`define LAT_COLOUR_MAP_SERIAL 18
+// cmap_sat's and colour_map's latencies for their parameters (FPGA_REGS, CLOCKS): the one rule,
+// used by cmap_sat, colour_map and texture_pipeline (model/hw/config.py latency(module, cfg))
+`define LAT_CMS(fpga, clocks) (((fpga) != 0) ? `LAT_CMAP_SAT_FPGA : (((clocks) == 4) ? `LAT_CMAP_SAT_SERIAL : `LAT_CMAP_SAT))
+`define LAT_CM(fpga, clocks) (((fpga) != 0) ? `LAT_COLOUR_MAP_FPGA : (((clocks) == 4) ? `LAT_COLOUR_MAP_SERIAL : `LAT_COLOUR_MAP))
 `define LAT_CMAP_SAT2         13
 `define LAT_CMAP_SAT2_FPGA    17
 `define LAT_CMAP_DIVIDE       9

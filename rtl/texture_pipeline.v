@@ -55,8 +55,8 @@
 // T_CM = max(T_F, T_WD) = max(LAT_FRONT + TREE_LEVELS, DLY_J + LAT_FILTER_WIDTH) (below; sat_fc:
 // LAT_FC_SCALE more in the terms and LAT_FC_WMAX after filter_width), plus one clock in the
 // skid buffer; with SAMPLES > 1, from the pixel's last sample, plus LAT_SAMPLE_AVERAGE.
-// Throughput: one pixel per SAMPLES x ceil(k_used / NOISE_UNITS) clocks (at least QUADRIC_CLOCKS a
-// sample; one pixel a clock unfolded at SAMPLES = 1) while m_axis_tready is held high.
+// Throughput: one pixel per SAMPLES x ceil(k_used / NOISE_UNITS) clocks (at least QUADRIC_CLOCKS and
+// CMAP_CLOCKS a sample; one pixel a clock unfolded at SAMPLES = 1) while m_axis_tready is held high.
 // SAMPLES > 1 (sample_expand, sample_average): the pixel's SAMPLES sub-pixel samples enter one
 // after the other (s_axis_tready with the last), each filtered with the footprint of its cell of the
 // pixel (2: the halves across y, J's y column halved; 4: the quarters, J / 2),
@@ -79,7 +79,8 @@ module texture_pipeline #(
     parameter NOISE_UNITS    = 8,   // [noise_units] U: noise units, 1..K; U < K: the terms on U units, U a
                                     // clock (noise_fold), ceil(K_used / U) clocks a pixel
     parameter QUADRIC_CLOCKS = 1,   // [quadric_clocks] 2: the quadric MAC on half its multipliers, two
-                                    // clocks a pixel (diagonal quadric, folded terms)
+                                    // clocks a pixel; 6: on one multiplier, six clocks a pixel (diagonal
+                                    // quadric, folded terms)
     parameter BLEND          = 1,   // [blend] 0 linear, 1 cubic
     parameter TRANSFORM      = 0,   // [transform] 0 affine, 1 pow2
     parameter AMPLITUDE      = 0,   // [amplitude] 0 any, 1 pow2
@@ -92,6 +93,8 @@ module texture_pipeline #(
                                     // (rtl/tex_latency.vh `LAT_*_FPGA; docs/fpga.md)
     parameter SAMPLES        = 1,   // [samples] sub-pixel samples a pixel, 1, 2 or 4 (sample_expand,
                                     // sample_average): SAMPLES x the clocks of one sample a pixel
+    parameter CMAP_CLOCKS    = 1,   // [cmap_clocks] 4: colour_map's box filter a channel a clock, four
+                                    // clocks a sample (filter sat, folded terms, no FPGA_REGS)
     parameter S_W            = 24,  // [s_w] texture coordinates s{S_W}.{S_FRAC}
     parameter S_FRAC         = 16,  // [s_frac]
     parameter Q_W            = 24,  // [q_w] quadric coefficients s{Q_W}.{Q_FRAC}
@@ -156,6 +159,7 @@ localparam NLMAX  = N_LOG2_MAX;
 localparam PIX_W  = 3*S_W + 6*J_W + JE_W;                                      // pixel input word
 localparam FC_ON  = (FILTER == 3) || (FILTER == 5);                          // sat_fc, sat2_fc: the clamp
 localparam SAT2   = (FILTER == 4) || (FILTER == 5);                          // sat2, sat2_fc: the trapezoid
+localparam MIN_CLK = (CMAP_CLOCKS > QUADRIC_CLOCKS) ? CMAP_CLOCKS : QUADRIC_CLOCKS;  // noise_fold's least clocks a sample
 localparam FCL    = FC_ON && (K > 0) && !FOLD;                                 // frequency clamping
 localparam CM_FILTER = SAT2 ? 3 : (FILTER == 3) ? 1 : FILTER;                // colour_map: the box, sat2 its own
 localparam NW     = SAT2 ? 2 : 1;                                              // sat2: w = {b, a}
@@ -184,10 +188,10 @@ output wire             m_axis_tlast;
 // Latencies and alignment
 
 // each block's latency under FPGA_REGS (the block picks the same value from the same parameter)
-localparam LAT_QM      = FPGA_REGS ? `LAT_QUADRIC_MAC_FPGA  : `LAT_QUADRIC_MAC;
+localparam LAT_QM      = `LAT_QM(FPGA_REGS, QUADRIC, QUADRIC_CLOCKS);   // quadric_mac's (rtl/tex_latency.vh)
 localparam LAT_NT      = FPGA_REGS ? `LAT_NOISE_TERM_FPGA   : `LAT_NOISE_TERM;
 localparam LAT_FW      = FPGA_REGS ? `LAT_FILTER_WIDTH_FPGA : `LAT_FILTER_WIDTH;
-localparam LAT_CM      = FPGA_REGS ? `LAT_COLOUR_MAP_FPGA   : `LAT_COLOUR_MAP;
+localparam LAT_CM      = `LAT_CM(FPGA_REGS, CMAP_CLOCKS);             // colour_map's (rtl/tex_latency.vh)
 localparam LAT_FCW     = `LAT_FC_WEIGHT;
 localparam LAT_FCS     = FCL ? `LAT_FC_SCALE : 0;                        // sat_fc: fc_scale after each term
 localparam LAT_NF      = FPGA_REGS ? `LAT_NOISE_FOLD_FPGA   : `LAT_NOISE_FOLD;
@@ -330,7 +334,7 @@ generate
             .P_FRAC(P_FRAC), .HASH_BITS(HASH_BITS), .N_FRAC(N_FRAC), .F_FRAC(F_FRAC), .C_FRAC(C_FRAC),
             .TRANSFORM(TRANSFORM), .BLEND(BLEND), .AMPLITUDE(AMPLITUDE), .NOISE_GRADIENT(NOISE_GRADIENT),
             .NOISE_TERMS(K), .NOISE_UNITS(U), .F_W(F_W), .C_W(C_W), .SIDE_W(JM_W + JE_W + 1),
-            .MIN_CLOCKS(QUADRIC_CLOCKS), .FPGA_REGS(FPGA_REGS), .T_EXP_W(T_EXP_W), .A_EXP_W(A_EXP_W), .PERM(PERM)
+            .MIN_CLOCKS(MIN_CLK), .FPGA_REGS(FPGA_REGS), .T_EXP_W(T_EXP_W), .A_EXP_W(A_EXP_W), .PERM(PERM)
         ) u_noise_fold (
             .clk(clk), .rst(rst), .ce(ce),
             .in_valid(in_valid), .in_ready(fold_ready),
@@ -386,6 +390,10 @@ texture_sum #(
 );
 
 generate
+    // colour_map's fold needs a sample at most every CMAP_CLOCKS clocks: noise_fold's pacing
+    if (CMAP_CLOCKS != 1 && !FOLD) begin : g_bad_cmap_clocks
+        texture_pipeline_cmap_clocks_needs_folded_terms u_bad ();  // elaboration error
+    end
     if (FCL) begin : g_wv
         if (LAT_FCW > T_FW) begin : g_bad_fc_latency
             fc_weight_latency_exceeds_filter_width u_bad ();  // elaboration error
@@ -449,7 +457,7 @@ wire [31:0] cm_rgba;
 
 colour_map #(
     .F_W(F_W), .F_FRAC(F_FRAC), .W_CAP_LOG2(W_CAP_LOG2), .N_LOG2_MAX(N_LOG2_MAX), .FILTER(CM_FILTER),
-    .DIV_BITS(DIV_BITS), .FPGA_REGS(FPGA_REGS)
+    .DIV_BITS(DIV_BITS), .FPGA_REGS(FPGA_REGS), .CLOCKS(CMAP_CLOCKS)
 ) u_colour_map (
     .clk(clk), .rst(rst), .ce(ce),
     .in_valid(cm_in_valid),

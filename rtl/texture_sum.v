@@ -23,13 +23,13 @@
 // s{C_W}.{C_FRAC} (F_W, C_W bound the whole sums: exact, docs/numerics.md); wv_out
 // u{W_CAP_LOG2+F_FRAC+1}.{F_FRAC} colour-table entries.
 // Latency: f_out and out_valid LATENCY enabled clocks after in_valid (folded: after noise_fold's
-// px_valid), LATENCY = max(LAT_QM, LAT_NS) + TREE_LEVELS (LAT_QM `LAT_QUADRIC_MAC(_FPGA);
+// px_valid), LATENCY = max(LAT_QM, LAT_NS) + TREE_LEVELS (LAT_QM `LAT_QM: `LAT_QUADRIC_MAC(_FPGA, _SERIAL);
 // LAT_NS the terms': `LAT_NOISE_TERM(_FPGA), + `LAT_FC_SCALE with FC, folded +
 // `LAT_NOISE_FOLD(_FPGA); TREE_LEVELS tw_tree_levels(leaves, `SUM_TREE_ARITY)); the caller
 // passes it, elaboration fails on another. c_out and c_valid: with the noise gradient the same
 // as f's; without it LAT_QM (the quadric's). wv_out `LAT_FC_WEIGHT after in_valid (valid:
 // in_valid delayed by the caller). Throughput: one pixel per enabled clock (QUADRIC_CLOCKS 2:
-// every other). Parameters (q_coef, k_used, a, T, o, filter_en, n_log2) static during a pass.
+// every other; 6: one in six). Parameters (q_coef, k_used, a, T, o, filter_en, n_log2) static during a pass.
 // Reset: synchronous, active high, clears the valid bits.
 
 `default_nettype none
@@ -38,7 +38,7 @@
 
 module texture_sum #(
     parameter QUADRIC        = 0,   // 0 full (10 coefficients), 1 diagonal (B = C = F = 0)
-    parameter QUADRIC_CLOCKS = 1,   // 2: the quadric MAC on half its multipliers, two clocks a pixel
+    parameter QUADRIC_CLOCKS = 1,   // 2: the quadric MAC on half its multipliers, two clocks a pixel; 6: on one, six
     parameter NOISE_TERMS    = 8,   // K noise terms, 0..8
     parameter NOISE_UNITS    = 8,   // U units (U < K: folded, the caller's noise_fold sum is one leaf)
     parameter BLEND          = 1,   // 0 linear, 1 cubic
@@ -96,7 +96,7 @@ localparam AS_W   = A_W + A_EXP_W;                                             /
 localparam F_W    = tw_f_w_e(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, F_FRAC, K, A_W, A_FRAC, N_FRAC, AE_MAX);
 localparam C_W    = tw_c_w_e(QUADRIC, S_W, S_FRAC, Q_W, Q_FRAC, C_FRAC, K, NOISE_GRADIENT, BLEND, TRANSFORM, T_W,
                              T_FRAC, N_FRAC, A_W, A_FRAC, TE_MAX, AE_MAX);
-localparam LAT_QM = FPGA_REGS ? `LAT_QUADRIC_MAC_FPGA : `LAT_QUADRIC_MAC;
+localparam LAT_QM = `LAT_QM(FPGA_REGS, QUADRIC, QUADRIC_CLOCKS);  // quadric_mac's (rtl/tex_latency.vh)
 localparam LAT_NT = FPGA_REGS ? `LAT_NOISE_TERM_FPGA : `LAT_NOISE_TERM;
 localparam LAT_NF = FPGA_REGS ? `LAT_NOISE_FOLD_FPGA : `LAT_NOISE_FOLD;
 localparam LAT_NS = FOLD ? LAT_NT + LAT_NF : LAT_NT + (FC ? `LAT_FC_SCALE : 0);  // the noise leaves' own

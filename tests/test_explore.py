@@ -141,7 +141,7 @@ def test_plan_has_forty_points_and_every_knob():
             changed |= {k for k in SCHEMA if p["values"].get(k) != base["values"].get(k)}
     want = {"noise_terms", "noise_units", "blend", "transform", "amplitude", "quadric", "filter", "div_bits",
             "w_cap_log2", "s_frac", "q_frac", "t_frac", "a_frac", "p_frac", "n_frac", "f_frac", "c_frac", "j_w",
-            "norm_bits", "noise_gradient", "quadric_clocks"}
+            "norm_bits", "noise_gradient", "quadric_clocks", "cmap_clocks"}
     assert want <= changed, want - changed
 
 
@@ -293,3 +293,22 @@ def test_goal_100k_gap_gives_the_held_out_safe_points_excess():
     assert "135,500 GE" in text and "+35,500 GE (+35.5%)" in text and "37.8 dB (marble)" in text, text
     assert text.index("colour_map 33,500") < text.index("quadric 28,400"), text
     assert "105,900 GE (-29,600)" in text and "111,200 GE (-24,300)" in text and "23.9 dB" in text, text
+
+
+def test_measure_command_on_a_tiny_frame(capsys):
+    """`python -m explore.measure` (one configuration's images as a sweep point's): a 16-px zone plate of
+    compact, its table and worst line, the JSON rows, and a bad argument's one-line error (exit 2)."""
+    import json
+
+    from explore import measure
+
+    assert measure.main(["--config", "compact", "--size", "16", "--scenes", "zone_plate", "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "| zone_plate |" in out and "worst against the truth: zone_plate" in out
+    assert measure.main(["--config", "compact", "--size", "16", "--scenes", "zone_plate", "--json", "--quiet"]) == 0
+    row = json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+    assert row["scene"] == "zone_plate" and 0 < row["psnr_truth_db"] < 100 and 0 < row["pixels_per_clock"] <= 1
+    for bad in (["--config", "nope"], ["--config", "compact", "--scenes", "nowhere"], ["--config", "compact", "--size", "4"]):
+        assert measure.main(bad) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "explore.measure" in err[0], err

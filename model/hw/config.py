@@ -62,12 +62,18 @@ SCHEMA = {
     "filter": ("features", str, tuple(FILTER_KINDS)),
     "noise_gradient": ("features", bool, (False, True)),
     "noise_units": ("features", int, (1, 8)),
-    "quadric_clocks": ("features", int, (1, 2)),
+    # clocks the diagonal quadric takes a sample (QUADRIC_CLOCKS): 1 (6 multipliers), 2 (3: qmac_diag_fold),
+    # 6 (1: qmac_diag_serial); more than 1 needs the folded noise terms, whose issue paces the pipeline
+    "quadric_clocks": ("features", int, (1, 6)),
     "fpga_regs": ("features", bool, (False, True)),
     # sub-pixel samples a pixel (issue 27): 1, 2 or 4 texture samples at stratified offsets inside the
     # pixel (rtl/sample_expand.v, docs/filters.md "Sub-pixel samples"), each filtered with the
     # footprint of its cell of the pixel (SAMPLE_FOOTPRINT), averaged (rtl/sample_average.v); samples x the clocks of one
     "samples": ("features", int, (1, 4)),
+    # clocks colour_map's box filter takes a sample (issue 27's colour-map fold, CMAP_CLOCKS): 1 (the
+    # four channels at once), 4 (a channel a clock: rtl/cmap_sat.v CLOCKS, sat_integral_serial at both
+    # window ends, one divider lane); 4 needs the filter "sat", folded noise terms and no fpga_regs
+    "cmap_clocks": ("features", int, (1, 4)),
     "s_w": ("formats", int, (4, 32)),
     "s_frac": ("formats", int, (0, 24)),
     "q_w": ("formats", int, (4, 32)),
@@ -105,8 +111,10 @@ SCHEMA = {
 
 # keys a file may leave out, with the value it then has; config_values leaves them out at that value
 # (so the hash of a configuration that does not use them is unchanged)
-OPTIONAL_KEYS = {"t_exp_w": 0, "a_exp_w": 0, "samples": 1}
+OPTIONAL_KEYS = {"t_exp_w": 0, "a_exp_w": 0, "samples": 1, "cmap_clocks": 1}
 SAMPLE_COUNTS = (1, 2, 4)  # features.samples: the values the sample blocks implement
+QUADRIC_CLOCKS = (1, 2, 6)  # features.quadric_clocks: quadric_mac's datapaths (rtl/quadric_mac.v CLOCKS)
+CMAP_CLOCKS = (1, 4)  # features.cmap_clocks: cmap_sat's (rtl/cmap_sat.v CLOCKS)
 # the sub-pixel samples' offsets d_k = (dx, dy) / 4 pixel, in quarter pixels, in the order the unit
 # takes them (rtl/sample_expand.v: 4 samples dx from the sample index's bit 0, dy from its bit 1; 2 samples
 # the vertical pair, dy from bit 0), and each sample's footprint: the scale of J's columns (x, y), so that
@@ -179,6 +187,7 @@ class Config:
     t_exp_w: int = 0
     a_exp_w: int = 0
     samples: int = 1
+    cmap_clocks: int = 1
     path: str = ""
     # the file's [promise] (PROMISE_KEYS; None for a configuration that states none): what the
     # configuration keeps on the held-out corpus (explore.validate); not a parameter of the RTL
@@ -195,10 +204,10 @@ class Config:
 
 def clocks_per_sample(cfg: Config, k_used: int | None = None) -> int:
     """Clocks the pipeline takes one texture sample for a texture of k_used terms (default: all
-    K): ceil(k_used / noise_units), at least quadric_clocks (noise_units = noise_terms,
-    quadric_clocks = 1: one sample a clock); noise_fold's issue clocks."""
+    K): ceil(k_used / noise_units), at least quadric_clocks and cmap_clocks (noise_units = noise_terms,
+    quadric_clocks = cmap_clocks = 1: one sample a clock); noise_fold's issue clocks."""
     k = cfg.noise_terms if k_used is None else k_used
-    return max(1, cfg.quadric_clocks, -(-k // cfg.noise_units))
+    return max(1, cfg.quadric_clocks, cfg.cmap_clocks, -(-k // cfg.noise_units))
 
 
 def clocks_per_pixel(cfg: Config, k_used: int | None = None) -> int:
@@ -211,13 +220,21 @@ def clocks_per_pixel(cfg: Config, k_used: int | None = None) -> int:
 def latency(module: str, cfg: Config | None = None) -> int:
     """A block's latency in register stages under cfg, from rtl/tex_latency.vh: `LAT_<MODULE>,
     or `LAT_<MODULE>_FPGA when cfg.fpga_regs (the FPGA's extra register stages; cfg None:
-    fpga_regs false). The RTL block picks the same value from its FPGA_REGS parameter."""
+    fpga_regs false). The RTL block picks the same value from its FPGA_REGS parameter.
+    quadric_mac on one multiplier (diagonal, quadric_clocks = 6, no fpga_regs): `LAT_QUADRIC_MAC_SERIAL
+    (the rule of rtl/tex_latency.vh's `LAT_QM, which quadric_mac and its callers use); colour_map and
+    cmap_sat a channel a clock (cmap_clocks = 4, no fpga_regs): `LAT_<MODULE>_SERIAL (`LAT_CM, `LAT_CMS)."""
     import re
 
     text = (ROOT / "rtl" / "tex_latency.vh").read_text()
     name = f"LAT_{module.upper()}"
     if cfg is not None and cfg.fpga_regs and re.search(rf"`define\s+{name}_FPGA\s", text):
         name += "_FPGA"  # (a block without a `LAT_<MODULE>_FPGA has no extra stages)
+    elif (module == "quadric_mac" and cfg is not None and getattr(cfg, "quadric_clocks", 1) == 6
+          and getattr(cfg, "quadric", "full") == "diagonal"):
+        name += "_SERIAL"
+    elif module in ("colour_map", "cmap_sat") and cfg is not None and getattr(cfg, "cmap_clocks", 1) == 4:
+        name += "_SERIAL"
     m = re.search(rf"`define\s+{name}\s+(\d+)", text)
     if not m:
         raise KeyError(f"rtl/tex_latency.vh: no {name}")
@@ -537,8 +554,13 @@ def _check(c: Config, p: Path) -> None:
     need(not freq_clamp(c) or not (0 < c.noise_units < c.noise_terms),
          f"features.filter = \"{c.filter}\" needs unfolded noise terms (noise_units = noise_terms)")
     need(c.samples in SAMPLE_COUNTS, f"features.samples = {c.samples}: expected one of {list(SAMPLE_COUNTS)}")
+    need(c.quadric_clocks in QUADRIC_CLOCKS, f"features.quadric_clocks = {c.quadric_clocks}: expected one of {list(QUADRIC_CLOCKS)}")
     need(c.quadric_clocks == 1 or (c.quadric == "diagonal" and 0 < c.noise_units < c.noise_terms),
-         "features.quadric_clocks = 2 needs a diagonal quadric and folded noise terms (noise_units < noise_terms)")
+         f"features.quadric_clocks = {c.quadric_clocks} needs a diagonal quadric and folded noise terms (noise_units < noise_terms)")
+    need(c.cmap_clocks in CMAP_CLOCKS, f"features.cmap_clocks = {c.cmap_clocks}: expected one of {list(CMAP_CLOCKS)}")
+    need(c.cmap_clocks == 1 or (c.filter == "sat" and 0 < c.noise_units < c.noise_terms and not c.fpga_regs),
+         f"features.cmap_clocks = {c.cmap_clocks} needs filter = \"sat\", folded noise terms (noise_units < "
+         f"noise_terms) and fpga_regs = false")
 
 
 def _check_rtl(c: Config, p: Path) -> None:

@@ -146,6 +146,12 @@ def qmac_diag_fold(Q, s, s_frac: int):
     return qmac_diag(Q, s, s_frac)
 
 
+def qmac_diag_serial(Q, s, s_frac: int):
+    """rtl/qmac_diag_serial.v (quadric_clocks = 6): qmac_diag's values, its 6 products on one
+    multiplier over six clocks."""
+    return qmac_diag(Q, s, s_frac)
+
+
 def qmac_diag_pipe(Q, s, s_frac: int):
     """rtl/qmac_diag_pipe.v (fpga_regs): qmac_diag's values, each product on mul_pipe and
     v_k + Q_k3 formed as (Q_kk s_k >> s_frac) + 2 Q_k3."""
@@ -158,7 +164,7 @@ def qmac_datapath(cfg: Config):
         return qmac_full
     if cfg.fpga_regs:
         return qmac_diag_pipe
-    return qmac_diag_fold if cfg.quadric_clocks == 2 else qmac_diag
+    return {2: qmac_diag_fold, 6: qmac_diag_serial}.get(cfg.quadric_clocks, qmac_diag)
 
 
 def quadric_mac(cfg: Config, Q, s):
@@ -379,6 +385,14 @@ def sat_integral(xf: int, c, before, first, fr, k, q, d_w: int | None = None):
     if d_w is not None:
         p, e = p & ((I64(1) << d_w) - 1), e & ((I64(1) << (d_w - xf)) - 1)
     return p, e
+
+
+def sat_integral_serial(xf: int, ch, c, before, first, fr, k, q, d_w: int | None = None):
+    """rtl/sat_integral_serial.v (colour_map's fold, cmap_clocks = 4): sat_integral's channel ch
+    [...] (0..3) alone, p and e [...]: one channel an enabled clock, the others as sat_integral."""
+    ch = np.asarray(ch, dtype=I64)[..., None]
+    p, e = sat_integral(xf, c, before, first, fr, k, q, d_w)
+    return (np.take_along_axis(p, ch, axis=-1)[..., 0], np.take_along_axis(e, ch, axis=-1)[..., 0])
 
 
 def mip_index(filter_: int, ff: int, nmax: int, u, w, mode, n_log2, filter_en):
@@ -603,7 +617,8 @@ def cmap_sat(cfg: Config, tables: dict, u, w, mode, n_log2):
     """rtl/cmap_sat.v, the box-filter family: RGBA8 [..., 4] of the colour index u (s.f_frac
     entries, after colour_map's stage 1) averaged over width w (0: the point lookup) from the
     tables held (colour_tables / host_tables): D = I(u + w/2) - I(u - w/2) (eq. 15 and every
-    edge case of 3.3.2 as one integral), then cmap_divide."""
+    edge case of 3.3.2 as one integral), then cmap_divide. cmap_clocks = 4 (a channel a clock:
+    sat_integral_serial, cmap_divide on one lane) computes the same values."""
     ff, nmax = cfg.f_frac, cfg.n_log2_max
     u = np.asarray(u, dtype=I64)
     w = np.asarray(w, dtype=I64)

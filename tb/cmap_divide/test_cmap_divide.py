@@ -1,13 +1,14 @@
 """cmap_divide (rtl/cmap_divide.v) bit-exact against golden cmap_divide: the box average
 D / (2w) rounded by the method DIV_BITS (0 exact, B > 0 normalised), or, w = 0, the point
-lookup passed through, four channels.
+lookup passed through, four channels a vector (LANES = 4), or one (LANES = 1: colour_map's fold,
+cmap_clocks = 4, a pixel's channels as four vectors of the same w).
 
-Parameter sets (W_W, D_W, DIV_BITS, FPGA_REGS): colour_map's (w_w, d_w, div_bits) under full,
+Parameter sets (W_W, D_W, DIV_BITS, FPGA_REGS, LANES): colour_map's (w_w, d_w, div_bits) under full,
 reduced, compact, three random valid configurations and the extremes of the colour-map
 formats (small, wide: exact); reduced with div_bits 0 (exact), 1 (the narrowest divisor, where
 D + w + 2 h(sh) of a whole 255-valued window reaches 2^D_W), 4 and 9 (the saturating quotient)
 and w_w - 1 (shift 0 or 1); with FPGA_REGS = 1: reduced (B = 10) and its div_bits 0, 1, 9,
-full (B = 8).
+full (B = 8); with LANES = 1 compact (B = 6), reduced's div_bits 0 (exact) and 9 (saturating).
 Vectors: w at the normalisation's edges (every power of two from 2^(B-1) to the cap, +-1, the
 rounding ties, where rounding w carries into the next power of two), 0 and the cap; D at 0,
 at 255 * 2w (the largest quotient), at the rounding ties (2j - 1) w - 1, (2j - 1) w, (2j - 1)
@@ -41,11 +42,14 @@ def _sets():
     for b in (0, 1, 9):
         out[f"reduced_fpga_div{b}"] = {**red, "DIV_BITS": b, "FPGA_REGS": 1}
     out["full_fpga"] = {**out["full"], "FPGA_REGS": 1}
+    for name in ("compact", "reduced_div0", "reduced_div9"):
+        out[f"{name}_l1"] = {**out[name], "LANES": 1}
     return out
 
 
-# every set under Icarus, three under Verilator (a build costs 5-20 s)
-test_cmap_divide_rtl = pipe.block_test("cmap_divide", _sets(), ("full", "compact", "reduced_fpga"), __file__,
+# every set under Icarus, four under Verilator (a build costs 5-20 s)
+test_cmap_divide_rtl = pipe.block_test("cmap_divide", _sets(), ("full", "compact", "reduced_fpga", "compact_l1"),
+                                      __file__,
                                       sources=["cmap_divide.v", "box_divide.v", "delay_line.v"])
 
 
@@ -67,6 +71,17 @@ def test_cmap_divide_check():
                 "DIV_BITS = W_W (exact), D_W 10": {"DIV_BITS": red["W_W"], "D_W": 10}},
         refuse={"NORM and NQ_W > D_W - 1": {"D_W": 18}, "B 9: NQ_W > D_W - 1": {"DIV_BITS": 9, "D_W": 18}},
         error_module="cmap_divide_unsupported_div_bits")
+
+
+def test_cmap_divide_lanes_check():
+    """cmap_divide's LANES check (g_bad_lanes) both ways on compact's set: 1 and 4 accepted, 2 and 0
+    refused."""
+    import hdlbuild
+
+    hdlbuild.check_refusals(
+        "cmap_divide", ["cmap_divide.v", "box_divide.v", "delay_line.v"], _sets()["compact"],
+        accept={"LANES 4": {}, "LANES 1": {"LANES": 1}}, refuse={"LANES 2": {"LANES": 2}, "LANES 0": {"LANES": 0}},
+        error_module="cmap_divide_lanes_must_be_1_or_4")
 
 
 def vectors(p, r, m):
@@ -104,7 +119,7 @@ async def stream(dut, w, d, pt, p, lead: int, lat: int, seed: int):
     with ce stalls and gaps (junk on the idle inputs); returns the outputs in order, each
     checked to come `lat` enabled edges after its D."""
     rr = random.Random(seed)
-    d_w, w_w = p["D_W"], p["W_W"]
+    d_w, w_w, lanes = p["D_W"], p["W_W"], p.get("LANES", 4)
     n = len(w)
     hist = []        # per enabled edge: the vector whose w it took (None: none)
     issued = []      # enabled edge that took each vector's D
@@ -118,8 +133,8 @@ async def stream(dut, w, d, pt, p, lead: int, lat: int, seed: int):
         dut.w_in.value = int(w[wi]) if wi is not None else rr.getrandbits(w_w)
         di = hist[-lead] if len(hist) >= lead else None
         dut.in_valid.value = int(di is not None)
-        dut.d_in.value = pipe.pack(d[di], d_w) if di is not None else rr.getrandbits(4 * d_w)
-        dut.pt_in.value = pipe.pack(pt[di], 8) if di is not None else rr.getrandbits(32)
+        dut.d_in.value = pipe.pack(d[di], d_w) if di is not None else rr.getrandbits(lanes * d_w)
+        dut.pt_in.value = pipe.pack(pt[di], 8) if di is not None else rr.getrandbits(8 * lanes)
         dut.ce.value = ce
         await RisingEdge(dut.clk)
         if ce:
@@ -134,7 +149,7 @@ async def stream(dut, w, d, pt, p, lead: int, lat: int, seed: int):
             k = len(out)
             assert k < len(issued), "out_valid with no vector in flight"
             assert enabled - issued[k] + 1 == lat, f"vector {k}: latency {enabled - issued[k] + 1}, expected {lat}"
-            out.append(tuple(pipe.unpack(int(dut.q_out.value), 8, 4, signed=False)))
+            out.append(tuple(pipe.unpack(int(dut.q_out.value), 8, lanes, signed=False)))
         guard += 1
         assert guard < 20 * (n + lat + lead + 10), "pipeline stopped producing outputs"
         await pipe._after_readonly(dut)
@@ -149,6 +164,8 @@ async def cmap_divide_bit_exact(dut):
     r = pipe.rng(83)
     w, d, pt = vectors(p, r, pipe.n_vectors())
     exp = G.cmap_divide(SimpleNamespace(div_bits=p["DIV_BITS"]), d, w, pt)
+    if p.get("LANES", 4) == 1:  # a pixel's channels in turn, each a vector of the pixel's w
+        w, d, pt, exp = np.repeat(w, 4), d.reshape(-1, 1), pt.reshape(-1, 1), exp.reshape(-1, 1)
     await pipe.start(dut)
     assert int(dut.out_valid.value) == 0 and int(dut.q_out.value) == 0, "outputs after reset"
     got = await stream(dut, w, d, pt, p, 1 + 2 * fpga, lat, seed=int(r.integers(1 << 30)))

@@ -2,16 +2,20 @@
 against golden cmap_sat: RGBA8 of the colour index u averaged over w from the summed-area
 table, or, w = 0, the point lookup.
 
-Parameter sets (F_FRAC, W_CAP_LOG2, N_LOG2_MAX, DIV_BITS, FPGA_REGS): colour_map's under full,
-reduced, compact, two random valid configurations and the extremes of the colour-map formats
+Parameter sets (F_FRAC, W_CAP_LOG2, N_LOG2_MAX, DIV_BITS, FPGA_REGS, CLOCKS): colour_map's under
+full, reduced, compact, two random valid configurations and the extremes of the colour-map formats
 (small, wide: exact division); reduced with div_bits 0 and 1; with FPGA_REGS = 1 reduced and
-full.
+full; with CLOCKS = 4 (the fold: a channel a clock, a pixel at most every fourth enabled clock)
+compact (normalised division), full (exact), reduced's div_bits 1 (the narrowest divisor) and
+the small extreme.
 Stimulus: the tables of tb/colour_map (random for every N, all 255: the largest D, all 0,
 zebras, edge entries) loaded through the write port, then per table the colour_map
 testbench's hard and random (f, w, mode) vectors, f taken to u as colour_map's stage 1 does
 (golden cmap_u; w = 0 where the filter is off), streamed with ce stalls and input gaps.
 """
 from __future__ import annotations
+
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -32,13 +36,16 @@ def _sets():
         out[f"reduced_div{b}"] = {**out["reduced"], "DIV_BITS": b}
     out["reduced_fpga"] = {**out["reduced"], "FPGA_REGS": 1}
     out["full_fpga"] = {**out["full"], "FPGA_REGS": 1}
+    for name in ("compact", "full", "reduced_div1", "small"):
+        out[f"{name}_c4"] = {**out[name], "CLOCKS": 4}
     return out
 
 
-# every set under Icarus, two under Verilator (a build costs 5-20 s)
-test_cmap_sat_rtl = pipe.block_test("cmap_sat", _sets(), ("full", "reduced_fpga"), __file__,
+# every set under Icarus, three under Verilator (a build costs 5-20 s)
+test_cmap_sat_rtl = pipe.block_test("cmap_sat", _sets(), ("full", "reduced_fpga", "compact_c4"), __file__,
                                    sources=["cmap_sat.v", "cmap_divide.v", "colour_table.v", "sat_index.v",
-                                            "sat_integral.v", "box_divide.v", "delay_line.v"])
+                                            "sat_integral.v", "sat_integral_serial.v", "box_divide.v",
+                                            "delay_line.v"])
 
 
 @cocotb.test()
@@ -47,7 +54,8 @@ async def cmap_sat_bit_exact(dut):
     cfg = variant(load_config("full"), "cmap_sat", filter="sat", fpga_regs=bool(p.get("FPGA_REGS", 0)),
                   **{v: p[k] for k, v in KEYS.items()})
     r = pipe.rng(97)
-    lat = latency("cmap_sat", cfg)
+    clocks = p.get("CLOCKS", 1)  # the fold's latency rule reads cmap_clocks (cfg: full's, unfolded)
+    lat = latency("cmap_sat", SimpleNamespace(fpga_regs=cfg.fpga_regs, cmap_clocks=clocks))
     dut.wr_en.value = 0
     await pipe.start(dut)
     assert int(dut.out_valid.value) == 0 and int(dut.rgba_out.value) == 0, "outputs after reset"
@@ -75,6 +83,6 @@ async def cmap_sat_bit_exact(dut):
         def sample():
             return tuple(pipe.unpack(int(dut.rgba_out.value), 8, 4, signed=False))
 
-        got = await pipe.run_vectors(dut, apply, sample, len(u), lat, seed=int(r.integers(1 << 30)))
+        got = await pipe.run_vectors(dut, apply, sample, len(u), lat, seed=int(r.integers(1 << 30)), spacing=clocks)
         pipe.check_equal(dut, got, exp, lambda i: f"u={ul[i]} w={wl[i]} mode={ml[i]} n_log2={n_log2}",
                          f"table '{name}'")

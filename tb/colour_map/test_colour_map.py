@@ -44,7 +44,7 @@ from tb import pipe
 ROOT = Path(__file__).resolve().parents[2]
 SOURCES = ["colour_map.v", "cmap_sat.v", "cmap_divide.v", "cmap_mip.v", "cmap_point.v", "colour_table.v", "sat_index.v",
            "sat_integral.v", "box_divide.v", "mip_index.v", "delay_line.v", "cmap_sat2.v", "sat2_table.v",
-           "sat2_integral.v"]
+           "sat2_integral.v", "sat_integral_serial.v"]
 TABLE_CLUT, TABLE_CSAT, TABLE_MIP = 0, 1, 2
 
 
@@ -264,7 +264,8 @@ async def colour_map_vs_golden(dut):
         def sample():
             return int(dut.rgba_out.value)
 
-        got = await pipe.run_vectors(dut, apply, sample, len(f), lat, seed=int(r.integers(1 << 30)))
+        got = await pipe.run_vectors(dut, apply, sample, len(f), lat, seed=int(r.integers(1 << 30)),
+                                     spacing=cfg.cmap_clocks)  # the fold: a pixel at most every 4 clocks
         got = np.array(got, dtype=np.int64)
         bad = np.nonzero(got != exp)[0]
         if len(bad):
@@ -306,6 +307,31 @@ def test_colour_map_check():
                 "FILTER 3": {"FILTER": 3, "F_FRAC": 13, "W_CAP_LOG2": 11}},
         refuse={"FILTER 4": {"FILTER": 4}, "FILTER -1": {"FILTER": -1}},
         error_module="colour_map_unknown_filter")
+
+
+def test_colour_map_cmap_clocks_rtl():
+    """The same cocotb test on colour_map's fold (config/candidates/compact_q6c4.toml, cmap_clocks
+    = 4: cmap_sat a channel a clock, `LAT_COLOUR_MAP_SERIAL), a pixel at most every fourth enabled
+    clock, every table, under Icarus and Verilator (SIM= picks one)."""
+    from model.hw.config import ROOT
+
+    cfg = load_config(ROOT / "config" / "candidates" / "compact_q6c4.toml")
+    for sim in ([os.environ["SIM"]] if os.environ.get("SIM") else ["icarus", "verilator"]):
+        run_colour_map(sim, cfg)
+
+
+def test_colour_map_cmap_clocks_check():
+    """The fold's elaboration-time checks both ways on compact's parameters: colour_map refuses
+    CLOCKS = 4 on another family than the box (FILTER 2, mip: g_bad_clocks) and cmap_sat refuses
+    it with FPGA_REGS (g_bad_params) and CLOCKS = 2; CLOCKS 1 and 4 are accepted."""
+    b = hdlbuild.block_params(hdlbuild.config_of("compact"), "colour_map")
+    hdlbuild.check_refusals("colour_map", SOURCES, b, accept={"CLOCKS 1": {}, "CLOCKS 4": {"CLOCKS": 4}},
+                            refuse={"CLOCKS 4 mip": {"CLOCKS": 4, "FILTER": 2}},
+                            error_module="colour_map_clocks_needs_filter_sat")
+    hdlbuild.check_refusals("colour_map", SOURCES, b, accept={"CLOCKS 4 FILTER 1": {"CLOCKS": 4}},
+                            refuse={"CLOCKS 4 fpga_regs": {"CLOCKS": 4, "FPGA_REGS": 1},
+                                    "CLOCKS 2": {"CLOCKS": 2}},
+                            error_module="cmap_sat_clocks_must_be_1_or_4_without_fpga_regs")
 
 
 def _variant_params():

@@ -353,6 +353,56 @@ def test_frame_noise_units(sim, base, units):
     _check_clocks_and_reset(cfg, sim, tex, s, Jm, je, got, r, seed + 1, f"{tex.k_used} terms on {units} units")
 
 
+@pytest.mark.parametrize("sim,samples", [("icarus", 1), ("verilator", 1), ("verilator", 4)])
+def test_frame_quadric_serial(sim, samples):
+    """The quadric on one multiplier over six clocks (quadric_clocks = 6, qmac_diag_serial:
+    config/candidates/compact_q6.toml), alone and with 4 sub-pixel samples (issue 27's small
+    configuration): one texture through the RTL with random input gaps and output stalls, then
+    without (max(6, ceil(k_used / U)) clocks a sample), then with a mid-frame reset; every pixel
+    equal to the golden model's."""
+    run_frame_rtl = _frame_rtl()
+    b = load_config("config/candidates/compact_q6.toml")
+    cfg = b if samples == 1 else variant(b, f"{b.name}-s{samples}", samples=samples)
+    seed = _seed()
+    print(f"[frame {cfg.name} {sim}] SEED={seed}")
+    r = np.random.default_rng(seed + 13)
+    n = min(_n_pixels(sim), 2000)
+    tex = random_texture(b, r, "real", filt=True)
+    s, Jm, je = random_pixels(cfg, r, n, "real")
+    got, _, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed)
+    _compare(cfg, tex, s, Jm, je, got, f"{cfg.name}, gaps 30% / stalls 40%")
+    _check_clocks_and_reset(cfg, sim, tex, s, Jm, je, got, r, seed + 1, f"{tex.k_used} terms, quadric on 6 clocks")
+
+
+@pytest.mark.parametrize("sim,name", [("icarus", "compact_c4"), ("verilator", "compact_c4"),
+                                      ("verilator", "compact_q6c4_s4")])
+def test_frame_cmap_clocks(sim, name):
+    """colour_map's box filter a channel a clock (cmap_clocks = 4: cmap_sat's fold, sat_integral_serial,
+    one divider lane): compact with it and a texture of 3 terms, so that noise_fold's pacing is the
+    fold's own 4 clocks a sample (compact's quadric takes 2, its terms 3 on one unit), and issue 27's
+    small unit config/candidates/compact_q6c4_s4.toml (both folds, 4 samples: 24 clocks a pixel). One
+    texture through the RTL with random input gaps and output stalls, then without (the clocks a pixel
+    counted), then with a mid-frame reset; every pixel equal to the golden model's."""
+    run_frame_rtl = _frame_rtl()
+    if name == "compact_c4":
+        b = load_config("compact")
+        cfg = variant(b, name, cmap_clocks=4)
+    else:
+        b = cfg = load_config(f"config/candidates/{name}.toml")
+    seed = _seed()
+    print(f"[frame {cfg.name} {sim}] SEED={seed}")
+    r = np.random.default_rng(seed + 17)
+    n = min(_n_pixels(sim), 2000)
+    tex = random_texture(b, r, "real", filt=True)
+    if name == "compact_c4":
+        tex.k_used = 3
+        assert clocks_per_pixel(cfg, tex.k_used) == 4 > clocks_per_pixel(b, tex.k_used)
+    s, Jm, je = random_pixels(cfg, r, n, "real")
+    got, _, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed)
+    _compare(cfg, tex, s, Jm, je, got, f"{cfg.name}, gaps 30% / stalls 40%")
+    _check_clocks_and_reset(cfg, sim, tex, s, Jm, je, got, r, seed + 1, f"{tex.k_used} terms, colour map on 4 clocks")
+
+
 def _check_clocks_and_reset(cfg, sim, tex, s, Jm, je, got, r, seed: int, what: str):
     """The stream `got` came from with gaps and stalls, run again without them (the same pixels, in
     clocks_per_pixel clocks a pixel) and with a reset in the middle of the frame (every pixel after

@@ -65,18 +65,18 @@ test_noise_fold_rtl = pipe.block_test("noise_fold", {n: hdlbuild.block_params(c,
 def test_noise_fold_check():
     """noise_fold's elaboration-time check (g_bad_params) both ways on full_u3's set (K 8 terms on
     U 3 units, F_W 46, C_W 32, MIN_CLOCKS 1): refused with each term alone true (U 0 < 1; U 9 > K; F_W = AN_W - 1; C_W = AG_W - 1,
-    AN_W and AG_W a term's value and gradient words; MIN_CLOCKS 0 < 1; MIN_CLOCKS 3 > 2); accepted
-    at each edge (U 1; U = K; F_W = AN_W; C_W = AG_W; MIN_CLOCKS 2)."""
+    AN_W and AG_W a term's value and gradient words; MIN_CLOCKS 0 < 1); accepted at each edge (U 1;
+    U = K; F_W = AN_W; C_W = AG_W; MIN_CLOCKS 2, 6 (the serial quadric's) and 9 > ceil(K / U))."""
     c = CONFIGS["full_u3"]
     b = hdlbuild.block_params(c, "noise_fold")
     k = b["NOISE_TERMS"]
     hdlbuild.check_refusals(
         "noise_fold", SOURCES, b,
         accept={"full_u3": {}, "U 1": {"NOISE_UNITS": 1}, "U = K": {"NOISE_UNITS": k}, "F_W = AN_W": {"F_W": c.an_w},
-                "C_W = AG_W": {"C_W": c.ag_w}, "MIN_CLOCKS 2": {"MIN_CLOCKS": 2}},
+                "C_W = AG_W": {"C_W": c.ag_w}, "MIN_CLOCKS 2": {"MIN_CLOCKS": 2},
+                "MIN_CLOCKS 6": {"MIN_CLOCKS": 6}, "MIN_CLOCKS 9": {"MIN_CLOCKS": 9}},
         refuse={"U < 1": {"NOISE_UNITS": 0}, "U > K": {"NOISE_UNITS": k + 1}, "F_W < AN_W": {"F_W": c.an_w - 1},
-                "C_W < AG_W": {"C_W": c.ag_w - 1}, "MIN_CLOCKS < 1": {"MIN_CLOCKS": 0},
-                "MIN_CLOCKS > 2": {"MIN_CLOCKS": 3}},
+                "C_W < AG_W": {"C_W": c.ag_w - 1}, "MIN_CLOCKS < 1": {"MIN_CLOCKS": 0}},
         error_module="noise_fold_needs_1_le_units_le_terms")
 
 

@@ -40,7 +40,7 @@ import hdlbuild
 from model.hw import golden as G
 from tb import pipe
 
-SOURCES = ["quadric_mac.v", "qmac_full.v", "qmac_diag.v", "qmac_diag_fold.v", "qmac_diag_pipe.v", "mul_pipe.v",
+SOURCES = ["quadric_mac.v", "qmac_full.v", "qmac_diag.v", "qmac_diag_fold.v", "qmac_diag_serial.v", "qmac_diag_pipe.v", "mul_pipe.v",
            "delay_line.v"]
 MAX_BATCH = 256  # random batches: 1..MAX_BATCH vectors, log-uniform
 
@@ -56,6 +56,15 @@ def test_quadric_mac_rtl(sim, config):
     pipe.run_block("quadric_mac", sim, test_file=__file__, config=config, sources=SOURCES)
 
 
+# quadric_clocks = 6 (qmac_diag_serial, a vector every sixth clock): compact's formats, and with
+# fpga_regs (qmac_diag_pipe: the FPGA does not fold the products)
+@pytest.mark.parametrize("sim,config", [("icarus", "config/candidates/compact_q6.toml"),
+                                        ("verilator", "config/candidates/compact_q6.toml"),
+                                        ("icarus", "fpga_regs:config/candidates/compact_q6.toml")])
+def test_quadric_mac_serial_rtl(sim, config):
+    pipe.run_block("quadric_mac", sim, test_file=__file__, config=config, sources=SOURCES)
+
+
 # random:6 (full quadric, fpga_regs): C_W > V_W + CSH, so the sign extension of v_k reaches grad q's
 # top bits (27 of the named and random:0..399 configurations; none of family_params' draws)
 @pytest.mark.parametrize("config", ["random:6"])
@@ -65,20 +74,20 @@ def test_quadric_mac_c_sign_rtl(config):
 
 def test_quadric_mac_check():
     """quadric_mac's elaboration-time check (g_bad_clocks) both ways on full's parameters (full
-    quadric, CLOCKS 1): refused with CLOCKS != 1 and each inner term alone true (CLOCKS 2 on the
-    full quadric: DIAG == 0; CLOCKS 3 on the diagonal one: CLOCKS != 2; likewise CLOCKS 0); accepted
-    on CLOCKS 1 (full and diagonal) and CLOCKS 2 on the diagonal quadric (the fold). (g_bad_latency
+    quadric, CLOCKS 1): refused with CLOCKS != 1 and each inner term alone true (CLOCKS 2 or 6 on
+    the full quadric: DIAG == 0; CLOCKS 3 on the diagonal one: neither 2 nor 6; likewise CLOCKS 0);
+    accepted on CLOCKS 1 (full and diagonal) and CLOCKS 2 and 6 on the diagonal quadric (the folds). (g_bad_latency
     compares rtl/tex_latency.vh's latencies of the chosen datapath: no parameter set makes it true.)"""
     b = hdlbuild.block_params(hdlbuild.config_of("full"), "quadric_mac")
     assert b["DIAG"] == 0 and b["CLOCKS"] == 1
     hdlbuild.check_refusals(
         "quadric_mac", SOURCES, b,
         accept={"full, CLOCKS 1": {}, "diagonal, CLOCKS 1": {"DIAG": 1},
-                "diagonal, CLOCKS 2": {"DIAG": 1, "CLOCKS": 2}},
-        refuse={"CLOCKS 2, full (DIAG == 0)": {"CLOCKS": 2},
-                "CLOCKS 3, diagonal (CLOCKS != 2)": {"DIAG": 1, "CLOCKS": 3},
+                "diagonal, CLOCKS 2": {"DIAG": 1, "CLOCKS": 2}, "diagonal, CLOCKS 6": {"DIAG": 1, "CLOCKS": 6}},
+        refuse={"CLOCKS 2, full (DIAG == 0)": {"CLOCKS": 2}, "CLOCKS 6, full (DIAG == 0)": {"CLOCKS": 6},
+                "CLOCKS 3, diagonal (not 2 or 6)": {"DIAG": 1, "CLOCKS": 3},
                 "CLOCKS 0, diagonal": {"DIAG": 1, "CLOCKS": 0}},
-        error_module="quadric_mac_clocks_must_be_1_or_2_diagonal")
+        error_module="quadric_mac_clocks_must_be_1_or_2_or_6_diagonal")
 
 
 # ---------------------------------------------------------------------------

@@ -38,7 +38,7 @@ from tb.quadric_mac.test_quadric_mac import rand_Q
 
 CONFIGS = {"full": "full", "reduced": "reduced", "full_fc": "full_fc", "reduced_fpga": "fpga_regs:reduced",
            "k0": "random:3", **{n: c for n, c in pipe.exponent_configs(1370) if n in ("full_exp", "exp1370")}}
-SOURCES = ["texture_sum.v", "quadric_mac.v", "qmac_full.v", "qmac_diag.v", "qmac_diag_fold.v", "qmac_diag_pipe.v",
+SOURCES = ["texture_sum.v", "quadric_mac.v", "qmac_full.v", "qmac_diag.v", "qmac_diag_fold.v", "qmac_diag_serial.v", "qmac_diag_pipe.v",
            "mul_pipe.v", "noise_leaves.v", "noise_term.v", "noise_params.v", "noise_xform.v", "noise_grad.v", "noise_hash.v",
            "noise_blend.v", "lerp.v", "fc_scale.v", "fc_weight.v", "bitlen.v", "sum_tree.v", "delay_line.v"]
 
