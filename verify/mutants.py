@@ -110,7 +110,9 @@ INDUCT_MAX = 256  # equiv_induct only when equiv_simple leaves at most this many
 # writes, and Verilog drops a write out of range (its reads only feed that write); (trunc) the MSB
 # index of a select raised: the extra high bits are cut where the result is assigned (the low bits
 # of a sum or a concatenation's low part do not depend on them); (reset) the reset value of a data
-# register that no valid output reads before it is loaded.
+# register that no valid output reads before it is loaded; (check) a term of an elaboration-time check
+# (g_bad_*) changed where no parameter set that elaborates reaches it: the check only refuses;
+# (contract) a value the block's documented contract rules out at that input.
 _LOOP = "the extra iteration writes past the vector (or array), a write Verilog drops; its reads feed only that write"
 # The last make mutants N=100 SEED=1 (stop 42, TCE_RECIPE 4, the testbenches' elaboration-check
 # tests added): 121 drawn, 18 dropped as proved by TCE, 3 stillborn; 87 of 100 killed; of the 13
@@ -118,6 +120,13 @@ _LOOP = "the extra iteration writes past the vector (or array), a write Verilog 
 # 9f45b138, f16028b6, 3cac89a1 are fc_weight's (icells leaves cells unproven in fc_weight unmutated,
 # ffs runs past 180 s), 932109e8 and 46ddf5a3 differ only on signals no output reads, 731b2a03 compares
 # the same values (noise_fold), and three change no compile (76f5d599, 30a5c7df, eda880b7: nothing to prove); each argued below.
+# make mutants N=100 SEED=1 JOBS=2 on rtl 0fdb706a7fa6 (commit 250a9a7): 113 drawn, 12 dropped as proved by
+# TCE, 1 stillborn; 85 of 100 killed; of the 15 survivors 6 were argued already, two are killed by tests
+# added since (5f452dd6, fc_weight's out_valid set by reset: tb/fc_weight resets with ce = 0; 7d62b4af,
+# noise_grad reading te without a T exponent: tb/noise_grad drives junk on te and ae without exponents),
+# and seven are argued in the last block below: two selects cut where they are assigned, a zero cut, a
+# loop bound, two branches forming the same registered product, a check's term no elaborating set reaches,
+# and cmap_sat2's u_in (f N: even unless N = 1, where the colour is constant).
 EQUIVALENT: dict[str, str] = {
     # issue 29, stop 33 (make mutants N=100 SEED=1 on rtl b18933406eb8)
     "73e2506c": "unused_w is read by nothing (a lint sink, UNUSEDSIGNAL): its width and bits change no logic",
@@ -322,6 +331,30 @@ EQUIVALENT: dict[str, str] = {
                 "the Q_W stages every bit has been set, so stage 0's initial q_in bits, zeros or ones, never reach "
                 "q_out (only the undecided low bits of the stages' q_reg differ)",
     "3cac89a1": "(loop) r1 = 3 writes m1[3 J_W +: J_W], past m1's 3 J_W bits, from m0[3], past the array m0[0:2]: " + _LOOP,
+    # make mutants N=100 SEED=1 JOBS=2 on rtl 0fdb706a7fa6: the seven survivors no test can kill
+    "1e31a638": "(trunc) the part-select written is W_W bits: w_sh[W_W+1:0] is cut to w_sh[W_W-1:0] (a bit of it past "
+                "w_sh's SW bits reads x and is cut too)",
+    "5bcb7f00": "(trunc) ay_reg is GABS_W bits: gy_abs[GABS_W+1:0] is cut to gy_abs[GABS_W-1:0] (bit GABS_W + 1, past "
+                "gy_abs's G_W = GABS_W + 1 bits, reads x and is cut too)",
+    "52c86c22": "C_W <= 35 to < 35 differs only at C_W = 35, where each product c_k Jm[k][col] takes g_reg instead of "
+                "g_mul: the same exact signed product (PJ_W = C_W + J_W bits) behind one register loaded on ce, "
+                "without reset, as mul_pipe gives it (exact for operands of at most 35 bits, its header; tb/mul_pipe "
+                "widest, 35 x 35): prod_1a is the same word on every clock",
+    "4cd8caba": "a zero of 6 CS_W bits cut to total's 4 CS_W bits is the same zero",
+    "488fac80": "(loop) i5 = KP writes mt[2 KP], past the array mt[1:2 KP-1], the zero (i5 < K is false: KP = "
+                "2^clog2(K) >= K): " + _LOOP + " (the tree's loop sets i5 = KP - 1 before it reads i5)",
+    "f89fa157": "(check) 2 XF + 1 + CS2_W < 1 to <= 1 in sat2_integral's g_bad_params condition, the elaboration-time "
+                "check: the two differ only where 2 XF + CS2_W = 0, which does not elaborate unmutated either (XF < 0:"
+                " the replication {XF{1'b0}} is negative; XF >= 0: CS2_W <= 0, the select h[CS2_W-1:0] is reversed; "
+                "Icarus refuses both), so the designs that elaborate are the same (the check only refuses); cmap_sat2, "
+                "its only builder, has XF = F_FRAC + 1 >= 9 and CS2_W >= 8",
+    "bcdd2c93": "(contract) u2[1] = 0 clears u_in's LSB. u_in is colour_map's stage 1, f N (cmap_sat2's header; "
+                "colour_map.v: (f mod 1) << n_log2, or f << n_log2 clipped to -2^GUARD or N 2^F_FRAC + 2^GUARD, GUARD "
+                "= W_CAP_LOG2 + F_FRAC; golden cmap_u), so its LSB is 0 whenever n_log2 >= 1; with n_log2 = 0 the "
+                "table is one entry c, the colour function is c everywhere (mod and clamp), S(x) = c x and the "
+                "four-point difference of G depends on c, a and b alone, not on the centre: D, the divisor and the "
+                "point lookup clut[0] are those of u - 1 (golden cmap_sat2 of u and u & ~1 on tb/cmap_sat2's four "
+                "sets, every n_log2, ~38,000 odd u each: none differ)",
 }
 
 # Survivors neither killed nor shown equivalent, with what was found (listed as open in the report).

@@ -14,7 +14,8 @@ corner values over [-1, 1] (with the extremes -1, 1 - 2^-n_frac, the steepest di
 cell fractions over [0, 1) (the weights and slopes noise_blend gives them, with 0, 1/2 and
 just below 1), e and fz the golden lerps of v; T over its format (pow2: 0 / 2^e, every e),
 a over its format (pow2: 0, +-2^k, every k); with exponents te and ae, 0 and their largest in
-the first 64 vectors, uniform after. Streamed with random ce stalls and gaps (load
+the first 64 vectors, uniform after; without exponents te and ae (one bit each, not read) random
+junk every clock. Streamed with random ce stalls and gaps (load
 = 0, the inputs random junk): a vector's later inputs follow it by the stage offsets of the
 header; every load must show that vector's ag.
 """
@@ -169,14 +170,17 @@ async def noise_grad_bit_exact(dut):
               "ae": len(dut.ae.value)}
     port_off = {"v": 0, "wy": 0, "dw": 0, "e": off["e"], "wz": off["e"], "fz": off["fz"], "t_in": off["t"],
                 "a_in": off["a"]}
-    # the exponents beside T and a (without them the ports are not read: 0)
-    port_off.update({"te": off["t"]} if "T_EXP_W" in p else {})
-    port_off.update({"ae": off["a"]} if "A_EXP_W" in p else {})
+    # the exponents beside T and a; without them (T_EXP_W, A_EXP_W 0) the ports are one bit each and
+    # not read (the header): junk every clock, from a generator of its own (the stream as it was),
+    # which must not reach ag
+    port_off.update({"te": off["t"], "ae": off["a"]})
+    no_exp = {port for port, key in (("te", "T_EXP_W"), ("ae", "A_EXP_W")) if not p.get(key, 0)}
     dut.te.value = 0
     dut.ae.value = 0
 
     await pipe.start(dut, valid=False)
     rr = random.Random(int(r.integers(1 << 30)))
+    rj = random.Random(int(r.integers(1 << 30)))  # the junk on an exponent port that is not read
     hist = []  # the vector (or None: a gap) entering at each enabled clock
     got, idx = [], []
     nxt, guard = 0, 0
@@ -185,6 +189,9 @@ async def noise_grad_bit_exact(dut):
         cur = nxt if (nxt < n and rr.random() >= 0.1) else None
         for port, d in port_off.items():
             k = cur if d == 0 else (hist[-d] if len(hist) >= d else None)
+            if port in no_exp:
+                getattr(dut, port).value = rj.getrandbits(widths[port])
+                continue
             getattr(dut, port).value = words[k][port] if k is not None else rr.getrandbits(widths[port])
         ld = hist[-off["a"]] if len(hist) >= off["a"] else None
         dut.load.value = int(ld is not None)
