@@ -157,6 +157,8 @@ COMMANDS = {
                                     all("worst" in x for x in _json_lines(r.stdout)))),
     "sample_patterns": ([PY, "-m", "explore.sample_patterns", "--scenes", "zone_plate", "--size", "8", "--truth-ss", "2",
                          "--band-ss", "2"], {}, lambda r, out: (_ok(r), "| zone_plate |" in r.stdout)),
+    "measure": ([PY, "-m", "explore.measure", "--config", "compact", "--size", "8", "--scenes", "zone_plate"], {},
+                lambda r, out: (_ok(r), "| zone_plate |" in r.stdout and "worst against the truth" in r.stdout)),
     "needs": ([PY, "-m", "app", "needs", "seascape", "--size", "8", "--json"], {},
               lambda r, out: (_ok(r), json.loads(r.stdout)["needs"]["noise_terms"] > 0)),
 }
