@@ -29,8 +29,16 @@
 // block RAM's clock-to-out off the multiplier path; the multipliers' q operands selected
 // before it); sat_integral's products registered before their sums (5a); D registered (6a,
 // two carry chains deep) before cmap_divide adds w; cmap_divide's own stage (6c).
-// Latency `LAT_CMAP_SAT = 13 register stages (FPGA_REGS: `LAT_CMAP_SAT_FPGA = 17) from the
-// stage-1 registers of colour_map; throughput one pixel per enabled clock.
+// CLOCKS = 4 ([cmap_clocks], the fold; FPGA_REGS = 0 only): the same values a channel a clock.
+// Stages 2-4 load once a pixel and hold (the contract: a pixel comes at most every 4 enabled
+// clocks); on the four enabled clocks from stage 4's valid, channel c = 0..3 passes one
+// sat_integral_serial at each window end (5), D of that channel (6), cmap_divide with one lane
+// (the normaliser on the held w; 7..14 one box_divide lane), and the bytes are assembled
+// (channel 0 in R), rgba_out and out_valid loading with the fourth (stage 18).
+// Latency `LAT_CMAP_SAT = 13 register stages (FPGA_REGS: `LAT_CMAP_SAT_FPGA = 17; CLOCKS = 4:
+// `LAT_CMAP_SAT_SERIAL = 17, the three later channels and the assembly register; the rule
+// `LAT_CMS) from the stage-1 registers of colour_map; throughput one pixel per enabled clock
+// (CLOCKS = 4: one per four).
 // Reset (synchronous, active high) clears the valid chain and rgba_out (no X after reset).
 // Written for simulation speed: stages 2..5 load only on the enabled clocks that bring them a
 // valid pixel (stage 5 and sat_integral with FPGA_REGS: every enabled clock) and hold

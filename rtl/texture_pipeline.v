@@ -51,7 +51,8 @@
 // m_axis_tready never loses, duplicates or reorders a pixel. s_axis_tready = ce (& !rst)
 // and the front's ready: a pixel enters whenever the pipeline advances and the front can take it.
 //
-// Latency: LATENCY = T_CM + LAT_COLOUR_MAP enabled clocks from s_axis to the colour_map output,
+// Latency: LATENCY = T_CM + LAT_CM enabled clocks from s_axis to the colour_map output (LAT_CM:
+// `LAT_COLOUR_MAP, with FPGA_REGS _FPGA, with CMAP_CLOCKS = 4 _SERIAL: rtl/tex_latency.vh `LAT_CM),
 // T_CM = max(T_F, T_WD) = max(LAT_FRONT + TREE_LEVELS, DLY_J + LAT_FILTER_WIDTH) (below; sat_fc:
 // LAT_FC_SCALE more in the terms and LAT_FC_WMAX after filter_width), plus one clock in the
 // skid buffer; with SAMPLES > 1, from the pixel's last sample, plus LAT_SAMPLE_AVERAGE.
