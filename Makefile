@@ -32,7 +32,7 @@ COMMON_FLAGS = $(if $(OUT),--out $(OUT)) $(if $(STRICT),--strict)
 TRUTH_FLAGS = $(if $(TRUTH_SS),--truth-ss $(TRUTH_SS)) $(if $(BAND_SS),--band-ss $(BAND_SS))
 
 .PHONY: corpus validate help setup setup-check gen lint test test-long bench-model render renders frame frames bench-sim icarus-perf \
-        synth synth-check synth-blocks gls coverage fpga clean precision animation explore fit filters formal mutants
+        synth synth-check synth-blocks gls coverage fpga clean precision animation explore explore-keep fit filters formal mutants
 
 help:
 	@echo "make setup           install everything (Debian packages, pinned Python venv)"
@@ -46,6 +46,7 @@ help:
 	@echo "make frame SCENE=zone_plate CONFIG=full SIM=verilator SIZE=256   RTL frame vs golden"
 	@echo "make frames          all scenes, both configurations, 512x512, docs/conformance.md"
 	@echo "make explore         the design-space sweep (Dask; EXPLORE_FLAGS=, e.g. --scheduler tcp://HOST:PORT): out/explore/results.json, docs/tradeoffs.md"
+	@echo "make explore-keep    the sweep's points of today's source into explore/points/ (committed: a sweep resumes from a fresh clone)"
 	@echo "make fit SCENE=zone_plate DB=40 [PXCLK=0.25] [AGAINST=truth]   the smallest-GE configuration for those scenes (watching the fit corpus; checked on held-out views): out/fit/, rendered through the RTL"
 	@echo "make filters [FILTERS_FLAGS=\"--configs full,full_fc --size 256\"]   the filters against the truth: docs/filters.md"
 	@echo "make precision       the precision test (Fig. 10): s_frac 6..16 on scenes/fig10/precision.toml, docs/precision.md (PRECISION_SIZE=)"
@@ -173,6 +174,10 @@ frames: gen
 # EXPLORE_FLAGS=--scheduler tcp://HOST:PORT); each point stored under out/explore/points/
 explore: gen
 	$(VENV_ENV) $(PY) -m explore.sweep --jobs $(JOBS) $(EXPLORE_FLAGS)
+
+# the points measured on today's source, from out/explore/points/ into the committed store explore/points/
+explore-keep:
+	$(PY) -m explore.sweep --keep $(EXPLORE_FLAGS)
 
 # the smallest-GE configuration whose worst PSNR on SCENE (a comma-separated list) meets DB at PXCLK
 # pixels per clock or more (AGAINST=truth: every PSNR against the converged truth, not the float reference):

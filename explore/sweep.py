@@ -2,7 +2,8 @@
 
     python -m explore.sweep [--size 256] [--rtl-size 32] [--points N] [--scenes a,b] [--jobs 2]
                             [--scheduler tcp://HOST:PORT] [--out out/explore] [--no-docs] [--no-refine]
-                            [--plan full|test] [--docs DIR]
+                            [--plan full|test] [--docs DIR] [--store DIR]
+    python -m explore.sweep --keep [--out out/explore] [--store explore/points]
 
 Runs the plan of explore.space (the named configurations, a grid, one-at-a-time steps, then a
 refinement around the Pareto front) as one Dask task a point (explore.measure.measure). The
@@ -10,7 +11,10 @@ tasks run on a LocalCluster of --jobs worker processes by default, or on the sch
 --scheduler or Dask's own DASK_SCHEDULER_ADDRESS, unchanged. Each point's record is stored
 under <out>/points/<hash>.json, the hash of its configuration, the measurement options and the
 source it was measured on (explore.measure.source_hash): a sweep that is killed and restarted
-redoes only what is missing, and an edit of the RTL or the model measures again. A progress bar
+redoes only what is missing, and an edit of the RTL or the model measures again. A point not
+under <out>/points/ is read from the store (--store, default explore/points/, committed): `--keep`
+(make explore-keep) copies the points measured on today's source there and removes those of any
+other, so that a sweep longer than one session or one machine's life resumes from a fresh clone. A progress bar
 shows points done, failed and left. A failed point (configuration rejected, a scene that does
 not fit, a synthesis error, an RTL mismatch) is recorded with its error, never dropped.
 
@@ -32,6 +36,8 @@ from model.cli import Parser, UserError, check_range, progress_bar, run_main
 from model.scene.passes import SCENES
 
 ROOT = measure.ROOT
+# the committed store: the points of the latest sweep, measured on the source each names (--keep writes it)
+STORE = ROOT / "explore" / "points"
 RTL_SCENES = ("zone_plate", "seascape")
 TRUTH_SS, TRUTH_BAND_SS = measure.TRUTH_SS, measure.TRUTH_BAND_SS
 
@@ -49,16 +55,19 @@ def client_for(scheduler: str | None, jobs: int):
     return Client(cluster), cluster
 
 
-def _run_points(client, pts: list[dict], opts: dict, pdir: Path, src: str, progress: bool, phase: str) -> list[dict]:
-    """The records of `pts`, in order: from <pdir> when stored, else measured on the cluster."""
+def _run_points(client, pts: list[dict], opts: dict, pdir: Path, src: str, progress: bool, phase: str,
+                store: Path | None = None) -> list[dict]:
+    """The records of `pts`, in order: from <pdir> or the store when stored, else measured on the cluster."""
     from distributed import as_completed
 
     recs: list = [None] * len(pts)
     todo = {}
     for i, p in enumerate(pts):
         f = pdir / f"{measure.point_key(p['values'], opts, src)}.json"
-        if f.exists():  # stored: under this plan's label (a point `make fit` measured first has its own)
-            recs[i] = {**json.loads(f.read_text()), **{k: p[k] for k in ("label", "base", "step")}}
+        kept = store / f.name if store is not None else None
+        g = f if f.exists() else kept if kept is not None and kept.exists() else None
+        if g is not None:  # stored: under this plan's label (a point `make fit` measured first has its own)
+            recs[i] = {**json.loads(g.read_text()), **{k: p[k] for k in ("label", "base", "step")}}
         else:
             todo[i] = f
     stored = len(pts) - len(todo)
@@ -87,7 +96,7 @@ def _run_points(client, pts: list[dict], opts: dict, pdir: Path, src: str, progr
 def sweep(size: int = 256, rtl_size: int = 32, points: int | None = None, scenes=SCENES, jobs: int = 2,
           scheduler: str | None = None, out: Path | None = None, docs: bool = True, refine: bool = True,
           progress: bool = True, plan: str = "full", docs_dir: Path | None = None,
-          corpus_n: int = 40, corpus_size: int = 32) -> dict:
+          corpus_n: int = 40, corpus_size: int = 32, store: Path | None = STORE) -> dict:
     t0 = time.perf_counter()
     out = out or ROOT / "out" / "explore"
     pdir = out / "points"
@@ -111,10 +120,10 @@ def sweep(size: int = 256, rtl_size: int = 32, points: int | None = None, scenes
         lattices = {(p["values"]["seed"], p["values"]["hash_bits"]) for p in pts}
         tfuts = [client.submit(_truth_task, s, size, seed, hb, pure=False) for s in scenes for seed, hb in sorted(lattices)]  # noqa: E501
         _wait(tfuts, progress, "explore truths")
-        recs = _run_points(client, pts, opts, pdir, src, progress, "plan")
+        recs = _run_points(client, pts, opts, pdir, src, progress, "plan", store)
         if refine and not points and plan == "full":
             more = space.refine(recs, pts)
-            recs += _run_points(client, more, opts, pdir, src, progress, "refine")
+            recs += _run_points(client, more, opts, pdir, src, progress, "refine", store)
             pts += more
     finally:
         client.close()
@@ -137,6 +146,26 @@ def sweep(size: int = 256, rtl_size: int = 32, points: int | None = None, scenes
 
         report.write(res, out, docs_dir)
     return res
+
+
+def keep(out: Path | None = None, store: Path = STORE) -> dict:
+    """`--keep`: the points under <out>/points/ measured on today's source copied into the store
+    (written whole, as `measure.store` does), and the store's points of any other source removed."""
+    out = out or ROOT / "out" / "explore"
+    src = measure.source_hash()
+    kept = removed = 0
+    store.mkdir(parents=True, exist_ok=True)
+    for f in sorted((out / "points").glob("*.json")) if (out / "points").is_dir() else []:
+        rec = json.loads(f.read_text())
+        if rec.get("source") == src:
+            measure.store(store / f.name, rec)
+            kept += 1
+    for f in sorted(store.glob("*.json")):
+        if json.loads(f.read_text()).get("source") != src:
+            f.unlink()
+            removed += 1
+    return {"source": src, "kept": kept, "removed": removed, "in_store": len(list(store.glob("*.json"))),
+            "store": str(store)}
 
 
 def _wait(futs, progress: bool, desc: str) -> None:
@@ -173,10 +202,17 @@ def main(argv=None) -> int:
     ap.add_argument("--docs", type=Path, default=None, help="where tradeoffs.md and its images go (default docs/)")
     ap.add_argument("--corpus", type=int, default=40, help="held-out corpus scenes every point is measured on (0: none)")
     ap.add_argument("--corpus-size", type=int, default=32)
+    ap.add_argument("--store", type=Path, default=STORE,
+                    help="where points are read from when not under --out, and --keep writes (default explore/points)")
+    ap.add_argument("--keep", action="store_true",
+                    help="measure nothing: copy the points of today's source from --out into --store, remove the others")
     ap.add_argument("--quiet", action="store_true", help="no progress bar")
     a = ap.parse_args(argv)
 
     def go():
+        if a.keep:
+            print(json.dumps(keep(a.out, a.store), indent=1))
+            return 0
         check_range("--size", a.size, 8, 1024)
         check_range("--rtl-size", a.rtl_size, 2, 512)
         check_range("--jobs", a.jobs, 1, 64)
@@ -189,7 +225,7 @@ def main(argv=None) -> int:
         if bad or not scenes:
             raise UserError(f"--scenes: unknown scene '{bad[0] if bad else a.scenes}' (expected some of {', '.join(SCENES)})")
         res = sweep(a.size, a.rtl_size, a.points, scenes, a.jobs, a.scheduler, a.out, not a.no_docs,
-                    not a.no_refine, not a.quiet, a.plan, a.docs, a.corpus, a.corpus_size)
+                    not a.no_refine, not a.quiet, a.plan, a.docs, a.corpus, a.corpus_size, a.store)
         print(json.dumps(res["summary"], indent=1))
         return 0 if res["summary"]["points"] else 1
 

@@ -120,6 +120,29 @@ def test_sweep_resumes_from_stored_points_on_a_named_scheduler(swept, tmp_path):
     assert [r["ge_total"] for r in again] == [r["ge_total"] for r in res["records"] if r["status"] == "ok"]
 
 
+def test_keep_carries_points_to_a_fresh_out(swept, tmp_path):
+    """`make explore-keep`: the points of today's source go into the store, a stale one is removed, and
+    a sweep into an empty --out reads every point from the store, measuring none."""
+    out, res, _ = swept
+    store = tmp_path / "store"
+    store.mkdir()
+    (store / "stale.json").write_text(json.dumps({"source": "0" * 16, "status": "ok"}))
+    flags = f"--out {out / 'ex'} --store {store}"
+    r = _run(["make", "-s", "--no-print-directory", "explore-keep", f"EXPLORE_FLAGS={flags}"])  # the README's command
+    _ok(r)
+    k = json.loads(r.stdout[r.stdout.index("{"):])
+    assert k["kept"] == 3 and k["removed"] == 1 and k["in_store"] == 3
+    assert not (store / "stale.json").exists()
+    assert sorted(f.name for f in store.glob("*.json")) == sorted(f.name for f in (out / "ex" / "points").glob("*.json"))
+    r = _run([PY, *SWEEP, "--out", str(tmp_path / "fresh"), "--store", str(store), "--no-docs"])
+    _ok(r)
+    summ = json.loads(r.stdout[r.stdout.index("{"):])
+    assert summ["measured_now"] == 0 and summ["points"] == 3
+    assert not list((tmp_path / "fresh" / "points").glob("*.json"))  # read, not copied
+    res2 = json.loads((tmp_path / "fresh" / "results.json").read_text())
+    assert [r.get("ge_total") for r in res2["records"]] == [r.get("ge_total") for r in res["records"]]
+
+
 def test_pareto_front():
     from explore.space import pareto
 
