@@ -161,13 +161,46 @@ def held_out_record(docs: Path, label: str) -> dict | None:
     return json.loads(p.read_text()) if p.exists() else None
 
 
-def goal_100k_line(b: dict, worst: str, held: dict | None) -> str:
+_HELD_VALUES: dict = {}
+
+
+def held_out_of(docs: Path, rec: dict) -> dict | None:
+    """The held-out run of the configuration a point is: docs/validation/<label>.json, else the run whose
+    configuration file (config_path) has the point's keys exactly (a sweep step such as `compact quadric_clocks=6
+    cmap_clocks=4 samples=4` is config/candidates/compact_q6c4_s4.toml)."""
+    import json
+
+    h = held_out_record(docs, rec["label"])
+    if h is not None or not rec.get("config"):
+        return h
+    from explore.measure import values_of
+    from model.hw.config import ConfigError, load_config
+
+    want = {k: v for k, v in rec["config"].items() if k != "name"}
+    for p in sorted((docs / "validation").glob("*.json")):
+        run = json.loads(p.read_text())
+        path = run.get("config_path") or run.get("config")
+        if (p, path) not in _HELD_VALUES:
+            try:
+                _HELD_VALUES[(p, path)] = {k: v for k, v in values_of(load_config(str(ROOT / path) if
+                                           (ROOT / path).is_file() else path)).items() if k != "name"}
+            except (ConfigError, OSError):
+                _HELD_VALUES[(p, path)] = None
+        if _HELD_VALUES[(p, path)] == want:
+            return run
+    return None
+
+
+def goal_100k_line(b: dict, worst: str, held: dict | None, lead: str = "the best measured") -> str:
     """Issue 27's 100,000-GE goal, judged by the rule that a figure counts only on scenes the configuration was not
     tuned on: every sweep point and candidate was chosen on the eight paper scenes, so the eight-scene figure meets
     the goal only with the point's held-out promise (docs/validation/<name>.json) holding beside it."""
     eight = b["worst_psnr_truth_db"] >= 36
     head = (f"Issue 27's goal, at most 100,000 GE with every scene at least 36 dB against the truth (any pixel rate): "
-            f"the best measured is {b['label']}, {b['ge_total']:,.0f} GE, {b['min_pixels_per_clock']:.3g} pixel a clock: "
+            f"{lead} is {b['label']}"
+            + (f" (`{held['config']}`, {held['config_path']})" if held and held.get("config") != b["label"]
+               and held.get("config_path") else "")
+            + f", {b['ge_total']:,.0f} GE, {b['min_pixels_per_clock']:.3g} pixel a clock: "
             f"worst scene {worst} {b['worst_psnr_truth_db']:.1f} dB (over all textured pixels, rims included, "
             f"{_f(b.get('worst_psnr_truth_textured_db'), '{:.1f}')})")
     if not eight:
@@ -190,6 +223,11 @@ def goal_100k_line(b: dict, worst: str, held: dict | None) -> str:
 # issue 27's 100,000-GE goal on formats that hold held out: compact (whose formats do) with 4 samples, and the two
 # features with the most gates to give back (explore/space.py FEATURE_STEPS["compact"])
 GAP_POINT = "compact samples=4"
+# issue 27's folds of GAP_POINT (config/candidates/compact_q6_s4.toml, compact_q6c4_s4.toml): the same pixels, bit
+# for bit, on fewer gates and more clocks
+GAP_FOLDS = (("compact quadric_clocks=6 samples=4", "the quadric on one multiplier over six clocks (quadric_clocks=6)"),
+             ("compact quadric_clocks=6 cmap_clocks=4 samples=4",
+              "the colour map's box filter a channel a clock as well (cmap_clocks=4)"))
 GAP_TRADES = (("compact filter=mip samples=4", "the MIP map in place of the summed-area table", ""),
               ("compact noise_gradient=false samples=4", "no noise gradient in the filter width",
                "; a change to every scene that asks for the gradient, as the paper's noisy scenes do "
@@ -219,6 +257,66 @@ def goal_100k_gap(recs: list) -> list[str]:
             L[-1] += (f" With {what} (`{label}`{caveat}): {r['ge_total']:,.0f} GE ({r['ge_total'] - g['ge_total']:+,.0f}), "
                       f"worst scene {worst(r)}.")
     L[-1] += " `python -m synth.run --config compact --hier colour_map` says where the colour map's gates are."
+    folds = [(by[label], what) for label, what in GAP_FOLDS if label in by and by[label].get("worst_psnr_truth_db") is not None]
+    if folds:
+        same = all(r["scenes"] == g["scenes"] or all(r["scenes"][k]["psnr_truth_db"] == g["scenes"][k]["psnr_truth_db"]
+                                                     for k in g["scenes"]) for r, _ in folds)
+        t = ("Folding gives gates back for clocks" + (" without changing a pixel's figure (every scene's PSNR as "
+                                                       f"`{GAP_POINT}`'s)" if same else "") + ":")
+        for r, what in folds:
+            t += (f" with {what} (`{r['label']}`): {r['ge_total']:,.0f} GE ({r['ge_total'] - g['ge_total']:+,.0f}), "
+                  f"{r['min_pixels_per_clock']:.3g} pixel a clock, worst scene {worst(r)};")
+        last = folds[-1][0]
+        t = t[:-1] + (f": {last['ge_total'] - 100_000:+,.0f} GE against the budget, "
+                      + ("within it." if last["ge_total"] <= 100_000 else "still over it."))
+        L.append("")
+        L.append(t)
+    return L
+
+
+def goal_100k_lines(small: list[dict], docs: Path) -> list[str]:
+    """The 100,000-GE goal over the points of at most 100,000 GE: judged on the best of those that meet it on the
+    eight scenes and were measured held out (a promise that holds first), else on the best measured; then the best
+    measured if it is another point, and how far the held-out corpus's worst scene is from 36 dB on every
+    configuration measured there."""
+    import json
+
+    def worst_of(r):
+        return min(r["scenes"], key=lambda s: r["scenes"][s]["psnr_truth_db"])
+
+    def key(r):
+        return (r["worst_psnr_truth_db"], -r["ge_total"])
+
+    b = max(small, key=key)
+    helds = [(r, held_out_of(docs, r)) for r in small if r["worst_psnr_truth_db"] >= 36]
+    helds = [(r, h) for r, h in helds if h]
+    holding = [(r, h) for r, h in helds if (h.get("promise_result") or {}).get("holds")]
+    pick = max(holding or helds, key=lambda rh: key(rh[0])) if helds else (b, held_out_of(docs, b))
+    r, h = pick
+    L = [goal_100k_line(r, worst_of(r), h, "the best measured" if r is b else
+                        "the best measured at 36 dB whose held-out promise " + ("holds" if holding else "was measured"))]
+    if r is not b:
+        hb = held_out_of(docs, b)
+        pb, rb = (hb or {}).get("promise"), (hb or {}).get("promise_result")
+        L[-1] += (f" The best on the eight scenes alone, {b['label']} ({b['ge_total']:,.0f} GE, "
+                  f"{b['worst_psnr_truth_db']:.2f} dB against {r['worst_psnr_truth_db']:.2f}), "
+                  + ("was not measured held out." if not (pb and rb) else
+                     f"held out keeps its promise ({promise_text(pb)}) on {rb['keep']}/{rb['of']} ({rb['share']:.1%}): "
+                     + ("holds." if rb["holds"] else "broken.")))
+    mins = []
+    for p in sorted((docs / "validation").glob("*.json")):
+        run = json.loads(p.read_text())
+        t = (run.get("psnr") or {}).get("truth") or {}
+        if t.get("min") is not None:
+            mins.append((t["min"], run["config"], t.get("median")))
+    if mins:
+        top = max(mins)
+        med = {c: (m, md) for m, c, md in mins}
+        L[-1] += (" On the held-out corpus itself (48-px random scenes and the hard cases), the goal's figure, the worst "
+                  "scene against the truth, is " + ("below 36 dB on every configuration measured there, whatever its "
+                                                    "gates" if top[0] < 36 else "at least 36 dB on some")
+                  + f" (the highest: `{top[1]}`, {top[0]} dB, median {top[2]} dB"
+                  + (f"; `full` {med['full'][0]} dB, median {med['full'][1]} dB" if "full" in med else "") + ").")
     return L
 
 
@@ -317,9 +415,7 @@ def write(res: dict, out: Path | None = None, docs: Path | None = None) -> Path:
                                              for r in cells) + " |")
     small = [r for r in recs if r["status"] == "ok" and r["ge_total"] <= 100_000 and r.get("worst_psnr_truth_db") is not None]
     if small:
-        b = max(small, key=lambda r: (r["worst_psnr_truth_db"], -r["ge_total"]))
-        worst = min(b["scenes"], key=lambda s: b["scenes"][s]["psnr_truth_db"])
-        L += ["", goal_100k_line(b, worst, held_out_record(docs, b["label"]))]
+        L += [""] + goal_100k_lines(small, docs)
     gap = goal_100k_gap(recs)
     if gap:
         L += [""] + gap

@@ -106,11 +106,12 @@ def sweep(size: int = 256, rtl_size: int = 32, points: int | None = None, scenes
     if corpus_n:  # every point also on the held-out corpus (written once here, read by every worker)
         from explore.validate import HELDOUT_SEED, corpus_dir
 
-        # beside the sweep's output (out/corpus by default): a sweep elsewhere never rewrites out/corpus
-        croot = out.parent / "corpus"
-        corpus_dir(HELDOUT_SEED, corpus_n, True, croot)
+        # inside the sweep's output (out/explore/corpus by default), never out/corpus: `make validate` keeps its
+        # own N there, and corpus_dir replaces a folder that holds another N (stop 48: a validate run beside a
+        # sweep lost its scenes when a sweep worker rewrote out/corpus/seed2 with 40)
+        corpus_dir(HELDOUT_SEED, corpus_n, True, out / "corpus")
         opts["corpus"] = {"n": corpus_n, "size": corpus_size}
-        opts["corpus_root"] = str(out.parent)
+        opts["corpus_root"] = str(out)
     src = measure.source_hash()
     pts = space.plan(plan)
     pts = pts[:points] if points else pts
