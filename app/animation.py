@@ -154,6 +154,9 @@ def run(scene_arg: str, config_name: str, frames: int | None, size: int, rtl: bo
     n = check_range("--frames", int(frames or anim["frames"]), 2, 1000)
     if rtl:
         need_tool("verilator")
+        from sim.frame_rtl import frame_cxx
+
+        frame_cxx()  # the frame harness's C++ compiler (FRAME_CXX)
     spath = scene_path(anim["scene"])
     if not spath.is_file():
         raise UserError(f"{anim['path']}: animation.scene: no such scene {anim['scene']!r}")

@@ -51,6 +51,10 @@ def check_args(config_name: str, sim: str, size: int, gaps: int, stalls: int) ->
     check_range("--gaps", gaps, 0, 99, "percent of clocks without an input pixel")
     check_range("--stalls", stalls, 0, 99, "percent of clocks with the output stalled")
     need_tool(sim)
+    if sim == "verilator":
+        from sim.frame_rtl import frame_cxx
+
+        frame_cxx()  # the harness's C++ compiler (FRAME_CXX)
 
 
 def run_frame(scene_name: str, config_name: str, sim: str, size: int, out_root: Path | None = None,
@@ -280,10 +284,12 @@ def main(argv=None) -> int:
     ap.add_argument("--scenes", help="--all: only these scenes (comma-separated names; default all)")
     ap.add_argument("--quiet", action="store_true")
     a = ap.parse_args(argv)
-    from sim.frame_rtl import FrameRunError, frame_procs
+    from sim.frame_rtl import FrameRunError, frame_cxx, frame_procs
 
     def go():
         frame_procs()  # FRAME_PROCS checked before any work
+        if a.sim == "verilator":
+            frame_cxx()  # and the harness's C++ compiler (FRAME_CXX)
         if a.all:
             scenes = SCENES
             if a.scenes:

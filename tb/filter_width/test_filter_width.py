@@ -61,6 +61,32 @@ def test_filter_width_components_rtl(fpga):
     pipe.run_block("filter_width", os.environ.get("SIM", "icarus"), test_file=__file__, config=cfg, sources=SOURCES)
 
 
+# configurations whose exponent word e (E_W bits, signed) reaches its top magnitude bit below the cap:
+# some e >= 2^(E_W-2) the inputs can give leaves w unsaturated, so the left shift must read e[E_W-2] too
+# (kills mutant 2ec92faa, e[E_W-3:0]). With sh = 0, e is at most e0 = je_max - c_frac + n_log2_max +
+# f_frac and r can be 1; with sh > 0, r >= 2^(NORM_BITS-1): w = r 2^e stays below 2^CAP_BITS only if
+# e + NORM_BITS <= CAP_BITS. Of the named, candidate and random:0..5999 configurations six have it, by
+# the first way (none of the named ones); random1884 (filter sat_fc) and random2230 (none) are two.
+SHORT_EXPONENT = ("random:1884", "random:2230")
+
+
+def short_exponent(cfg) -> bool:
+    """Some e >= 2^(E_W-2) leaves w below the cap (SHORT_EXPONENT's property)."""
+    top, cap = 1 << (cfg.e_w - 2), cfg.w_cap_log2 + cfg.f_frac
+    e0 = cfg.je_max - cfg.c_frac + cfg.n_log2_max + cfg.f_frac
+    return (e0 >= top and 1 + top <= cap) or ((1 << cfg.sh_w) - 1 + e0 >= top and cfg.norm_bits + top <= cap)
+
+
+@pytest.mark.parametrize("config", SHORT_EXPONENT)
+def test_filter_width_short_exponent_rtl(config):
+    """filter_width on a configuration whose exponent's top magnitude bit matters below the cap
+    (SHORT_EXPONENT, checked here: the property, not the seed, is what the test needs), under Icarus
+    (SIM= picks); build_vectors puts w below the cap at every such e."""
+    cfg = hdlbuild.config_of(config)
+    assert short_exponent(cfg), f"{config}: no e >= 2^(E_W-2) = {1 << (cfg.e_w - 2)} leaves w below the cap: pick another"
+    pipe.run_block("filter_width", os.environ.get("SIM", "icarus"), test_file=__file__, config=cfg, sources=SOURCES)
+
+
 def test_filter_width_check():
     """filter_width's elaboration-time check (g_bad_params) both ways on full's parameters: the
     root's word R_W = 1 bit (NORM_BITS 1) has fewer bits than isqrt's SQ_LAT stages, and NORM_BITS
@@ -283,6 +309,15 @@ def build_vectors(cfg, r, n_random):
                     je = je_for(e, k, nl)
                     if in_je(je):
                         v.add(c, Jm, je, nl, "w near N" if T != 1 << cb else "w near cap")
+    # e at and above 2^(E_W-2), w below the cap (r < 2^(cb - e), sh = 0): the left shift reads every
+    # magnitude bit of e (only where the inputs reach such an e: SHORT_EXPONENT's configurations)
+    for e in range(1 << (cfg.e_w - 2), cb):
+        for rr in sorted({1, min((1 << (cb - e)) - 1, rm)}):
+            p = pair_for_root(rr, nb, r)
+            for nl in (0, cfg.n_log2_max):
+                je = je_for(e, 0, nl)
+                if p is not None and in_je(je):
+                    v.add([p[0], p[1], 0], eye, je, nl, "e >= 2^(E_W-2) below the cap")
     # exact one-ulp neighbours of N where the root resolves them (e = 0)
     for nl in nls:
         T = 1 << (nl + ff)

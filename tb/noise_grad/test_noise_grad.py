@@ -17,7 +17,8 @@ a over its format (pow2: 0, +-2^k, every k); with exponents te and ae, 0 and the
 the first 64 vectors, uniform after; without exponents te and ae (one bit each, not read) random
 junk every clock. Streamed with random ce stalls and gaps (load
 = 0, the inputs random junk): a vector's later inputs follow it by the stage offsets of the
-header; every load must show that vector's ag.
+header; every load must show that vector's ag, and ag_out must hold on every other clock (ce = 0,
+or load = 0 with junk on the inputs: the output registers load only with ce and load).
 """
 from __future__ import annotations
 
@@ -184,6 +185,8 @@ async def noise_grad_bit_exact(dut):
     hist = []  # the vector (or None: a gap) entering at each enabled clock
     got, idx = [], []
     nxt, guard = 0, 0
+    held = int(dut.ag_out.value)  # the output registers: loaded only when ce and load (the header)
+    n_held = 0
     while len(got) < n:
         ce = 1 if rr.random() >= 0.2 else 0
         cur = nxt if (nxt < n and rr.random() >= 0.1) else None
@@ -198,6 +201,12 @@ async def noise_grad_bit_exact(dut):
         dut.ce.value = ce
         await RisingEdge(dut.clk)
         await ReadOnly()
+        now = int(dut.ag_out.value)
+        if not (ce and ld is not None):  # a stall (its inputs held or not) or a gap (junk inputs): held
+            assert now == held, (f"ag_out changed on a clock with ce = {ce}, load = {int(ld is not None)} "
+                                 f"(clock {guard}): {held:#x} -> {now:#x}")
+            n_held += 1
+        held = now
         if ce:
             hist.append(cur)
             if cur is not None:
@@ -209,6 +218,7 @@ async def noise_grad_bit_exact(dut):
         assert guard < 20 * (n + 20), "no progress"
         await Timer(1, unit="ns")
     assert idx == list(range(n)), "vectors out of order"
+    assert n_held > 0, "no clock without a load: the hold was not checked"
     pipe.check_equal(dut, got, exp, lambda i: f"a={vec[i][0]} T={vec[i][1].tolist()} v={vec[i][2]} w={vec[i][3]} "
                                               f"te={vec[i][5]} ae={vec[i][6]}",
                      f"noise_grad {p}")
