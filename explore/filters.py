@@ -37,11 +37,13 @@ ANIMATIONS = ("seascape", "fire")
 # 2 (w_cap_log2 + f_frac) <= 50: f_frac 14, w_cap_log2 11), full_f14 their box. The candidates of the same filters on
 # full_narrow's formats (full_mip, full_sat2, ...: fitted to the eight paper scenes) broke held out and are not shown.
 # full_s2, full_s4: full with 2 and 4 sub-pixel samples a pixel (1/2 and 1/4 pixel a clock); full_sat2_s4_heldout and
-# full_sat2_fc_s4_heldout: the trapezoids with 4 (issue 27: samples as the clocks-for-quality knob)
+# full_sat2_fc_s4_heldout: the trapezoids with 4 (issue 27: samples as the clocks-for-quality knob);
+# full_sat2_fc_k80_heldout: sat2_fc with its fade's knee at 80 (2^2.5 cells a pixel) instead of 112 (issue 27's flicker)
 DEFAULT_CONFIGS = ("full", "full_fc", "config/candidates/full_mip_heldout.toml", "config/candidates/full_f14.toml",
                    "config/candidates/full_sat2_heldout.toml", "config/candidates/full_sat2_fc_heldout.toml",
                    "config/candidates/full_s2.toml", "config/candidates/full_s4.toml",
-                   "config/candidates/full_sat2_s4_heldout.toml", "config/candidates/full_sat2_fc_s4_heldout.toml")
+                   "config/candidates/full_sat2_s4_heldout.toml", "config/candidates/full_sat2_fc_s4_heldout.toml",
+                   "config/candidates/full_sat2_fc_k80_heldout.toml")
 
 
 def _scene_rows(configs, scenes, size, out_root, progress):
@@ -276,7 +278,9 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
          "freq_clamp; texture_pipeline FC_ON, CM_FILTER). The faded terms' spread wv widens the larger of the "
          "trapezoid's two widths: a >= b gives (max(a, wv), b), else (a, max(b, wv)) (rtl/cm_align.v; the trapezoid "
          "is symmetric in a and b, so the choice at a = b changes nothing); with b = 0 that is `sat_fc`'s box "
-         "max(w, wv), with wv = 0 it is `sat2`.",
+         "max(w, wv), with wv = 0 it is `sat2`. config/candidates/full_sat2_fc_k80_heldout.toml is the same with the "
+         "fade's knee at fc_knee 80 instead of 112 (each term faded out at a footprint of 2^2.5 cells a pixel instead "
+         "of 2^3.5): a steadier picture for about 1 dB.",
          "- **Sub-pixel samples** (`features.samples` = 2 or 4, issue 27; rtl/sample_expand.v, rtl/sample_average.v; "
          "model/hw/golden.py sample_expand, sample_average; model/reference.py shade_samples; "
          "config/candidates/full_s2.toml, full_s4.toml, full_sat2_s4_heldout.toml, full_sat2_fc_s4_heldout.toml): any of the filters above, taken at "
