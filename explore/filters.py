@@ -241,7 +241,8 @@ def write_doc(rows, anim, gates, configs, scenes, size, frames, anim_size, docs:
     cmd = (f"make filters FILTERS_FLAGS=\"--configs {','.join(configs)} --size {size} --frames {frames} "
            f"--anim-size {anim_size}\"")
     L = ["# Colour-map filters at the horizon", "",
-         f"Written by `{cmd}` (explore/filters.py) in {seconds / 60:.0f} min on this machine. Every figure is "
+         f"Written by `{cmd}` (explore/filters.py) in {seconds / 60:.0f} min on this machine (the renders, truths and "
+         "animations it finds under out/ from an earlier run are reused; from an empty out/ about 40 min). Every figure is "
          "PSNR against the converged truth (model/scene/truth.py: stratified, jittered, 32x32 samples a pixel in the "
          "tiles of the band) of the golden model, which the RTL equals bit for bit (tb/frame, `make animation RTL=1`).",
          "", "## The filters", "",
