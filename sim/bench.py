@@ -162,12 +162,17 @@ STEPS = [
     ("-fno-stack-protector -fno-plt -fomit-frame-pointer",
      ["-Wno-fatal", *X_FAST, "-O3", "-CFLAGS", "-fno-stack-protector -fno-plt -fomit-frame-pointer"],
      {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", **GXX}),
-    # stop 49: the default build (5, 6 and `make bench-sim`) is clang++ 14's (sim/frame_rtl.py
-    # FRAME_CXX); 12 is its options under g++ 12 (the default before), 13 clang++ at -O3
+    # stop 49: the default build (5, 6 and `make bench-sim`) is clang++ 14's with ThinLTO (sim/frame_rtl.py
+    # FRAME_CXX, LTO); 12 is its options under g++ 12 (the default before, no LTO), 13 clang++ at -O3 (with
+    # ThinLTO), 14 clang++ -O2 without it (a step's fifth element: sim/frame_rtl.py settings for that step)
     ("g++ -O2 (the default's options, before stop 49's clang++)", ["-Wno-fatal", *X_FAST, "-O3"],
      {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", **GXX}),
     ("clang++ -O3", ["-Wno-fatal", *X_FAST, "-O3"],
      {"OPT_FAST": "-O3", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", "CXX": "clang++", "LINK": "clang++", "LIBS": "-latomic"}),
+    # the default build without its ThinLTO (clang++ -O2 alone: the default from stop 49's first commit)
+    ("clang++ -O2 without ThinLTO", ["-Wno-fatal", *X_FAST, "-O3"],
+     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", "CXX": "clang++", "LINK": "clang++", "LIBS": "-latomic"},
+     [], {"LTO": False}),
 ]
 
 
@@ -175,7 +180,7 @@ def steps(config: str, pixels: int, repeat: int, only=None) -> int:
     """python -m sim.bench steps [i,j,...]: each build step of docs/simulation.md (or those listed)
     on the same frame (its own build directory, build/sim/frame_tb/<config>-verilator-step<i>; a
     step without options of its own: the default build, with its plusargs), one JSON line a step."""
-    default = (frame_rtl.VERILATOR_ARGS, frame_rtl.CXX_OPT, frame_rtl.BUILD_TAG, frame_rtl.RUN_PLUSARGS)
+    default = (frame_rtl.VERILATOR_ARGS, frame_rtl.CXX_OPT, frame_rtl.BUILD_TAG, frame_rtl.RUN_PLUSARGS, frame_rtl.LTO)
     ok = True
     try:
         for i, (name, vargs, cxx, *plus) in enumerate(STEPS):
@@ -186,16 +191,18 @@ def steps(config: str, pixels: int, repeat: int, only=None) -> int:
             frame_rtl.CXX_OPT = cxx if own else default[1]
             frame_rtl.BUILD_TAG = f"-step{i}" if own else default[2]
             frame_rtl.RUN_PLUSARGS = plus[0] if plus else []
+            frame_rtl.LTO = plus[1].get("LTO", default[4]) if len(plus) > 1 else default[4]
             rep = {"step": i, "what": name, **versus_golden(config, pixels, repeat)}
             ok &= rep["bit_exact"]
             print(json.dumps(rep), flush=True)
     finally:
-        frame_rtl.VERILATOR_ARGS, frame_rtl.CXX_OPT, frame_rtl.BUILD_TAG, frame_rtl.RUN_PLUSARGS = default
+        (frame_rtl.VERILATOR_ARGS, frame_rtl.CXX_OPT, frame_rtl.BUILD_TAG, frame_rtl.RUN_PLUSARGS,
+         frame_rtl.LTO) = default
     return 0 if ok else 1
 
 
 def pgo(config: str, pixels: int, repeat: int) -> int:
-    """python -m sim.bench pgo: gcc's profile-guided build of the frame harness (docs/simulation.md, stop
+    """python -m sim.bench pgo: gcc's (g++ 12's) profile-guided build of the frame harness (docs/simulation.md, stop
     44): built with -fprofile-generate into build/sim/pgo/<config>, trained on the bench frame, rebuilt
     in the same build directory with -fprofile-use; one JSON line of the trained build beside the golden
     model (compare with `make bench-sim` in the same minutes: the default build is not timed here)."""
@@ -203,9 +210,10 @@ def pgo(config: str, pixels: int, repeat: int) -> int:
 
     prof = frame_rtl.build_root() / "sim" / "pgo" / config
     shutil.rmtree(prof, ignore_errors=True)
-    default = (frame_rtl.VERILATOR_ARGS, frame_rtl.BUILD_TAG)
+    default = (frame_rtl.VERILATOR_ARGS, frame_rtl.BUILD_TAG, frame_rtl.CXX_OPT)
     try:
         frame_rtl.BUILD_TAG = "-pgo"
+        frame_rtl.CXX_OPT = {**default[2], **GXX}  # gcc's profile-guided build (g++ 12, no LTO)
         frame_rtl.VERILATOR_ARGS = [*default[0], "-CFLAGS", f"-fprofile-generate={prof}",
                                     "-LDFLAGS", f"-fprofile-generate={prof}"]
         versus_golden(config, pixels, 1)  # the build and its training run
@@ -213,7 +221,7 @@ def pgo(config: str, pixels: int, repeat: int) -> int:
                                     "-LDFLAGS", f"-fprofile-use={prof}"]
         rep = {"step": "pgo", "what": "gcc -fprofile-use (trained on this frame)", **versus_golden(config, pixels, repeat)}
     finally:
-        frame_rtl.VERILATOR_ARGS, frame_rtl.BUILD_TAG = default
+        frame_rtl.VERILATOR_ARGS, frame_rtl.BUILD_TAG, frame_rtl.CXX_OPT = default
     print(json.dumps(rep), flush=True)
     return 0 if rep["bit_exact"] else 1
 

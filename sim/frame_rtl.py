@@ -65,10 +65,13 @@ DRAIN = 256  # frame_tb DRAIN
 VERILATOR_ARGS = ["-Wno-fatal", "--x-assign", "fast", "--x-initial", "fast", "-O3"]
 CXX_OPT = {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}
 # The C++ compiler of the frame harness: clang++ (Debian's clang 14, `make setup`) runs the model
-# 1.13-1.27 times faster than g++ 12 at the same -O2 (docs/simulation.md, stop 49); FRAME_CXX=
-# another (g++ to compare). Its link takes libatomic: Verilator's run time asks for atomics
+# 1.2 times faster than g++ 12 at the same -O2, and with ThinLTO (clang's link-time optimisation
+# across Verilator's C++ files) `full` another 1.18 times (docs/simulation.md, stop 49); FRAME_CXX=
+# another (g++ to compare: no LTO). Its link takes libatomic: Verilator's run time asks for atomics
 # that gcc inlines and clang leaves to the library. (The netlists' -O0 build stays with g++.)
 FRAME_CXX_DEFAULT = "clang++"
+LTO = True  # ThinLTO when the compiler is clang (sim/bench.py steps turns it off for one step)
+LTO_ARGS = ["-CFLAGS", "-flto=thin", "-LDFLAGS", "-flto=thin"]
 COVERAGE_ARGS = ["--coverage-line", "--coverage-toggle"]  # COVERAGE=1 (make coverage): hdlbuild.coverage_file
 CXX_OPT_GLS = {"OPT_FAST": "-O0", "OPT_SLOW": "-O0", "OPT_GLOBAL": "-O0"}  # the netlists' build (netlists=)
 BUILD_TAG = ""  # a suffix of the Verilator build directory (sim/bench.py steps: one per set of options)
@@ -122,7 +125,7 @@ def _stamp(config: str, sim: str, gdir: Path, netlists=None) -> str:
             h.update(p.read_bytes())
     if sim == "verilator":
         h.update(MAIN_CPP.read_bytes())
-        h.update(repr((VERILATOR_ARGS, cxx_make_vars(netlists), coverage(sim))).encode())
+        h.update(repr((VERILATOR_ARGS, lto_args(netlists), cxx_make_vars(netlists), coverage(sim))).encode())
     h.update(repr((sim, memory(sim), DRAIN, "c++ main")).encode())
     return h.hexdigest()
 
@@ -139,7 +142,7 @@ def _verilator_build(cfg, gdir: Path, bdir: Path, netlists=None) -> None:
     Verilator waiting for make) the 24-GB machine runs out of memory (stop 46)."""
     params = {**memory("verilator"), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)}
     verilate = ["verilator", "--cc", "--exe", "-Mdir", str(bdir), "--top-module", TOPLEVEL,
-                "-o", TOPLEVEL, *VERILATOR_ARGS, *(COVERAGE_ARGS if coverage("verilator") else []), f"-I{rtl_dir()}", *[f"-G{k}={v}" for k, v in params.items()],
+                "-o", TOPLEVEL, *VERILATOR_ARGS, *lto_args(netlists), *(COVERAGE_ARGS if coverage("verilator") else []), f"-I{rtl_dir()}", *[f"-G{k}={v}" for k, v in params.items()],
                 str(MAIN_CPP), *[str(p) for p in _sources(gdir, netlists)]]
     compile_ = ["make", "-C", str(bdir), "-f", f"V{TOPLEVEL}.mk", "-j", "2"]
     env = dict(os.environ)
@@ -543,6 +546,12 @@ def cxx_make_vars(netlists=None) -> dict:
         return dict(CXX_OPT_GLS)
     cxx = frame_cxx()
     return {"CXX": cxx, "LINK": cxx, "LIBS": "-latomic", **CXX_OPT}  # (sim/bench.py steps: a step's own CXX)
+
+
+def lto_args(netlists=None) -> list[str]:
+    """Verilator's -CFLAGS/-LDFLAGS for ThinLTO when the harness's compiler is clang (LTO on), else none."""
+    cxx = cxx_make_vars(netlists).get("CXX", "")
+    return list(LTO_ARGS) if LTO and not netlists and "clang" in Path(cxx).name else []
 
 
 def frame_procs() -> int:
