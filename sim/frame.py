@@ -228,9 +228,9 @@ def conformance(size: int, sim: str, out_root: Path | None = None, strict: bool 
     reps, rows = [], []
     root = out_root or ROOT / "out" / "frames"
     docs = ROOT / "docs" if out_root is None else Path(out_root) / "docs"
-    (docs / "images").mkdir(parents=True, exist_ok=True)
     for c in CONFIG_NAMES:
-        check_args(c, sim, size, 0, 0)
+        check_args(c, sim, size, 0, 0)  # every argument before anything is written
+    (docs / "images").mkdir(parents=True, exist_ok=True)
     # each configuration's frames in one simulator run (run_frames), reported scene by scene
     by_config = {}
     for c in CONFIG_NAMES:
@@ -284,12 +284,10 @@ def main(argv=None) -> int:
     ap.add_argument("--scenes", help="--all: only these scenes (comma-separated names; default all)")
     ap.add_argument("--quiet", action="store_true")
     a = ap.parse_args(argv)
-    from sim.frame_rtl import FrameRunError, frame_cxx, frame_procs
+    from sim.frame_rtl import FrameRunError, frame_procs
 
     def go():
         frame_procs()  # FRAME_PROCS checked before any work
-        if a.sim == "verilator":
-            frame_cxx()  # and the harness's C++ compiler (FRAME_CXX)
         if a.all:
             scenes = SCENES
             if a.scenes:

@@ -262,6 +262,18 @@ def test_bad_input_one_line_exit_2(case, cmd, tmp_path):
         assert p.is_dir() or (p.name == "report.json" and json.loads(p.read_text())["status"] == "failed"), p
 
 
+def test_frames_missing_compiler_writes_nothing(tmp_path):
+    """make frames (python -m sim.frame --all) with the harness's C++ compiler missing (FRAME_CXX): one
+    line, exit status 2, and its output folder not even created (it once made <out>/docs/images first)."""
+    out = tmp_path / "out"
+    r = subprocess.run([PY, "-m", "sim.frame", "--all", "--sim", "verilator", "--size", "8", "--out", str(out)],
+                       cwd=ROOT, env={**os.environ, "FRAME_CXX": "no-such-c++"}, capture_output=True, text=True,
+                       timeout=120)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1, (r.returncode, r.stderr)
+    assert "FRAME_CXX=no-such-c++: the frame harness's C++ compiler is not on PATH" in r.stderr, r.stderr
+    assert not out.exists()
+
+
 @pytest.mark.parametrize("config,expected", [
     ("config/candidates/no_such.toml", "--config config/candidates/no_such.toml: config/candidates/no_such.toml: "
                                        "no such configuration"),
