@@ -135,43 +135,45 @@ def icarus(config: str, pixels: int) -> dict:
 # the steps of docs/simulation.md (Verilator options, C++ -O, the compiler): 5 and 6, without options
 # of their own, are the build sim/frame_rtl.py uses (and its compiler, FRAME_CXX: clang++ since stop 49)
 GXX = {"CXX": "g++", "LINK": "g++"}  # g++ 12, the compiler of steps 0 to 4 and 7 to 12
+CLANG = frame_rtl.compiler_vars("clang++")
+O2 = dict(frame_rtl.CXX_OPT)  # the default's -O levels: -O2 (-O1 for the cold code)
 O_S = {"OPT_FAST": "-Os", "OPT_SLOW": "-Os", "OPT_GLOBAL": "-Os", **GXX}  # Verilator's makefile's default
 X_UNIQUE = ["--x-assign", "unique", "--x-initial", "unique"]
 X_FAST = ["--x-assign", "fast", "--x-initial", "fast"]
 STEPS = [
     ("C++ main, -Os, X unique", ["-Wno-fatal", *X_UNIQUE, "-O3"], O_S),
     ("--x-assign/--x-initial fast", ["-Wno-fatal", *X_FAST, "-O3"], O_S),
-    ("C++ -O2", ["-Wno-fatal", *X_FAST, "-O3"], {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", **GXX}),
+    ("C++ -O2", ["-Wno-fatal", *X_FAST, "-O3"], {**O2, **GXX}),
     ("C++ -O3", ["-Wno-fatal", *X_FAST, "-O3"], {"OPT_FAST": "-O3", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", **GXX}),
     ("--threads 2", ["-Wno-fatal", *X_FAST, "-O3", "--threads", "2"],
-     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", **GXX}),
+     {**O2, **GXX}),
     # the build sim/frame_rtl.py uses (binary pixel files since step 6 of docs/simulation.md),
     # evaluated through Vframe_tb::eval(), then (the default) its scheduler called directly
     ("binary pixel files, Vframe_tb::eval()", None, None, ["+EVAL_API=1"]),
     ("scheduler called directly (frame_main.cpp tick)", None, None, []),
     # C++ options on top of that (issue 28: none paid, docs/simulation.md)
     ("-march=native", ["-Wno-fatal", *X_FAST, "-O3", "-CFLAGS", "-march=native"],
-     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", **GXX}),
+     {**O2, **GXX}),
     ("C++ -O3 -march=native", ["-Wno-fatal", *X_FAST, "-O3", "-CFLAGS", "-march=native"],
      {"OPT_FAST": "-O3", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O3", **GXX}),
     ("--output-split 0 (one C++ file)", ["-Wno-fatal", *X_FAST, "-O3", "--output-split", "0"],
-     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", **GXX}),
+     {**O2, **GXX}),
     # stop 46 (docs/simulation.md): the clocked function split, and gcc's hardening options off
     ("--output-split-cfuncs 2000", ["-Wno-fatal", *X_FAST, "-O3", "--output-split-cfuncs", "2000"],
-     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", **GXX}),
+     {**O2, **GXX}),
     ("-fno-stack-protector -fno-plt -fomit-frame-pointer",
      ["-Wno-fatal", *X_FAST, "-O3", "-CFLAGS", "-fno-stack-protector -fno-plt -fomit-frame-pointer"],
-     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", **GXX}),
+     {**O2, **GXX}),
     # stop 49: the default build (5, 6 and `make bench-sim`) is clang++ 14's with ThinLTO (sim/frame_rtl.py
     # FRAME_CXX, LTO); 12 is its options under g++ 12 (the default before, no LTO), 13 clang++ at -O3 (with
     # ThinLTO), 14 clang++ -O2 without it (a step's fifth element: sim/frame_rtl.py settings for that step)
     ("g++ -O2 (the default's options, before stop 49's clang++)", ["-Wno-fatal", *X_FAST, "-O3"],
-     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", **GXX}),
+     {**O2, **GXX}),
     ("clang++ -O3", ["-Wno-fatal", *X_FAST, "-O3"],
-     {"OPT_FAST": "-O3", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", "CXX": "clang++", "LINK": "clang++", "LIBS": "-latomic"}),
+     {**O2, "OPT_FAST": "-O3", **CLANG}),
     # the default build without its ThinLTO (clang++ -O2 alone: the default from stop 49's first commit)
     ("clang++ -O2 without ThinLTO", ["-Wno-fatal", *X_FAST, "-O3"],
-     {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2", "CXX": "clang++", "LINK": "clang++", "LIBS": "-latomic"},
+     {**O2, **CLANG},
      [], {"LTO": False}),
 ]
 

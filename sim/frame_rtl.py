@@ -539,13 +539,17 @@ def frame_cxx() -> str:
     return cxx
 
 
+def compiler_vars(cxx: str) -> dict:
+    """The make variables that make `cxx` Verilator's compiler and linker (libatomic: the header)."""
+    return {"CXX": cxx, "LINK": cxx, "LIBS": "-latomic"}
+
+
 def cxx_make_vars(netlists=None) -> dict:
     """The make variables of the frame harness's C++ build: -O levels, and (but for the netlists'
     -O0 build, g++ as Verilator's makefile has it) the compiler frame_cxx() names."""
     if netlists:
         return dict(CXX_OPT_GLS)
-    cxx = frame_cxx()
-    return {"CXX": cxx, "LINK": cxx, "LIBS": "-latomic", **CXX_OPT}  # (sim/bench.py steps: a step's own CXX)
+    return {**compiler_vars(frame_cxx()), **CXX_OPT}  # (sim/bench.py steps: a step's own CXX)
 
 
 def lto_args(netlists=None) -> list[str]:
