@@ -175,6 +175,9 @@ STEPS = [
     ("clang++ -O2 without ThinLTO", ["-Wno-fatal", *X_FAST, "-O3"],
      {**O2, **CLANG},
      [], {"LTO": False}),
+    # stop 50: the default skips the falling edge's evaluation (sim/frame_main.cpp tick); this step
+    # evaluates it, as before
+    ("the falling edge evaluated too (+FALL_EVAL=1)", None, None, ["+FALL_EVAL=1"]),
 ]
 
 

@@ -19,6 +19,8 @@
 //                       done (the harness then skips its $readmemh / $writememh of those two).
 //   +EVAL_API=1         evaluate through Vframe_tb::eval() (with its bookkeeping), not the model's
 //                       scheduler directly (below; sim/bench.py steps measures both).
+//   +FALL_EVAL=1        evaluate the falling edge of every clock too (tick(), below; sim/bench.py
+//                       steps 15 measures it).
 //   +COVERAGE=<file>    a build with Verilator's coverage (make coverage, COVERAGE=1): write the run's
 //                       coverage points there when done.
 // A failure prints one line "frame_tb: ERROR: ..." and exits with status 1 (the harness's own
@@ -117,8 +119,15 @@ void Vframe_tb___024root___eval(Vframe_tb___024root* vlSelf);
 namespace {
 
 // one clock: rising edge, then falling edge (inputs change between clocks, as cocotb's do on
-// the falling edge)
+// the falling edge). Every process of frame_tb and the design is clocked on the rising edge and
+// nothing reads clk otherwise, so an evaluation at the falling edge has nothing to run: tick()
+// skips it (a whole pass of the scheduler a clock, about 5 ns: 2.6% of a compact frame, whose
+// pixels take five clocks; docs/simulation.md, stop 50) and only tells the scheduler that clk
+// fell, by the trigger's previous value that eval() would have stored, so that the next rising
+// edge is seen. +FALL_EVAL=1 evaluates it as Verilator's examples do (the same colours: tested,
+// tests/test_frame_passes.py).
 bool eval_api = false;  // +EVAL_API=1: every evaluation through Vframe_tb::eval() (sim/bench.py steps)
+bool fall_eval = false;  // +FALL_EVAL=1: evaluate the falling edge too
 
 inline void eval() {
     if (eval_api)
@@ -132,7 +141,10 @@ inline void tick() {
     eval();
     ctx->timeInc(5);
     top->clk = 0;
-    eval();
+    if (fall_eval)
+        eval();
+    else
+        top->rootp->__Vtrigprevexpr___TOP__frame_tb__DOT__clk__0 = 0;
     ctx->timeInc(5);
     if (ctx->gotFinish()) fail("the harness stopped ($finish) before done");
 }
@@ -159,6 +171,7 @@ int main(int argc, char** argv) {
     const std::string wall_file = plusarg_str("WALL");
     const bool hostmem = plusarg("HOSTMEM", 0) != 0;
     eval_api = plusarg("EVAL_API", 0) != 0;
+    fall_eval = plusarg("FALL_EVAL", 0) != 0;
 
     top->clk = 0;
     top->rst = 1;

@@ -403,6 +403,53 @@ def test_frame_cmap_clocks(sim, name):
     _check_clocks_and_reset(cfg, sim, tex, s, Jm, je, got, r, seed + 1, f"{tex.k_used} terms, colour map on 4 clocks")
 
 
+def random_folds(seed: int):
+    """A random valid configuration (model.hw.config.random_config, from `seed` on) made to fold
+    everything the design family folds, at its own formats: a diagonal quadric on one multiplier
+    over six clocks (quadric_clocks = 6), its noise terms on fewer units than terms, the box filter
+    a channel a clock (cmap_clocks = 4) where its filter is the box's family (sat, sat2: made sat;
+    mip and none stay, on one clock), 1, 2 or 4 sub-pixel samples, no FPGA registers (which
+    unfold both). random_config never draws quadric_clocks 6, cmap_clocks 4 or samples, so the
+    folds were run on compact's formats alone (the tests above). (seed used, Config)."""
+    from model.hw.config import ConfigError, random_config
+
+    for s in range(seed, seed + 200):
+        b = random_config(s)
+        if b.noise_terms < 2:
+            continue
+        r = np.random.default_rng([s, 50])
+        box = b.filter in ("sat", "sat2")
+        try:
+            return s, variant(b, f"folds{s}", quadric="diagonal", noise_units=int(r.integers(1, b.noise_terms)),
+                              quadric_clocks=6, cmap_clocks=4 if box else 1, filter="sat" if box else b.filter,
+                              samples=int(r.choice([1, 2, 4])), fpga_regs=False)
+        except ConfigError:
+            continue
+    raise AssertionError(f"random_folds({seed}): no configuration in 200 seeds")
+
+
+@pytest.mark.parametrize("sim,seed", [("verilator", 0), ("verilator", 40), ("icarus", 80)])
+def test_frame_folds_random(sim, seed):
+    """Every fold at once on random formats (random_folds: the quadric on six clocks, the noise
+    terms folded, the box filter a channel a clock, sub-pixel samples): random textures over the
+    whole formats and realistic ones, with random input gaps and output stalls, then without
+    (the clocks a pixel counted), then with a mid-frame reset; every pixel bit-exact."""
+    run_frame_rtl = _frame_rtl()
+    used, cfg = random_folds(seed)
+    seed_r = _seed()
+    print(f"[frame {cfg.name} (random_folds({seed}): random:{used}) {sim}] SEED={seed_r}")
+    r = np.random.default_rng(seed_r + 19)
+    n = min(_n_pixels(sim), 1500)
+    for kind in ("full", "real"):
+        tex = random_texture(cfg, r, kind, filt=True)
+        s, Jm, je = random_pixels(cfg, r, n, kind)
+        got, _, _ = run_frame_rtl(cfg, sim, tex, s, Jm, je, gaps=30, stalls=40, seed=seed_r)
+        _compare(cfg, tex, s, Jm, je, got, f"{cfg.name} ({kind}), gaps 30% / stalls 40%")
+    _check_clocks_and_reset(cfg, sim, tex, s, Jm, je, got, r, seed_r + 1,
+                            f"{tex.k_used} terms on {cfg.noise_units} units, filter {cfg.filter}, "
+                            f"{cfg.samples} samples, quadric on 6 clocks, colour map on {cfg.cmap_clocks}")
+
+
 def _check_clocks_and_reset(cfg, sim, tex, s, Jm, je, got, r, seed: int, what: str):
     """The stream `got` came from with gaps and stalls, run again without them (the same pixels, in
     clocks_per_pixel clocks a pixel) and with a reset in the middle of the frame (every pixel after
