@@ -86,6 +86,7 @@ def versus_golden(config: str, pixels: int, repeat: int = 3) -> dict:
         run_cpu = (ch2.ru_utime + ch2.ru_stime) - (ch.ru_utime + ch.ru_stime)
         stream_s = sum(x.get("stream_wall_us", 0) for x in st) / 1e6
         stream_cpu = sum(x.get("stream_cpu_us", 0) for x in st) / 1e6
+        huge = min(x.get("huge_text_bytes", 0) for x in st)
         # the same pass cut in PROCS runs, PROCS simulator processes at once (the machine's cores)
         t = time.perf_counter()
         rgba_p, _, par_s, _ = frame_rtl.run_frame_rtl(cfg, "verilator", tex, s, Jm, je, return_stats=True, procs=PROCS)
@@ -111,6 +112,7 @@ def versus_golden(config: str, pixels: int, repeat: int = 3) -> dict:
         "ratio_stream_cpu": round(pixels / max(stream_cpu, 1e-9) / golden_c, 3),
         "ratio_run_cpu": round(pixels / max(run_cpu, 1e-9) / golden_c, 3),
         "fixed_seconds": round(frame_s - stream_s, 3),
+        "huge_text_bytes": huge,  # the simulator's code and tables in huge pages (sim/frame_main.cpp huge_text)
         "procs": PROCS,
         "verilator_procs_pixels_per_second_run": round(pixels / par_s),
         "verilator_procs_pixels_per_second_frame": round(pixels / par_frame_s),
@@ -178,6 +180,9 @@ STEPS = [
     # stop 50: the default skips the falling edge's evaluation (sim/frame_main.cpp tick); this step
     # evaluates it, as before
     ("the falling edge evaluated too (+FALL_EVAL=1)", None, None, ["+FALL_EVAL=1"]),
+    # stop 50: the default moves its code and tables into huge pages (sim/frame_main.cpp huge_text);
+    # this step leaves them in the file's pages
+    ("code and tables in the file's pages (+HUGE_TEXT=0)", None, None, ["+HUGE_TEXT=0"]),
 ]
 
 

@@ -11,12 +11,15 @@
 //                       streaming, 0 < out_idx < +NPIXTOTAL), 3 clocks, then run to `done` again;
 //   +NPIXTOTAL=<n>      the run's pixels (for the +RESET_AT check);
 //   +WALL=<file>        write "stream_wall_us <us>": wall time from the last reset's release to done,
-//                       and "stream_cpu_us <us>", the process's CPU time over the same span;
+//                       "stream_cpu_us <us>", the process's CPU time over the same span, and
+//                       "huge_text_bytes <n>", the bytes of code and tables in huge pages (huge_text);
 //   +HOSTMEM=1 +PIXBIN=<file> +OUTBIN=<file>: the pixel words in binary (each PIX_W-bit word as
 //                       ceil(PIX_W / 32) little-endian uint32, least significant first, +NPIXTOTAL
 //                       words; model/hw/regmap.py pack_pixels_u32) loaded into the harness's pixel
 //                       memory before reset, and its +NPIXTOTAL colours written back as uint32 after
 //                       done (the harness then skips its $readmemh / $writememh of those two).
+//   +HUGE_TEXT=0        leave the executable's code and tables in the file's pages (huge_text, below;
+//                       sim/bench.py steps 16 measures it).
 //   +EVAL_API=1         evaluate through Vframe_tb::eval() (with its bookkeeping), not the model's
 //                       scheduler directly (below; sim/bench.py steps measures both).
 //   +FALL_EVAL=1        evaluate the falling edge of every clock too (tick(), below; sim/bench.py
@@ -27,9 +30,15 @@
 // $display errors come first in the log; sim/frame_rtl.py shows the first).
 
 #include <chrono>
+#include <cstdint>
+#include <cstring>
 #include <ctime>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <sys/mman.h>
+#include <unistd.h>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -79,6 +88,63 @@ void put(VlWide<N>& d, const uint32_t* s) { for (std::size_t i = 0; i < N; ++i) 
 inline void put(QData& d, const uint32_t* s) { d = static_cast<QData>(s[0]) | static_cast<QData>(s[1]) << 32; }
 template <typename T>
 void put(T& d, const uint32_t* s) { d = static_cast<T>(s[0]); }
+
+// The executable's own read-only mappings (its code and its constant tables, each a segment that
+// starts on a 2 MiB boundary: the link's -z max-page-size=0x200000, sim/frame_rtl.py HUGE_ARGS) copied
+// into anonymous memory in 2 MiB transparent huge pages and moved over the originals, at the same
+// addresses with the same bytes. Mapped from the file, they sit in whatever 4 KiB page-cache pages
+// the file was read into, and that placement set a build's speed: six copies of one `full`
+// executable, run alternately, streamed a frame in 111-157 ms, each copy keeping its own time run
+// after run, and one copy read in again (evicted from the page cache) took another; with the code
+// in huge pages every copy took 111-122 ms (docs/simulation.md, stop 50). A segment not so aligned,
+// one whose huge page would overlap another mapping, or a kernel that declines (no transparent
+// huge pages: then 4 KiB pages, anonymous) stays as it was. +HUGE_TEXT=0 leaves them all. Returns
+// the bytes moved; the run's +WALL file reports it (huge_text_bytes).
+std::size_t huge_text() {
+    constexpr std::uintptr_t HUGE = 2u << 20;
+    std::ifstream maps("/proc/self/maps");
+    std::string line, self;
+    struct Map { std::uintptr_t lo, hi; std::string perm, path; };
+    std::vector<Map> all;
+    while (std::getline(maps, line)) {
+        std::istringstream in(line);
+        std::string range, perm, off, dev, inode, path;
+        in >> range >> perm >> off >> dev >> inode >> path;
+        const auto dash = range.find('-');
+        all.push_back({std::stoull(range.substr(0, dash), nullptr, 16), std::stoull(range.substr(dash + 1), nullptr, 16),
+                       perm, path});
+    }
+    char exe[4096];
+    const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n <= 0) return 0;
+    self.assign(exe, static_cast<std::size_t>(n));
+    std::size_t moved = 0;
+    for (const Map& m : all) {
+        if (m.path != self || m.perm[1] == 'w' || m.lo % HUGE) continue;
+        const std::uintptr_t len = (m.hi - m.lo + HUGE - 1) / HUGE * HUGE;
+        bool clear = true;  // nothing else mapped in the rest of the huge page
+        for (const Map& o : all)
+            if (&o != &m && o.lo < m.lo + len && o.hi > m.lo) clear = false;
+        if (!clear) continue;
+        void* raw = mmap(nullptr, len + HUGE, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (raw == MAP_FAILED) continue;
+        const std::uintptr_t r = reinterpret_cast<std::uintptr_t>(raw);
+        const std::uintptr_t a = (r + HUGE - 1) / HUGE * HUGE;  // its 2 MiB-aligned part
+        if (a > r) munmap(raw, a - r);
+        if (r + len + HUGE > a + len) munmap(reinterpret_cast<void*>(a + len), r + len + HUGE - (a + len));
+        madvise(reinterpret_cast<void*>(a), len, MADV_HUGEPAGE);
+        std::memcpy(reinterpret_cast<void*>(a), reinterpret_cast<const void*>(m.lo), m.hi - m.lo);
+        const int prot = PROT_READ | (m.perm[2] == 'x' ? PROT_EXEC : 0);
+        if (mprotect(reinterpret_cast<void*>(a), len, prot) != 0 ||
+            mremap(reinterpret_cast<void*>(a), len, len, MREMAP_MAYMOVE | MREMAP_FIXED,
+                   reinterpret_cast<void*>(m.lo)) == MAP_FAILED) {
+            munmap(reinterpret_cast<void*>(a), len);
+            continue;
+        }
+        moved += len;
+    }
+    return moved;
+}
 
 void load_pixels(const std::string& file, long npix) {
     auto& mem = top->rootp->frame_tb__DOT__pix_mem;
@@ -162,6 +228,10 @@ void reset(int clocks, const char* what) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    bool huge = true;
+    for (int i = 1; i < argc; ++i)
+        if (std::strcmp(argv[i], "+HUGE_TEXT=0") == 0) huge = false;
+    const std::size_t huge_bytes = huge ? huge_text() : 0;
     ctx = new VerilatedContext;
     ctx->commandArgs(argc, argv);
     top = new Vframe_tb{ctx, "frame_tb"};
@@ -205,7 +275,8 @@ int main(int argc, char** argv) {
     if (!wall_file.empty()) {
         FILE* f = std::fopen(wall_file.c_str(), "w");
         if (!f) fail("cannot write " + wall_file);
-        std::fprintf(f, "stream_wall_us %ld\nstream_cpu_us %ld\n", static_cast<long>(us), static_cast<long>(cpu_us));
+        std::fprintf(f, "stream_wall_us %ld\nstream_cpu_us %ld\nhuge_text_bytes %zu\n", static_cast<long>(us),
+                     static_cast<long>(cpu_us), huge_bytes);
         std::fclose(f);
     }
     if (hostmem) save_colours(plusarg_str("OUTBIN"), npix);

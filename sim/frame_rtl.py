@@ -72,6 +72,10 @@ CXX_OPT = {"OPT_FAST": "-O2", "OPT_SLOW": "-O1", "OPT_GLOBAL": "-O2"}
 FRAME_CXX_DEFAULT = "clang++"
 LTO = True  # ThinLTO when the compiler is clang (sim/bench.py steps turns it off for one step)
 LTO_ARGS = ["-CFLAGS", "-flto=thin", "-LDFLAGS", "-flto=thin"]
+# the harness's segments on 2 MiB boundaries, so that sim/frame_main.cpp (huge_text) can move its code
+# and constant tables into huge pages: left in the file's 4 KiB pages, their placement set a build's
+# speed (stop 50, docs/simulation.md). Not for the netlists' -O0 build (its time is the gates').
+HUGE_ARGS = ["-LDFLAGS", "-Wl,-z,max-page-size=0x200000"]
 COVERAGE_ARGS = ["--coverage-line", "--coverage-toggle"]  # COVERAGE=1 (make coverage): hdlbuild.coverage_file
 CXX_OPT_GLS = {"OPT_FAST": "-O0", "OPT_SLOW": "-O0", "OPT_GLOBAL": "-O0"}  # the netlists' build (netlists=)
 BUILD_TAG = ""  # a suffix of the Verilator build directory (sim/bench.py steps: one per set of options)
@@ -125,7 +129,8 @@ def _stamp(config: str, sim: str, gdir: Path, netlists=None) -> str:
             h.update(p.read_bytes())
     if sim == "verilator":
         h.update(MAIN_CPP.read_bytes())
-        h.update(repr((VERILATOR_ARGS, lto_args(netlists), cxx_make_vars(netlists), coverage(sim))).encode())
+        h.update(repr((VERILATOR_ARGS, lto_args(netlists), huge_args(netlists), cxx_make_vars(netlists),
+                       coverage(sim))).encode())
     h.update(repr((sim, memory(sim), DRAIN, "c++ main")).encode())
     return h.hexdigest()
 
@@ -142,7 +147,7 @@ def _verilator_build(cfg, gdir: Path, bdir: Path, netlists=None) -> None:
     Verilator waiting for make) the 24-GB machine runs out of memory (stop 46)."""
     params = {**memory("verilator"), "DRAIN": DRAIN, "PIX_W": pix_width(cfg)}
     verilate = ["verilator", "--cc", "--exe", "-Mdir", str(bdir), "--top-module", TOPLEVEL,
-                "-o", TOPLEVEL, *VERILATOR_ARGS, *lto_args(netlists), *(COVERAGE_ARGS if coverage("verilator") else []), f"-I{rtl_dir()}", *[f"-G{k}={v}" for k, v in params.items()],
+                "-o", TOPLEVEL, *VERILATOR_ARGS, *lto_args(netlists), *huge_args(netlists), *(COVERAGE_ARGS if coverage("verilator") else []), f"-I{rtl_dir()}", *[f"-G{k}={v}" for k, v in params.items()],
                 str(MAIN_CPP), *[str(p) for p in _sources(gdir, netlists)]]
     compile_ = ["make", "-C", str(bdir), "-f", f"V{TOPLEVEL}.mk", "-j", "2"]
     env = dict(os.environ)
@@ -556,6 +561,12 @@ def lto_args(netlists=None) -> list[str]:
     """Verilator's -CFLAGS/-LDFLAGS for ThinLTO when the harness's compiler is clang (LTO on), else none."""
     cxx = cxx_make_vars(netlists).get("CXX", "")
     return list(LTO_ARGS) if LTO and not netlists and "clang" in Path(cxx).name else []
+
+
+def huge_args(netlists=None) -> list[str]:
+    """Verilator's -LDFLAGS that put the harness's segments on 2 MiB boundaries (HUGE_ARGS), but for
+    the netlists' build."""
+    return [] if netlists else list(HUGE_ARGS)
 
 
 def frame_procs() -> int:

@@ -127,21 +127,26 @@ def test_wipe_build_keeps_only_the_runs(tmp_path):
 
 
 @pytest.mark.parametrize("config", ["compact", "full"])
-def test_falling_edge_skipped_or_evaluated_same_colours(config, monkeypatch):
-    """sim/frame_main.cpp's tick() skips the falling edge's evaluation (every process is clocked on
-    the rising edge); +FALL_EVAL=1 evaluates it. Both give the golden model's colours and the same
-    clock count, with input gaps, output stalls and a reset in the middle of the stream (compact:
-    five clocks a pixel, full: one)."""
+def test_harness_modes_same_colours(config, monkeypatch):
+    """sim/frame_main.cpp's speed-ups change no colour and no clock: tick() skips the falling edge's
+    evaluation (every process is clocked on the rising edge; +FALL_EVAL=1 evaluates it) and
+    huge_text moves the executable's code and tables into huge pages (+HUGE_TEXT=0 leaves them; the
+    default moves every read-only segment, 2 MiB-aligned by the link: HUGE_ARGS). Each mode gives the
+    golden model's colours and the same clock count, with input gaps, output stalls and a reset in
+    the middle of the stream (compact: five clocks a pixel, full: one)."""
     tex, s, Jm, je = F.synthetic_pass(config, 400, seed=3)
     cfg = load_config(config)
     exp = texture_pipeline(cfg, tex, s, Jm, je).astype(np.uint8)
     reset_at = len(F.write_sequence(cfg, tex)) + 300  # its parameter writes, then 300 clocks of the stream
     runs = {}
-    for plus in ([], ["+FALL_EVAL=1"]):
+    for plus in ([], ["+FALL_EVAL=1"], ["+HUGE_TEXT=0"]):
         monkeypatch.setattr(F, "RUN_PLUSARGS", plus)
         rgba, cycles, _, stats = F.run_frame_rtl(config, "verilator", tex, s, Jm, je, gaps=15, stalls=15, seed=4,
                                                  reset_at=reset_at, return_stats=True)
         bad = np.nonzero(np.any(rgba != exp, axis=-1))[0]
         assert bad.size == 0, f"{plus}: {bad.size} of 400 pixels differ, first {bad[:5]}"
-        runs[tuple(plus)] = (cycles, [st.get("total_cycles") for st in stats])
-    assert runs[()] == runs[("+FALL_EVAL=1",)], runs
+        runs[tuple(plus)] = (cycles, tuple(st.get("total_cycles") for st in stats))
+        huge = [st["huge_text_bytes"] for st in stats]
+        # code, constant tables and headers: at least two 2 MiB segments moved, none with +HUGE_TEXT=0
+        assert all(h == 0 for h in huge) if plus == ["+HUGE_TEXT=0"] else all(h >= 2 << 21 for h in huge), (plus, huge)
+    assert len(set(runs.values())) == 1, runs
