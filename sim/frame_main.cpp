@@ -94,7 +94,7 @@ void put(T& d, const uint32_t* s) { d = static_cast<T>(s[0]); }
 // into anonymous memory in 2 MiB transparent huge pages and moved over the originals, at the same
 // addresses with the same bytes. Mapped from the file, they sit in whatever 4 KiB page-cache pages
 // the file was read into, and that placement set a build's speed: six copies of one `full`
-// executable, run alternately, streamed a frame in 111-157 ms, each copy keeping its own time run
+// executable, run alternately, streamed a frame in 109-157 ms, each copy keeping its own time run
 // after run, and one copy read in again (evicted from the page cache) took another; with the code
 // in huge pages every copy took 111-122 ms (docs/simulation.md, stop 50). A segment not so aligned,
 // one whose huge page would overlap another mapping, or a kernel that declines (no transparent
