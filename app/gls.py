@@ -10,9 +10,10 @@ runs every scene through them under Verilator, every pixel compared with the gol
     python -m app.gls --config reduced [--size 32] [--scenes zone_plate,marble] [--jobs 2] [--out DIR]
 
 Writes out/gls/<config>-<size>/ (each scene's frame report and images, summary.json); a run of
-every scene at 32x32 also writes synth/reports/gls_<config>.json and the "Gate-level simulation"
-section of docs/verification.md (every configuration with such a report: scenes, pixels,
-mismatches and the run's times).
+every scene at 32x32 of a configuration of GLS_CONFIGS also writes synth/reports/gls_<name>.json and
+the "Gate-level simulation" section of docs/verification.md (each configuration of GLS_CONFIGS with
+such a report: scenes, pixels, mismatches, the run's times, the rtl/ modules it elaborates that no
+row above it does, and how many of rtl/'s modules the rows simulate at gate level in all).
 """
 from __future__ import annotations
 
@@ -28,6 +29,13 @@ from model.hw.config import CONFIG_NAMES, ROOT, doc_stamp, load_config, read_sta
 from model.scene.passes import SCENES
 
 REPORTS = ROOT / "synth" / "reports"
+# the configurations the doc reports, in its order: the named three, then one for each family of blocks they
+# leave out, so that every module of rtl/ is simulated at gate level in one of them (tests/test_gls.py holds it):
+# frequency clamping (fc_weight, fc_scale), the trapezoid (cmap_sat2, sat2_integral, sat2_table), both folds
+# and sub-pixel samples (qmac_diag_serial, sat_integral_serial, sample_expand, sample_average), the MIP map
+# (cmap_mip, mip_index), the point lookup (cmap_point) and the FPGA's registers (mul_pipe, qmac_diag_pipe)
+GLS_CONFIGS = (*CONFIG_NAMES, "reduced_fc", *(f"config/candidates/{c}.toml" for c in (
+    "compact_sat2", "compact_q6c4_s4", "compact_mip", "compact_point", "compact_fpga")))
 DOC_SIZE = 32  # the size the doc's figures are measured at (the issue's: every scene at 32x32)
 TITLE = "Gate-level simulation"
 
@@ -74,8 +82,10 @@ def run_gls(config: str, size: int = DOC_SIZE, scenes=SCENES, jobs: int = 2, out
 
 def write_doc() -> None:
     """The "Gate-level simulation" section of docs/verification.md from synth/reports/gls_*.json."""
-    reps = [json.loads((REPORTS / f"gls_{c}.json").read_text()) for c in CONFIG_NAMES
-            if (REPORTS / f"gls_{c}.json").exists()]
+    from hdlbuild import elaborated_modules, rtl_modules
+
+    reps = [(c, json.loads((REPORTS / f"gls_{config_label(c)}.json").read_text())) for c in GLS_CONFIGS
+            if (REPORTS / f"gls_{config_label(c)}.json").exists()]
     if not reps:
         return
     L = ["Written by `make gls CONFIG=<name>` (app/gls.py). Every piece `make synth` counts is synthesized by the "
@@ -86,19 +96,32 @@ def write_doc() -> None:
          "flattened) instantiates the blocks' netlists; each instance's parameters are checked against the set "
          "its block's netlist was synthesized with, then dropped. The netlists replace rtl/ in the frame harness "
          "(sim/frame_rtl.py `netlists=`, Verilator; the C++ of a gate-level netlist is compiled at -O0, where -O2 "
-         "takes many times longer), and every scene runs through them, every pixel against the golden model.",
+         "takes many times longer), and every scene runs through them, every pixel against the golden model. "
+         "Beside the named configurations, one configuration a family of blocks they leave out (app/gls.py "
+         "GLS_CONFIGS; config/candidates/compact_mip, compact_point and compact_fpga are there for it), so that "
+         "every module of rtl/ is simulated at gate level in one of them; \"modules first here\" are the rtl/ "
+         "modules a configuration elaborates (Verilator's `--json-only` tree, hdlbuild.elaborated_modules) that no "
+         "row above it does.",
          "", "| configuration | rtl/ | scenes | size | pixels | pixels differing | synthesis s | build s | simulation s | "
-         "total s |", "|---|---|---|---|---|---|---|---|---|---|"]
-    rtls = [(read_stamp(r.get("stamp", "")) or {}).get("rtl", "?") for r in reps]
-    for r, h in zip(reps, rtls):
+         "total s | modules first here |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    rtls = [(read_stamp(r.get("stamp", "")) or {}).get("rtl", "?") for _, r in reps]
+    seen: set[str] = set()
+    for i, ((c, r), h) in enumerate(zip(reps, rtls)):
+        mods = set(elaborated_modules(c))
+        first = f"{len(mods)}: all it elaborates" if i == 0 else (", ".join(sorted(mods - seen)) or "-")
+        seen |= mods
         L.append(f"| {r['config']} | {h} | {len(r['scenes'])} | {r['size']}x{r['size']} | {r['pixels']:,} | "
                  f"{r['mismatched_pixels']} | {r['synth_seconds']} | {r['build_seconds']} | {r['sim_seconds']} | "
-                 f"{r['seconds']} |")
-    L += ["", "Times are wall seconds on this machine's 2 cores (synthesis: every piece, JOBS at a time; a netlist "
+                 f"{r['seconds']} | {first} |")
+    every = sorted(rtl_modules())
+    left = [m for m in every if m not in seen]
+    L += ["", f"**Modules of rtl/ simulated at gate level: {len(every) - len(left)} of {len(every)}**"
+          + (f" (not yet: {', '.join(left)})." if left else "."),
+          "", "Times are wall seconds on this machine's 2 cores (synthesis: every piece, JOBS at a time; a netlist "
           "cached in build/gls/ under a stamp of the RTL, the flow and the parameters, or a current build, costs "
           "nothing, so the synthesis column is small when an earlier run of the same RTL synthesized the pieces). "
-          "`make test` runs reduced and compact on every scene at 4x4 (tests/test_gls.py).", "",
-          doc_stamp([r["config"] for r in reps], ran_on=rtls)]  # a row of an older run keeps the section stale
+          "`make test` runs compact on every scene at 4x4 (tests/test_gls.py).", "",
+          doc_stamp([load_config(c) for c, _ in reps], ran_on=rtls)]  # a row of an older run keeps the section stale
     write_doc_section(TITLE, "\n".join(L))
 
 
@@ -121,9 +144,9 @@ def main(argv=None) -> int:
             raise UserError(f"--scenes {bad[0]}: expected some of {', '.join(SCENES)}")
         need_tool("verilator")
         summ = run_gls(a.config, a.size, scenes, a.jobs, Path(a.out) if a.out else None)
-        if a.size == DOC_SIZE and set(scenes) == set(SCENES) and not a.out and a.config in CONFIG_NAMES:
+        if a.size == DOC_SIZE and set(scenes) == set(SCENES) and not a.out and a.config in GLS_CONFIGS:
             REPORTS.mkdir(parents=True, exist_ok=True)
-            (REPORTS / f"gls_{summ['config']}.json").write_text(json.dumps(summ, indent=2) + "\n")
+            (REPORTS / f"gls_{config_label(a.config)}.json").write_text(json.dumps(summ, indent=2) + "\n")
             write_doc()
         print(f"gls {summ['config']}: {len(scenes)} scenes at {a.size}x{a.size}, {summ['pixels']} pixels, "
               f"{summ['mismatched_pixels']} differ from the golden model ({summ['seconds']} s: synthesis "

@@ -54,7 +54,7 @@ RTL_DIR = ROOT / "rtl"
 __all__ = ["ROOT", "RTL_DIR", "SIMS", "CONFIGS", "FPGA_CONFIG", "DEFAULT_VECTORS", "gen_dir", "config_of", "config_ref",
            "setup_verilator_env", "need_simulator", "need_tool", "sim_params", "seed", "vectors", "on_sys_path", "environ",
            "run", "rtl_dir", "build_root", "family_params", "block_params", "netlist_wrapper", "coverage_on", "coverage_file", "without_env", "top_params", "texture_unit_source", "latency", "write_if_changed",
-           "elaborate", "check_refusals", "rtl_modules", "module_names"]
+           "elaborate", "check_refusals", "rtl_modules", "module_names", "elaborated_modules"]
 
 
 _MODULE_RE = re.compile(r"^\s*module\s+(\w+)", re.M)
@@ -128,6 +128,37 @@ def need_simulator(sim: str) -> str:
     if shutil.which(tool) is None:
         raise RuntimeError(f"{tool}: not found on PATH (run `make setup`)")
     return tool
+
+
+def elaborated_modules(config) -> list[str]:
+    """The rtl/ modules the configuration's texture unit elaborates to, its parameters applied (a
+    generate branch not taken brings none): Verilator's --json-only tree of build/gen/<name>/
+    texture_unit.v, each module by its name in rtl/ (`make gls` simulates these at gate level)."""
+    import json
+    import subprocess
+    import tempfile
+
+    setup_verilator_env()
+    need_simulator("verilator")
+    cfg = config_of(config)
+    top = gen_dir(cfg) / "texture_unit.v"
+    with tempfile.TemporaryDirectory() as d:
+        r = subprocess.run(["verilator", "--json-only", "-Wno-fatal", "-Wno-lint", "-Wno-style", "--top-module",
+                            "texture_unit", f"-I{rtl_dir()}", str(top), *map(str, sorted(rtl_dir().glob("*.v"))),
+                            "-Mdir", d], capture_output=True, text=True)
+        if r.returncode != 0:
+            raise RuntimeError(f"verilator --json-only ({cfg.name}): {(r.stderr or r.stdout).strip()[-500:]}")
+        tree = json.loads((Path(d) / "Vtexture_unit.tree.json").read_text())
+    found, todo = set(), [tree]
+    while todo:
+        n = todo.pop()
+        if isinstance(n, dict):
+            if n.get("type") == "MODULE":
+                found.add(n.get("origName"))
+            todo += list(n.values())
+        elif isinstance(n, list):
+            todo += n
+    return sorted(found & set(rtl_modules(rtl_dir())))
 
 
 def need_tool(sim: str) -> None:

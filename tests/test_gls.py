@@ -1,6 +1,6 @@
 """make gls (app/gls.py, synth/netlist.py, issue 29): the synthesized netlists of compact
-(reduced: make gls CONFIG=reduced) simulated through the frame harness, bit-exact against the golden model on the scenes at a
-small size; the pieces of the flow (Verilog numbers, the control netlist's black-box parameters,
+(the others of GLS_CONFIGS: make gls CONFIG=...) simulated through the frame harness, bit-exact against the golden model on
+the scenes at a small size; GLS_CONFIGS elaborating every module of rtl/; the pieces of the flow (Verilog numbers, the control netlist's black-box parameters,
 the shared doc's sections) on written examples; a bad input."""
 from __future__ import annotations
 
@@ -68,6 +68,23 @@ def test_gls_bit_exact(config, tmp_path):
     assert summ["pixels"] > 0 and len(summ["scenes"]) == len(SCENES)
     assert summ["bit_exact"] and summ["mismatched_pixels"] == 0, summ["scenes"]
     assert any("netlist_sim.v" in f for f in summ["netlists"]) and any("cells_sim.v" in f for f in summ["netlists"])
+
+
+def test_gls_configs_cover_every_module():
+    """`make gls` on app/gls.py's GLS_CONFIGS simulates every module of rtl/ at gate level: the union
+    of the modules their texture units elaborate (hdlbuild.elaborated_modules: Verilator's tree, the
+    configuration's parameters applied) is rtl/'s every module, and each configuration past the named
+    ones brings a module the ones before it do not (it is there for that)."""
+    from app.gls import GLS_CONFIGS
+    from hdlbuild import elaborated_modules, rtl_modules
+
+    seen: set[str] = set()
+    for i, c in enumerate(GLS_CONFIGS):
+        mods = set(elaborated_modules(c))
+        assert {"texture_pipeline", "texture_sum", "colour_map"} <= mods, (c, sorted(mods))
+        assert i < 3 or mods - seen, f"{c} elaborates no module the configurations before it do not"
+        seen |= mods
+    assert seen == set(rtl_modules()), f"not simulated at gate level: {sorted(set(rtl_modules()) - seen)}"
 
 
 def test_bad_config_one_line_exit_2():

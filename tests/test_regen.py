@@ -8,7 +8,7 @@ import subprocess
 import sys
 
 from app import regen as R
-from model.hw.config import ROOT, rtl_source_hash
+from model.hw.config import ROOT, config_hash, load_config, rtl_source_hash
 
 
 def test_every_stamped_section_has_its_job():
@@ -32,6 +32,11 @@ def test_stale_is_another_rtl_or_configuration():
     assert R.is_stale({"rtl": "0" * 12})
     assert R.is_stale({"full": "0" * 12, "rtl": now})
     assert not R.is_stale({"not_a_config": "0" * 12, "rtl": now})
+    # a candidate (config/candidates/<name>.toml) is checked as the named ones are: docs quote them
+    cand = load_config(ROOT / "config" / "candidates" / "compact_q6c4_s4.toml")
+    assert not R.is_stale({"compact_q6c4_s4": config_hash(cand), "rtl": now})
+    assert R.is_stale({"compact_q6c4_s4": "0" * 12, "rtl": now})
+    assert "compact_q6c4_s4 000000000000, now " in R.banner_text({"compact_q6c4_s4": "0" * 12, "rtl": now}, ("make x",))
     # the plan: every job with --all, the longest first; --only by name
     allj = R.plan(all_=True)
     assert len(allj) == len(R.jobs()) and [j.minutes for j in allj] == sorted((j.minutes for j in allj), reverse=True)

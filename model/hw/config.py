@@ -414,6 +414,20 @@ def is_config_file(name: str) -> bool:
     return name.isidentifier() and (CONFIG_DIR / f"{name}.toml").is_file()
 
 
+def stamped_config(name: str) -> Config | None:
+    """The configuration a doc stamp's name stands for: config/<name>.toml, else the candidate
+    config/candidates/<name>.toml (a candidate's name is its file's stem); None for another name
+    (a variant made in code, out/fit/'s answers). Stamps of candidates are checked as the named ones
+    are (app/regen.py is_stale, tests/test_validate.py)."""
+    if is_config_file(name):
+        return load_config(name)
+    p = CONFIG_DIR / "candidates" / f"{name}.toml"
+    if name.isidentifier() and p.is_file():
+        c = load_config(p)
+        return c if c.name == name else None
+    return None
+
+
 def base_of(name: str) -> str | None:
     """The `base` the file config/<name>.toml names (None: it has none, or there is no file)."""
     p = CONFIG_DIR / f"{name}.toml"
@@ -634,11 +648,11 @@ def doc_stamp(configs, rtl: bool = True, ran_on=None) -> str:
     report that did not record it); the stamp names the first that is not today's ("unrecorded" for
     None), so a doc with a row of an older run stays stale until that row is measured again."""
     cfgs = []
-    for c in configs:  # Configs, or names (a name that is no configuration file, e.g. "compact-fpga", is skipped)
+    for c in configs:  # Configs, or names (stamped_config: a name that is none, e.g. "compact-fpga", is skipped)
         if isinstance(c, Config):
             cfgs.append(c)
-        elif is_config_file(str(c)) and all(x.name != c for x in cfgs):
-            cfgs.append(load_config(str(c)))
+        elif all(x.name != c for x in cfgs) and (sc := stamped_config(str(c))) is not None:
+            cfgs.append(sc)
     parts = [f"{c.name}={config_hash(c)}" for c in cfgs]
     if rtl:
         now = rtl_source_hash()
