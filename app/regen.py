@@ -91,8 +91,9 @@ def jobs() -> list[Job]:
         # 69 points in 41 min on two workers from empty block and truth caches, their own time 64 min; stop 44's
         # estimate of 6 hours came from 4 points under load; a point already in explore/points/ costs nothing)
         Job("mutants", (v, "Mutants"), ("make mutants N=100 SEED=1 JOBS=1",), 90),
-        # gls: the named three about 70 min (full's netlist alone about an hour), each of the six others about 4
-        Job("gls", (v, "Gate-level simulation"), tuple(f"make gls CONFIG={c}" for c in GLS_CONFIGS), 95),
+        # gls: the named three about 70 min (full's netlist alone about an hour), the six others 2 to 12 min each
+        # (stop 50: compact_sat2 7 min; compact_fpga's quadric, its multipliers pipelined, 10 min of synthesis alone)
+        Job("gls", (v, "Gate-level simulation"), tuple(f"make gls CONFIG={c}" for c in GLS_CONFIGS), 105),
         Job("coverage", (v, "Coverage"), ("make coverage JOBS=1",), 13),
         Job("fpga", ("fpga.md", None), FPGA, 25),
         Job("explore", ("tradeoffs.md", None), ("make explore JOBS=1",), 70),
