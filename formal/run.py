@@ -142,6 +142,32 @@ def tasks() -> list[Task]:
             f"W={w} N={n} CLEAR={c}: each stage equals a plain shift register's, d_out the word of N enabled clocks ago",
             quick=name in ("n3_clear", "full_s"), configs=("full", "reduced") if name.endswith(("_s", "_w")) else ()))
 
+    # sample_expand and sample_average (issue 27's sub-pixel samples): the handshake and the average
+    # against the wrappers' own count and sums (formal/sample_*_props.v), bounded: the wrappers do not see
+    # the modules' sample index, so no induction closes (bmc, to the depth: that many clocks from reset,
+    # any pattern of rst, ce, valid and ready)
+    q6c4s4 = load_config(str(ROOT / "config" / "candidates" / "compact_q6c4_s4.toml"))
+    se_sets = {"s4": ({"SAMPLES": 4, "S_W": 8, "S_FRAC": 4, "J_W": 4, "JE_W": 3}, None),
+               "s2": ({"SAMPLES": 2, "S_W": 8, "S_FRAC": 4, "J_W": 4, "JE_W": 3}, None),
+               "compact_q6c4_s4": (block_params(q6c4s4, "sample_expand"), q6c4s4.name)}
+    for name, (p, cname) in se_sets.items():
+        out.append(Task(
+            f"sample_expand.{name}", "sample_expand_props", _rtl("sample_expand.v") + ("formal/sample_expand_props.v",),
+            p, "bmc", 14,
+            f"SAMPLES={p['SAMPLES']} S_W={p['S_W']} J_W={p['J_W']} JE_W={p['JE_W']}: out_valid = in_valid; in_ready only "
+            "with out_ready; each pixel taken with its SAMPLES-th sample taken, never sooner or later (in_ready = "
+            "out_ready && SAMPLES - 1 samples taken since the last pixel); ce = 0 takes nothing; one pixel's samples "
+            "all the same footprint; s_axis assumed to keep the AXI4-Stream rule",
+            quick=name in ("s4", "s2"), configs=(cname,) if cname else ()))
+    for n in (4, 2):
+        out.append(Task(
+            f"sample_average.s{n}", "sample_average_props", _rtl("sample_average.v") + ("formal/sample_average_props.v",),
+            {"SAMPLES": n}, "bmc", 2 * n + 2,
+            f"SAMPLES={n}: the colour of each SAMPLES consecutive samples one enabled clock after the last, "
+            "floor((sum + SAMPLES/2) / SAMPLES) per channel with the last sample's tlast, out_valid on that clock "
+            "alone; ce = 0 holds every output; against the wrapper's own count and sums",
+            quick=n == 2))  # s4: about 2 min of z3 (the sums over two pixels), in make formal only
+
     # bitlen: PAR = 0 against PAR = 1 and the definition, at filter_width's widths and edges
     bl_sets = {}
     for cfg in (full, reduced, compact):
@@ -242,15 +268,19 @@ def write_doc(results: list[Result]) -> None:
         SECTION, "",
         "`make formal` (formal/run.py): SymbiYosys (`yowasp-sby`, the yowasp Yosys, Debian's z3; engine "
         f"`{ENGINE}`) on the properties the RTL states under `` `ifdef FORMAL `` (axis_skid, noise_fold, "
-        "tex_regs, delay_line) and on the miters of formal/ (bitlen's two forms, mul_pipe against the plain "
-        "product, axis_skid's ready path). Mode `prove` is k-induction: the property holds in every reachable "
-        "state, unbounded (depth: the induction length). Inputs are free (any stall, gap or reset pattern) "
+        "tex_regs, delay_line), on the miters of formal/ (bitlen's two forms, mul_pipe against the plain "
+        "product, axis_skid's ready path) and on its property wrappers (sample_expand's handshake, sample_average "
+        "against its header's rule: formal/sample_*_props.v). Mode `prove` is k-induction: the property holds in "
+        "every reachable state, unbounded (depth: the induction length); mode `bmc` is bounded: it holds on every "
+        "input pattern for that many clocks from the reset (the wrappers keep a count of their own and cannot see "
+        "the module's, so no induction closes). Inputs are free (any stall, gap or reset pattern) "
         "but for what the block's header requires of them (assumed: AXI4-Stream rules on s_axis, "
         "noise_fold's k_used <= K and stable while a pixel issues, a reset at the first clock). noise_fold's "
         "noise_term units are cut (their outputs free): the schedule is proved, the arithmetic is the "
         "simulations' (tb/). The tasks marked in the last column also run in `make test` (tests/test_formal.py), "
         "with planted bugs that must make them fail: axis_skid dropping or overwriting a beat or with a "
-        "combinational input ready, noise_fold skipping a term or breaking the in_ready rule.", "",
+        "combinational input ready, noise_fold skipping a term or breaking the in_ready rule, sample_expand "
+        "taking a pixel with its first sample or stepping without ce, sample_average truncating its average.", "",
         "| task | properties | mode | depth | result | seconds | in `make test` |", "|---|---|---|---|---|---|---|",
         *rows, "",
         f"{len(results)} tasks, {sum(r.status == 'PASS' for r in results)} passed, {total:.0f} s in all "

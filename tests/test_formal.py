@@ -42,6 +42,15 @@ PLANTED = {
     # in_ready only when empty (a pixel every P + 1 slots: not the header's rule)
     "fold_in_ready": ("noise_fold.compact", "noise_fold.v", "assign in_ready = !busy_reg || at_last;",
                       "assign in_ready = !busy_reg;", "FAIL"),
+    # the pixel taken with its first sample, not its last
+    "expand_takes_early": ("sample_expand.s4", "sample_expand.v", "assign in_ready  = out_ready && last;",
+                           "assign in_ready  = out_ready;", "FAIL"),
+    # the sample index steps on a clock without ce
+    "expand_ignores_ce": ("sample_expand.s2", "sample_expand.v", "    else if (ce && in_valid && out_ready)",
+                          "    else if (in_valid && out_ready)", "FAIL"),
+    # the average truncated instead of rounded half up
+    "average_truncates": ("sample_average.s2", "sample_average.v", "wire [A_W-1:0] rnd  = sum + HALF;",
+                          "wire [A_W-1:0] rnd  = sum;", "FAIL"),
 }
 
 
