@@ -109,7 +109,8 @@ std::size_t huge_text() {
     while (std::getline(maps, line)) {
         std::istringstream in(line);
         std::string range, perm, off, dev, inode, path;
-        in >> range >> perm >> off >> dev >> inode >> path;
+        in >> range >> perm >> off >> dev >> inode;
+        std::getline(in >> std::ws, path);  // the rest of the line: a path may hold spaces
         const auto dash = range.find('-');
         all.push_back({std::stoull(range.substr(0, dash), nullptr, 16), std::stoull(range.substr(dash + 1), nullptr, 16),
                        perm, path});
