@@ -130,12 +130,8 @@ def is_stale(stamp: dict) -> bool:
 def _changed(stamp: dict) -> list[tuple[str, str, str]]:
     """[(name, stamped hash, today's)] of the stamp's configurations (config/ and config/candidates/:
     model.hw.config.stamped_config) that changed since."""
-    out = []
-    for k, h in stamp.items():
-        c = stamped_config(k) if k != "rtl" else None
-        if c is not None and config_hash(c) != h:
-            out.append((k, h, config_hash(c)))
-    return out
+    now = {k: config_hash(c) for k in stamp if k != "rtl" and (c := stamped_config(k)) is not None}
+    return [(k, stamp[k], n) for k, n in now.items() if n != stamp[k]]
 
 
 def _section_span(lines: list[str], title: str | None) -> tuple[int, int]:

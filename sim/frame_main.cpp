@@ -229,12 +229,9 @@ void reset(int clocks, const char* what) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool huge = true;
-    for (int i = 1; i < argc; ++i)
-        if (std::strcmp(argv[i], "+HUGE_TEXT=0") == 0) huge = false;
-    const std::size_t huge_bytes = huge ? huge_text() : 0;
     ctx = new VerilatedContext;
     ctx->commandArgs(argc, argv);
+    const std::size_t huge_bytes = plusarg("HUGE_TEXT", 1) != 0 ? huge_text() : 0;
     top = new Vframe_tb{ctx, "frame_tb"};
     const long timeout = plusarg("TIMEOUT", 10000000);
     const long reset_at = plusarg("RESET_AT", -1);
