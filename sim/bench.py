@@ -183,6 +183,9 @@ STEPS = [
     # stop 50: the default moves its code and tables into huge pages (sim/frame_main.cpp huge_text);
     # this step leaves them in the file's pages
     ("code and tables in the file's pages (+HUGE_TEXT=0)", None, None, ["+HUGE_TEXT=0"]),
+    # stop 51: the default runs the scheduler's NBA region alone at a rising edge where no input
+    # changed (sim/frame_main.cpp tick); this step runs its whole loop every clock, as before
+    ("the scheduler's whole loop every clock (+NBA_ONLY=0)", None, None, ["+NBA_ONLY=0"]),
 ]
 
 

@@ -33,6 +33,7 @@ import fcntl
 import hashlib
 import itertools
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -162,10 +163,28 @@ def _verilator_build(cfg, gdir: Path, bdir: Path, netlists=None) -> None:
             rc = subprocess.run(cmd, cwd=bdir, stdout=f, stderr=subprocess.STDOUT, env=env).returncode
             if rc != 0:
                 break
+            if cmd is verilate:
+                _check_one_trigger(cfg, bdir)
     if rc != 0 or not (bdir / TOPLEVEL).is_file():  # (a make that parsed a flag as its own exits 0, building nothing)
         tail = [x for x in log.read_text(errors="replace").splitlines() if x.strip()][-1:]
         raise FrameRunError(f"frame_tb [{cfg.name} verilator]: build failed (exit {rc}"
                             f"{'' if rc else f', no {TOPLEVEL} built'}): {tail[0] if tail else '?'} (log {log})")
+
+
+# the one trigger of the harness's model (clk's rising edge): sim/frame_main.cpp's tick() skips the
+# falling edge's evaluation and runs the NBA region alone with this trigger set, which is right only
+# while every process is clocked on that one edge
+CLK_TRIGGER = "__Vtrigprevexpr___TOP__frame_tb__DOT__clk__0"
+
+
+def _check_one_trigger(cfg, bdir: Path) -> None:
+    """Fail the build when the verilated model has a trigger besides clk's rising edge (a process on
+    another edge or clock): tick() would then skip it (sim/frame_main.cpp)."""
+    header = bdir / f"V{TOPLEVEL}___024root.h"
+    found = sorted(set(re.findall(r"__Vtrigprevexpr\w+", header.read_text()))) if header.is_file() else []
+    if found != [CLK_TRIGGER]:
+        raise FrameRunError(f"frame_tb [{cfg.name} verilator]: the model's triggers are {found or 'not found'} "
+                            f"in {header}, not clk's rising edge alone: sim/frame_main.cpp tick() handles only that")
 
 
 def wipe_build(bdir: Path) -> None:

@@ -112,6 +112,21 @@ def test_passes_split_across_runs_and_in_one_run_are_bit_exact():
             assert all(k * n <= c < k * n + 100 for c, n, k in zip(info["cycles"], sizes, p) if n), info["cycles"]
 
 
+def test_build_refuses_a_second_trigger(tmp_path):
+    """The harness's tick() handles one trigger, clk's rising edge (sim/frame_main.cpp): a verilated
+    model with another (a process on another edge) fails its build with a line naming them."""
+    cfg = load_config("compact")
+    header = tmp_path / f"V{F.TOPLEVEL}___024root.h"
+    header.write_text(f"    CData/*0:0*/ {F.CLK_TRIGGER};\n    CData/*0:0*/ {F.CLK_TRIGGER};\n")
+    F._check_one_trigger(cfg, tmp_path)  # the one trigger, named twice: fine
+    header.write_text(f"    CData/*0:0*/ {F.CLK_TRIGGER};\n    CData/*0:0*/ __Vtrigprevexpr___TOP__frame_tb__DOT__rst__0;\n")
+    with pytest.raises(F.FrameRunError, match=r"frame_tb \[compact verilator\]: the model's triggers are .*rst__0"):
+        F._check_one_trigger(cfg, tmp_path)
+    header.unlink()
+    with pytest.raises(F.FrameRunError, match="not found"):
+        F._check_one_trigger(cfg, tmp_path)
+
+
 def test_wipe_build_keeps_only_the_runs(tmp_path):
     """A stale build directory is emptied before the rebuild (a killed build's precompiled
     header would be trusted), but for runs/, the kept failed runs."""
@@ -129,8 +144,9 @@ def test_wipe_build_keeps_only_the_runs(tmp_path):
 @pytest.mark.parametrize("config", ["compact", "full"])
 def test_harness_modes_same_colours(config, monkeypatch):
     """sim/frame_main.cpp's speed-ups change no colour and no clock: tick() skips the falling edge's
-    evaluation (every process is clocked on the rising edge; +FALL_EVAL=1 evaluates it) and
-    huge_text moves the executable's code and tables into huge pages (+HUGE_TEXT=0 leaves them; the
+    evaluation (every process is clocked on the rising edge; +FALL_EVAL=1 evaluates it), runs the
+    scheduler's NBA region alone at a rising edge where rst did not change (+NBA_ONLY=0 runs its
+    whole loop; the mid-stream reset exercises both) and huge_text moves the executable's code and tables into huge pages (+HUGE_TEXT=0 leaves them; the
     default moves every read-only segment, 2 MiB-aligned by the link: HUGE_ARGS). Each mode gives the
     golden model's colours and the same clock count, with input gaps, output stalls and a reset in
     the middle of the stream (compact: five clocks a pixel, full: one)."""
@@ -139,7 +155,7 @@ def test_harness_modes_same_colours(config, monkeypatch):
     exp = texture_pipeline(cfg, tex, s, Jm, je).astype(np.uint8)
     reset_at = len(F.write_sequence(cfg, tex)) + 300  # its parameter writes, then 300 clocks of the stream
     runs = {}
-    for plus in ([], ["+FALL_EVAL=1"], ["+HUGE_TEXT=0"]):
+    for plus in ([], ["+FALL_EVAL=1"], ["+NBA_ONLY=0"], ["+HUGE_TEXT=0"]):
         monkeypatch.setattr(F, "RUN_PLUSARGS", plus)
         rgba, cycles, _, stats = F.run_frame_rtl(config, "verilator", tex, s, Jm, je, gaps=15, stalls=15, seed=4,
                                                  reset_at=reset_at, return_stats=True)
