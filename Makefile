@@ -66,9 +66,9 @@ help:
 setup:
 	@if command -v apt-get >/dev/null; then \
 	  apt-get update -qq >/dev/null 2>&1 || echo "setup: apt-get update failed; using the package lists already here"; \
-	  apt-get install -y -qq --no-install-recommends iverilog yosys verilator make g++ clang ccache liblz4-dev zlib1g-dev z3 >/dev/null \
-	    || { echo "setup: apt-get install iverilog yosys verilator g++ clang ccache liblz4-dev zlib1g-dev z3 failed" >&2; exit 1; }; \
-	else echo "setup: no apt-get: install iverilog, yosys, g++, clang, ccache, liblz4-dev, z3 yourself"; fi
+	  apt-get install -y -qq --no-install-recommends iverilog yosys verilator make g++ clang ccache liblz4-dev zlib1g-dev z3 valgrind >/dev/null \
+	    || { echo "setup: apt-get install iverilog yosys verilator g++ clang ccache liblz4-dev zlib1g-dev z3 valgrind failed" >&2; exit 1; }; \
+	else echo "setup: no apt-get: install iverilog, yosys, g++, clang, ccache, liblz4-dev, z3, valgrind yourself"; fi
 	python3 -m venv $(VENV)
 	$(PIP) install -q --upgrade pip==24.3.1
 	$(PIP) install -q -r requirements.txt
