@@ -206,8 +206,10 @@ namespace {
 // once more to find nothing left to do. When rst has not changed since the last evaluation, only the
 // NBA region has work: the input phase's logic is recomputed there from the registers it also reads,
 // and clk feeds nothing but the trigger. tick() then runs that region alone, with the trigger set as
-// the active phase would have set it (every build of the harness has that one trigger, bit 0 of
-// __VnbaTriggered: Verilator's act-trigger function is identical across the configurations). That
+// the active phase would have set it (bit 0 of __VnbaTriggered), in a model whose one trigger is
+// clk's rising edge: every RTL build's. A gate-level netlist's model can have others (Verilator's
+// triggers on a wide register's changes, which it could not order statically; then clk's is not bit
+// 0): sim/frame_rtl.py records each build's triggers and starts such a model with +NBA_ONLY=0. That
 // is about 95 instructions a clock fewer, 3% of a compact clock's (cachegrind: docs/simulation.md,
 // stop 51). A clock where rst changed (reset())
 // goes through the whole loop. +NBA_ONLY=0 runs the whole loop every clock (the same colours and

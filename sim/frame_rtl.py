@@ -132,7 +132,7 @@ def _stamp(config: str, sim: str, gdir: Path, netlists=None) -> str:
         h.update(MAIN_CPP.read_bytes())
         h.update(repr((VERILATOR_ARGS, lto_args(netlists), huge_args(netlists), cxx_make_vars(netlists),
                        coverage(sim))).encode())
-    h.update(repr((sim, memory(sim), DRAIN, "c++ main")).encode())
+    h.update(repr((sim, memory(sim), DRAIN, "c++ main", TRIGGERS_FILE)).encode())
     return h.hexdigest()
 
 
@@ -164,27 +164,37 @@ def _verilator_build(cfg, gdir: Path, bdir: Path, netlists=None) -> None:
             if rc != 0:
                 break
             if cmd is verilate:
-                _check_one_trigger(cfg, bdir)
+                _record_triggers(cfg, bdir)
     if rc != 0 or not (bdir / TOPLEVEL).is_file():  # (a make that parsed a flag as its own exits 0, building nothing)
         tail = [x for x in log.read_text(errors="replace").splitlines() if x.strip()][-1:]
         raise FrameRunError(f"frame_tb [{cfg.name} verilator]: build failed (exit {rc}"
                             f"{'' if rc else f', no {TOPLEVEL} built'}): {tail[0] if tail else '?'} (log {log})")
 
 
-# the one trigger of the harness's model (clk's rising edge): sim/frame_main.cpp's tick() skips the
-# falling edge's evaluation and runs the NBA region alone with this trigger set, which is right only
-# while every process is clocked on that one edge
+# the trigger of clk's rising edge in the harness's model. sim/frame_main.cpp's tick() runs the scheduler's
+# NBA region alone, with this trigger set, only in a model that has no other trigger (every process clocked
+# on that edge: the RTL's builds); a gate-level netlist's model can have more (Verilator's triggers on a
+# wide register's changes, which it could not order statically), and its runs get +NBA_ONLY=0
 CLK_TRIGGER = "__Vtrigprevexpr___TOP__frame_tb__DOT__clk__0"
+TRIGGERS_FILE = "triggers.txt"  # a build's triggers, one a line (_record_triggers)
 
 
-def _check_one_trigger(cfg, bdir: Path) -> None:
-    """Fail the build when the verilated model has a trigger besides clk's rising edge (a process on
-    another edge or clock): tick() would then skip it (sim/frame_main.cpp)."""
+def _record_triggers(cfg, bdir: Path) -> None:
+    """After verilating: write the model's triggers (the previous-value members of its root class) to
+    bdir/triggers.txt; a model without clk's rising edge among them fails its build in one line."""
     header = bdir / f"V{TOPLEVEL}___024root.h"
     found = sorted(set(re.findall(r"__Vtrigprevexpr\w+", header.read_text()))) if header.is_file() else []
-    if found != [CLK_TRIGGER]:
-        raise FrameRunError(f"frame_tb [{cfg.name} verilator]: the model's triggers are {found or 'not found'} "
-                            f"in {header}, not clk's rising edge alone: sim/frame_main.cpp tick() handles only that")
+    if CLK_TRIGGER not in found:
+        raise FrameRunError(f"frame_tb [{cfg.name} verilator]: no trigger {CLK_TRIGGER} in {header} (found "
+                            f"{found or 'none'}): sim/frame_main.cpp tick() needs clk's rising edge")
+    (bdir / TRIGGERS_FILE).write_text("".join(t + "\n" for t in found))
+
+
+def nba_only_plusargs(bdir: Path) -> list[str]:
+    """The plusargs a run of the build in bdir starts with: +NBA_ONLY=0 unless the model's one trigger is
+    clk's rising edge (a build without its triggers file is taken as having others)."""
+    f = bdir / TRIGGERS_FILE
+    return [] if f.is_file() and f.read_text().split() == [CLK_TRIGGER] else ["+NBA_ONLY=0"]
 
 
 def wipe_build(bdir: Path) -> None:
@@ -347,7 +357,7 @@ def check_stats(st: dict, npix: int, nwr: int) -> str | None:
 def _run_verilator(bdir: Path, rdir: Path, config: str, plusargs: list[str]) -> None:
     """Run the Verilator harness executable (sim/frame_main.cpp) in rdir, its output in sim.log
     (its command line in cmdline.txt: a kept run reruns as `$(cat cmdline.txt)`)."""
-    cmd = [str(bdir / TOPLEVEL), *plusargs]
+    cmd = [str(bdir / TOPLEVEL), *nba_only_plusargs(bdir), *plusargs]
     (rdir / "cmdline.txt").write_text(" ".join(cmd) + "\n")
     with open(rdir / "sim.log", "w") as log:
         rc = subprocess.run(cmd, cwd=rdir, stdout=log, stderr=subprocess.STDOUT,

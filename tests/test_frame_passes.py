@@ -112,19 +112,24 @@ def test_passes_split_across_runs_and_in_one_run_are_bit_exact():
             assert all(k * n <= c < k * n + 100 for c, n, k in zip(info["cycles"], sizes, p) if n), info["cycles"]
 
 
-def test_build_refuses_a_second_trigger(tmp_path):
-    """The harness's tick() handles one trigger, clk's rising edge (sim/frame_main.cpp): a verilated
-    model with another (a process on another edge) fails its build with a line naming them."""
+def test_nba_only_where_clk_is_the_one_trigger(tmp_path):
+    """tick() runs the scheduler's NBA region alone only in a model whose one trigger is clk's rising edge
+    (sim/frame_main.cpp): a build records its triggers, and a run of a model with another (a gate-level
+    netlist's trigger on a register's changes) or of a build without the record gets +NBA_ONLY=0; a model
+    without clk's trigger fails its build in one line naming what it found."""
     cfg = load_config("compact")
     header = tmp_path / f"V{F.TOPLEVEL}___024root.h"
-    header.write_text(f"    CData/*0:0*/ {F.CLK_TRIGGER};\n    CData/*0:0*/ {F.CLK_TRIGGER};\n")
-    F._check_one_trigger(cfg, tmp_path)  # the one trigger, named twice: fine
-    header.write_text(f"    CData/*0:0*/ {F.CLK_TRIGGER};\n    CData/*0:0*/ __Vtrigprevexpr___TOP__frame_tb__DOT__rst__0;\n")
-    with pytest.raises(F.FrameRunError, match=r"frame_tb \[compact verilator\]: the model's triggers are .*rst__0"):
-        F._check_one_trigger(cfg, tmp_path)
-    header.unlink()
-    with pytest.raises(F.FrameRunError, match="not found"):
-        F._check_one_trigger(cfg, tmp_path)
+    assert F.nba_only_plusargs(tmp_path) == ["+NBA_ONLY=0"]  # no record
+    header.write_text(f"    CData/*0:0*/ {F.CLK_TRIGGER};\n")
+    F._record_triggers(cfg, tmp_path)
+    assert F.nba_only_plusargs(tmp_path) == []
+    other = "__Vtrigprevexpr___TOP__frame_tb__DOT__u_pipe__DOT__v_reg__1"
+    header.write_text(f"    CData/*0:0*/ {F.CLK_TRIGGER};\n    VlWide<4>/*127:0*/ {other};\n")
+    F._record_triggers(cfg, tmp_path)
+    assert F.nba_only_plusargs(tmp_path) == ["+NBA_ONLY=0"]
+    header.write_text(f"    CData/*0:0*/ {other};\n")
+    with pytest.raises(F.FrameRunError, match=r"frame_tb \[compact verilator\]: no trigger .*clk__0 .*v_reg__1"):
+        F._record_triggers(cfg, tmp_path)
 
 
 def test_wipe_build_keeps_only_the_runs(tmp_path):
