@@ -210,13 +210,13 @@ namespace {
 // clk's rising edge: every RTL build's. A gate-level netlist's model can have others (Verilator's
 // triggers on a wide register's changes, which it could not order statically; then clk's is not bit
 // 0): sim/frame_rtl.py records each build's triggers and starts such a model with +NBA_ONLY=0. That
-// is about 95 instructions a clock fewer, 3% of a compact clock's (cachegrind: docs/simulation.md,
+// is about 100 instructions a clock fewer, 3% of a compact clock's (cachegrind: docs/simulation.md,
 // stop 51). A clock where rst changed (reset())
 // goes through the whole loop. +NBA_ONLY=0 runs the whole loop every clock (the same colours and
 // clocks: tests/test_frame_passes.py; sim/bench.py steps 17 measures it).
 bool eval_api = false;  // +EVAL_API=1: every evaluation through Vframe_tb::eval() (sim/bench.py steps)
 bool fall_eval = false;  // +FALL_EVAL=1: evaluate the falling edge too
-bool nba_only = true;    // +NBA_ONLY=0: the scheduler's whole loop at every rising edge
+bool nba_only = true;    // +NBA_ONLY=0 (or +EVAL_API=1, +FALL_EVAL=1): the scheduler's whole loop at every rising edge
 
 inline void eval() {
     if (eval_api)
@@ -228,12 +228,11 @@ inline void eval() {
 inline void tick() {
     Vframe_tb___024root* const r = top->rootp;
     top->clk = 1;
-    if (nba_only && !eval_api && !fall_eval && top->rst == r->frame_tb__DOT__rst) {
-        r->frame_tb__DOT__clk = 1;  // what the input phase copies (the active phase's trigger reads it)
+    if (nba_only && top->rst == r->frame_tb__DOT__rst) {
+        r->frame_tb__DOT__clk = 1;  // what the input phase copies (left at 1, as the whole loop leaves it)
         r->__VnbaTriggered[0] = 1;  // clk's rising edge, as the active phase sets it
         Vframe_tb___024root___eval_nba(r);
         r->__VnbaTriggered[0] = 0;
-        r->frame_tb__DOT__clk = 0;
     } else {
         eval();
     }
@@ -271,7 +270,7 @@ int main(int argc, char** argv) {
     const bool hostmem = plusarg("HOSTMEM", 0) != 0;
     eval_api = plusarg("EVAL_API", 0) != 0;
     fall_eval = plusarg("FALL_EVAL", 0) != 0;
-    nba_only = plusarg("NBA_ONLY", 1) != 0;
+    nba_only = plusarg("NBA_ONLY", 1) != 0 && !eval_api && !fall_eval;  // either of those: the whole loop
 
     top->clk = 0;
     top->rst = 1;
