@@ -289,7 +289,9 @@ def write_doc(summary_dir: Path = SUMMARY_DIR, doc: Path = DOC) -> None:
     L += ["", "RTL source hash of each RTL check: " + (", ".join(f"{s['config']} {s['source_hash']}" for s in checked)
                                                        or "none (no configuration was checked through the RTL)"), ""]
     for s in sums:
-        L += [f"## {s['config']}", "", f"`make validate CONFIG={s['config']} N={s['n']} SIZE={s['size']}` "
+        # the command that reruns the section (app/regen.py reads it): a configuration of config/candidates/ by its path
+        arg = s["config"] if s["config_path"] == f"config/{s['config']}.toml" else s["config_path"]
+        L += [f"## {s['config']}", "", f"`make validate CONFIG={arg} N={s['n']} SIZE={s['size']}` "
               f"(configuration hash {s['config_hash']}, {s['config_path']}).", ""]
         u, ut = s["psnr"].get("unfiltered_reference"), s["psnr"].get("unfiltered_truth")
         if u and u.get("count"):

@@ -35,8 +35,18 @@
 // (cmap_sat's 6a); the sums D + w (+ 2 h(sh)) registered before the shift (6c; the exact
 // division registers its operands there): one stage more after d_in, two before it.
 // Reset (synchronous, active high) clears the valid chain and q_out (box_divide).
-// Written for event-driven simulation speed: combinational logic in one always @* per
-// stage, one clocked process per stage group, no bus driven piecewise.
+// Written for simulation speed: stage 6's operands are computed in its clocked process
+// (blocking temporaries) only on a clock that brings a valid D, and hold otherwise (as do
+// box_divide's stages; FPGA_REGS: exact, the 6c register after them loads on every enabled
+// clock; normalised, stage 6 and 6c stay in always @* and a delay line on every enabled
+// clock, so that the 6c words add no toggle points to this module); the normaliser (stage 5:
+// w comes WLEAD enabled clocks before its D, and no valid of w reaches this block) stays in
+// always @* on every enabled clock; one clocked process per stage group, no bus driven
+// piecewise.
+// Each such process first assigns its temporaries whole, outside any if, so that they are
+// C++ locals in the Verilator model (it localizes only a variable wholly assigned outside
+// any branch; one first assigned under the if stays a member of the model, a store on every
+// write).
 
 `default_nettype none
 
@@ -89,8 +99,13 @@ endgenerate
 wire [W_W-1:0] w_y;
 delay_line #(.W(W_W), .N(P)) u_dly_wy (.clk(clk), .rst(rst), .ce(ce), .d_in(w_in), .d_out(w_y));
 
-wire [LANES*NUM_DW-1:0] num;   // stage-6 operands (FPGA_REGS: after 6c)
-wire [DEN_DW-1:0]   den;
+// the stage-6 operand registers, loaded in the clocked process of the method's stage 6 below
+// (FPGA_REGS, normalised: after its stage 6c); num, den: what box_divide reads (FPGA_REGS,
+// exact: a stage later, 6c)
+reg  [LANES*NUM_DW-1:0] s6_num_reg;
+reg  [DEN_DW-1:0]       s6_den_reg;
+wire [LANES*NUM_DW-1:0] num;
+wire [DEN_DW-1:0]       den;
 
 generate
     if (!NORM) begin : g_exact
@@ -103,7 +118,8 @@ generate
         wire [W_W-1:0] w_s;    // w at stage 6
         delay_line #(.W(W_W), .N(P)) u_dly_w6 (.clk(clk), .rst(rst), .ce(ce), .d_in(s5_w_reg), .d_out(w_s));
 
-        // ---- stage 6: num = (D + w) >> 1, den = w, or clut[k] / 1
+        // ---- stage 6: num = (D + w) >> 1, den = w, or clut[k] / 1, computed in the clocked
+        // process below (blocking temporaries) only on a clock that brings a valid D
         reg                  w_zero;
         reg  [D_W-1:0]       d_w;    // w zero-extended
         reg  [W_W-1:0]       den_x;
@@ -115,24 +131,37 @@ generate
         reg  [D_W-1:0]       sum;
         /* verilator lint_on UNUSEDSIGNAL */
         reg  [D_W-2:0]       pt;     // clut[k] zero-extended
-        always @* begin
-            w_zero = (w_s == {W_W{1'b0}});
-            d_w = {D_W{1'b0}};
-            d_w[W_W-1:0] = w_s;
-            den_x = w_s;
-            if (w_zero)
-                den_x[0] = 1'b1;
-            for (c = 0; c < LANES; c = c + 1) begin
-                sum = d_in[c*D_W +: D_W] + d_w;
-                pt = {(D_W-1){1'b0}};
-                pt[Q_W-1:0] = pt_in[Q_W*c +: Q_W];
-                num_x[c*(D_W-1) +: D_W-1] = w_zero ? pt : sum[D_W-1:1];
+        /* verilator lint_off BLKSEQ */
+        always @(posedge clk) begin
+            // the temporaries wholly assigned first, outside the if (C++ locals: the header)
+            w_zero = 1'b0;
+            d_w    = {D_W{1'b0}};
+            den_x  = {W_W{1'b0}};
+            num_x  = {(LANES*(D_W-1)){1'b0}};
+            sum    = {D_W{1'b0}};
+            pt     = {(D_W-1){1'b0}};
+            if (ce && in_valid) begin
+                w_zero = (w_s == {W_W{1'b0}});
+                d_w[W_W-1:0] = w_s;
+                den_x = w_s;
+                if (w_zero)
+                    den_x[0] = 1'b1;
+                for (c = 0; c < LANES; c = c + 1) begin
+                    sum = d_in[c*D_W +: D_W] + d_w;
+                    pt = {(D_W-1){1'b0}};
+                    pt[Q_W-1:0] = pt_in[Q_W*c +: Q_W];
+                    num_x[c*(D_W-1) +: D_W-1] = w_zero ? pt : sum[D_W-1:1];
+                end
+                s6_num_reg <= num_x;
+                s6_den_reg <= den_x;
             end
         end
-        // FPGA_REGS: stage 6c (the normalised method's shift stage) as a register of the
-        // operands, so that both methods have the block's one latency
+        /* verilator lint_on BLKSEQ */
+        // FPGA_REGS: stage 6c (the normalised method's shift stage) as one more register of
+        // the operands (on every enabled clock), so that both methods have the block's one
+        // latency
         delay_line #(.W(LANES*(D_W-1) + W_W), .N(P)) u_dly_6c (.clk(clk), .rst(rst), .ce(ce),
-            .d_in({num_x, den_x}), .d_out({num, den}));
+            .d_in({s6_num_reg, s6_den_reg}), .d_out({num, den}));
 
     end else begin : g_norm
         // ---- normalised division (B = DIV_BITS > 0):
@@ -233,7 +262,9 @@ generate
             .d_in({s5_den_reg, s5_sh_reg, s5_wn_reg}), .d_out({den_s, sh_s, wn_s}));
 
         // ---- stage 6: num' = (D + w + 2 h(sh)) >> (sh + 1) (< 2^NQ_W), den' (w = 0:
-        // clut[k] / 1)
+        // clut[k] / 1), computed in the operand registers' clocked process (blocking
+        // temporaries) only on a clock that brings a valid D; FPGA_REGS: on every enabled
+        // clock in always @*, the sums registered (6c) in a delay line as before
         reg                 w_zero;
         reg  [D_W-1:0]      d_wn;   // w + 2 h(sh) zero-extended
         reg  [B-1:0]        den_x;
@@ -250,32 +281,60 @@ generate
         reg  [D_W-1:0]      nsh;
         /* verilator lint_on UNUSEDSIGNAL */
         reg  [NQ_W-1:0]     pt;     // clut[k] zero-extended
-        // FPGA_REGS: the sums (and the words stage 6c reads) of the four channels, registered
-        // (else not read)
-        /* verilator lint_off UNUSEDSIGNAL */
-        reg  [LANES*(D_W+1)-1:0] sum_all;
-        reg  [LANES*NQ_W-1:0]    pt_all;
-        /* verilator lint_on UNUSEDSIGNAL */
-        always @* begin
-            w_zero = (wn_s == {(W_W+1){1'b0}});
-            d_wn = {D_W{1'b0}};
-            d_wn[W_W:0] = wn_s;
-            den_x = den_s;   // 0 when w = 0
-            if (w_zero)
-                den_x[0] = 1'b1;
-            for (c = 0; c < LANES; c = c + 1) begin
-                sum = {1'b0, d_in[c*D_W +: D_W]} + {1'b0, d_wn};
-                nsh = sum[D_W:1] >> sh_s;
-                pt = {NQ_W{1'b0}};
-                pt[Q_W-1:0] = pt_in[Q_W*c +: Q_W];
-                num_x[c*NQ_W +: NQ_W] = w_zero ? pt : nsh[NQ_W-1:0];
-                sum_all[c*(D_W+1) +: D_W+1] = sum;
-                pt_all[c*NQ_W +: NQ_W] = pt;
+        if (P == 0) begin : g_s6
+            // stage 6 in the operand registers' clocked process, only with a valid D
+            /* verilator lint_off BLKSEQ */
+            always @(posedge clk) begin
+                // the temporaries wholly assigned first, outside the if (C++ locals: the header)
+                w_zero = 1'b0;
+                d_wn   = {D_W{1'b0}};
+                den_x  = {B{1'b0}};
+                num_x  = {(LANES*NQ_W){1'b0}};
+                sum    = {(D_W+1){1'b0}};
+                nsh    = {D_W{1'b0}};
+                pt     = {NQ_W{1'b0}};
+                if (ce && in_valid) begin
+                    w_zero = (wn_s == {(W_W+1){1'b0}});
+                    d_wn[W_W:0] = wn_s;
+                    den_x = den_s;   // 0 when w = 0
+                    if (w_zero)
+                        den_x[0] = 1'b1;
+                    for (c = 0; c < LANES; c = c + 1) begin
+                        sum = {1'b0, d_in[c*D_W +: D_W]} + {1'b0, d_wn};
+                        nsh = sum[D_W:1] >> sh_s;
+                        pt = {NQ_W{1'b0}};
+                        pt[Q_W-1:0] = pt_in[Q_W*c +: Q_W];
+                        num_x[c*NQ_W +: NQ_W] = w_zero ? pt : nsh[NQ_W-1:0];
+                    end
+                    s6_num_reg <= num_x;
+                    s6_den_reg <= den_x;
+                end
             end
-        end
-        if (P != 0) begin : g_6c
-            // ---- stage 6c (FPGA_REGS): the sums registered with sh, w = 0 and den'; then
-            // the shift and the operand select (the adder and the shifter on two clocks)
+            /* verilator lint_on BLKSEQ */
+        end else begin : g_6c
+            // FPGA_REGS: stage 6 on every enabled clock into 6c's registers (a delay line), then
+            // the shift and the operand select (the adder and the shifter on two clocks), and
+            // the operand registers
+            // the sums (and the words stage 6c reads) of the four channels
+            reg  [LANES*(D_W+1)-1:0] sum_all;
+            reg  [LANES*NQ_W-1:0]    pt_all;
+            always @* begin
+                w_zero = (wn_s == {(W_W+1){1'b0}});
+                d_wn = {D_W{1'b0}};
+                d_wn[W_W:0] = wn_s;
+                den_x = den_s;   // 0 when w = 0
+                if (w_zero)
+                    den_x[0] = 1'b1;
+                for (c = 0; c < LANES; c = c + 1) begin
+                    sum = {1'b0, d_in[c*D_W +: D_W]} + {1'b0, d_wn};
+                    nsh = sum[D_W:1] >> sh_s;
+                    pt = {NQ_W{1'b0}};
+                    pt[Q_W-1:0] = pt_in[Q_W*c +: Q_W];
+                    num_x[c*NQ_W +: NQ_W] = w_zero ? pt : nsh[NQ_W-1:0];
+                    sum_all[c*(D_W+1) +: D_W+1] = sum;
+                    pt_all[c*NQ_W +: NQ_W] = pt;
+                end
+            end
             wire [LANES*(D_W+1)-1:0] sum_c;
             wire [LANES*NQ_W-1:0]    pt_c;
             wire [SH_W-1:0]      sh_c;
@@ -294,24 +353,19 @@ generate
                     num_c[c6c*NQ_W +: NQ_W] = wz_c ? pt_c[c6c*NQ_W +: NQ_W] : nsh_c[NQ_W-1:0];
                 end
             end
-            assign num = num_c;
-            assign den = den_c;
-        end else begin : g_no6c
-            assign num = num_x;
-            assign den = den_x;
+            always @(posedge clk) begin
+                if (ce) begin
+                    s6_num_reg <= num_c;
+                    s6_den_reg <= den_c;
+                end
+            end
         end
+        assign num = s6_num_reg;
+        assign den = s6_den_reg;
     end
 endgenerate
 
-// the operands registered (stage 6), with their valid (FPGA_REGS: after 6c)
-reg [LANES*NUM_DW-1:0] s6_num_reg;
-reg [DEN_DW-1:0]   s6_den_reg;
-always @(posedge clk) begin
-    if (ce) begin
-        s6_num_reg <= num;
-        s6_den_reg <= den;
-    end
-end
+// the operands' valid (FPGA_REGS: after 6c)
 wire div_valid;
 delay_line #(.W(1), .N(1 + P), .CLEAR(1)) u_dly_dv (.clk(clk), .rst(rst), .ce(ce), .d_in(in_valid),
                                                    .d_out(div_valid));
@@ -322,7 +376,7 @@ box_divide #(
     .NUM_W(NUM_DW), .DEN_W(DEN_DW), .Q_W(Q_W), .LANES(LANES), .SAT(NORM ? SAT : 0)
 ) u_divide (
     .clk(clk), .rst(rst), .ce(ce), .in_valid(div_valid),
-    .num_in(s6_num_reg), .den_in(s6_den_reg),
+    .num_in(num), .den_in(den),
     .out_valid(out_valid), .q_out(q_out)
 );
 

@@ -42,7 +42,8 @@
  *   qmac_diag_pipe  DIAG = 1, FPGA_REGS = 1 (CLOCKS 1, 2 or 6: the FPGA has multipliers to
  *                   spare, the products are not folded): each product on mul_pipe (18x18
  *                   partial products registered before their sum), x_k in one adder
- * Stage 4 (here): q = (sum >>> s_frac) + v_3, and the output shifts.
+ * Stage 4 (here): q = (sum >>> s_frac) + v_3, and the output shifts (computed only on a clock
+ * that brings a valid vector).
  * Latency `LAT_QM(FPGA_REGS, DIAG, CLOCKS): `LAT_QUADRIC_MAC (4) register stages (FPGA_REGS:
  * `LAT_QUADRIC_MAC_FPGA, 6; CLOCKS = 6: `LAT_QUADRIC_MAC_SERIAL, 8): the datapath's `LAT_QMAC_*
  * and stage 4, checked at elaboration. Throughput one vector per enabled clock (CLOCKS = 2: one
@@ -56,8 +57,10 @@
  * vector's exit; texture_pipeline guarantees it: parameters are written only
  * when the pipeline is empty (between passes).
  *
- * Written for event-driven simulation speed: combinational logic in one always @*
- * per stage, few clocked processes, no bus driven piecewise.
+ * Written for simulation speed: stage 4's arithmetic in its clocked process (blocking
+ * temporaries, assigned whole first, outside any if, so that they are C++ locals in the
+ * Verilator model), only on an enabled clock that brings it a valid vector; few clocked
+ * processes, no bus driven piecewise.
  */
 
 `include "tex_latency.vh"
@@ -175,8 +178,9 @@ wire signed [V_W-1:0]  v2 = dp_v[2*V_W +: V_W];
 wire signed [V_W-1:0]  v3 = dp_v[3*V_W +: V_W];
 
 // ---------------------------------------------------------------------------
-// stage 4: q = (sum >>> S_FRAC) + v3, then the output shifts (one combinational
-// process); the output registers and their valid bit (one clocked process)
+// stage 4: q = (sum >>> S_FRAC) + v3, then the output shifts, and the output registers and
+// their valid bit: one clocked process, the arithmetic only on an enabled clock that brings a
+// valid vector (dp_valid; the output registers hold otherwise)
 
 /* verilator lint_off UNUSEDSIGNAL */
 // low S_FRAC bits dropped by the floor, high bits are sign copies
@@ -191,26 +195,37 @@ reg signed [CX_W-1:0] v0_x, v1_x, v2_x, c0_sh, c1_sh, c2_sh;
 /* verilator lint_on UNUSEDSIGNAL */
 reg signed [QV_W-1:0] q;
 
-always @* begin
-    mq = {{2{r0[P2_W-1]}}, r0} + {{2{r1[P2_W-1]}}, r1} + {{2{r2[P2_W-1]}}, r2};
-    q  = mq[S_FRAC +: QV_W] + {{(QV_W-V_W){v3[V_W-1]}}, v3};
-    // q: sign-extend to QX_W, shift by the constant QSH, keep QF_W bits
-    q_x  = {{(QX_W-QV_W){q[QV_W-1]}}, q};
-    q_sh = (q_x <<< QSH_L) >>> QSH_R;
-    // v_k: sign-extend to CX_W, shift by the constant CSH, keep C_W bits
-    v0_x  = {{(CX_W-V_W){v0[V_W-1]}}, v0};
-    v1_x  = {{(CX_W-V_W){v1[V_W-1]}}, v1};
-    v2_x  = {{(CX_W-V_W){v2[V_W-1]}}, v2};
-    c0_sh = (v0_x <<< CSH_L) >>> CSH_R;
-    c1_sh = (v1_x <<< CSH_L) >>> CSH_R;
-    c2_sh = (v2_x <<< CSH_L) >>> CSH_R;
-end
-
 reg             out_valid_reg;
 reg [QF_W-1:0]  q_out_reg;
 reg [3*C_W-1:0] cq_out_reg;
 
+/* verilator lint_off BLKSEQ */
 always @(posedge clk) begin
+    // every temporary wholly assigned first, outside the if (C++ locals in the Verilator model)
+    mq    = {M2_W{1'b0}};
+    q     = {QV_W{1'b0}};
+    q_x   = {QX_W{1'b0}};
+    q_sh  = {QX_W{1'b0}};
+    v0_x  = {CX_W{1'b0}};
+    v1_x  = {CX_W{1'b0}};
+    v2_x  = {CX_W{1'b0}};
+    c0_sh = {CX_W{1'b0}};
+    c1_sh = {CX_W{1'b0}};
+    c2_sh = {CX_W{1'b0}};
+    if (ce && dp_valid) begin
+        mq = {{2{r0[P2_W-1]}}, r0} + {{2{r1[P2_W-1]}}, r1} + {{2{r2[P2_W-1]}}, r2};
+        q  = mq[S_FRAC +: QV_W] + {{(QV_W-V_W){v3[V_W-1]}}, v3};
+        // q: sign-extend to QX_W, shift by the constant QSH, keep QF_W bits
+        q_x  = {{(QX_W-QV_W){q[QV_W-1]}}, q};
+        q_sh = (q_x <<< QSH_L) >>> QSH_R;
+        // v_k: sign-extend to CX_W, shift by the constant CSH, keep C_W bits
+        v0_x  = {{(CX_W-V_W){v0[V_W-1]}}, v0};
+        v1_x  = {{(CX_W-V_W){v1[V_W-1]}}, v1};
+        v2_x  = {{(CX_W-V_W){v2[V_W-1]}}, v2};
+        c0_sh = (v0_x <<< CSH_L) >>> CSH_R;
+        c1_sh = (v1_x <<< CSH_L) >>> CSH_R;
+        c2_sh = (v2_x <<< CSH_L) >>> CSH_R;
+    end
     if (rst) begin
         out_valid_reg <= 1'b0;
         q_out_reg     <= {QF_W{1'b0}};
@@ -223,6 +238,7 @@ always @(posedge clk) begin
         end
     end
 end
+/* verilator lint_on BLKSEQ */
 
 assign out_valid = out_valid_reg;
 assign q_out     = q_out_reg;

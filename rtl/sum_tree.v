@@ -15,7 +15,9 @@
 // Latency LATENCY = tw_tree_levels(N, `SUM_TREE_ARITY) register stages (0 for N = 1: a wire;
 // the parent passes the value it aligns to, elaboration fails on another); one sum per
 // enabled clock. Reset: synchronous, active high, clears the valid bits only (data
-// registers have no reset).
+// registers have no reset). A level's node registers load only on an enabled clock that
+// brings it a valid vector (in_valid, or the level below's valid bit) and hold otherwise, so
+// that a simulator skips the idle levels; sum_out is the last valid sum while out_valid is low.
 
 `default_nettype none
 
@@ -50,11 +52,26 @@ generate
     end
 endgenerate
 
+// the valid bit of each level's node registers, v_reg[k] level k+1's (clocked in g_sum_node; declared
+// here, where each level's enable reads it: LATENCY + 1 bits so that one level still has a legal shift
+// expression; LATENCY = 0, the tree a wire: neither driven nor read)
+/* verilator lint_off UNUSEDSIGNAL */
+/* verilator lint_off UNDRIVEN */
+reg [LATENCY:0] v_reg;
+/* verilator lint_on UNDRIVEN */
+/* verilator lint_on UNUSEDSIGNAL */
+
 genvar gl, gi;
 generate
     for (gl = 1; gl <= LATENCY; gl = gl + 1) begin : g_lvl
         localparam NN = tw_tree_nodes(N, gl, ARITY);      // nodes on this level
         localparam NP = tw_tree_nodes(N, gl - 1, ARITY);  // children on the level below
+        // the valid of the level's children: in_valid (level 1) or the level below's valid bit
+        if (gl == 1) begin : g_lv
+            wire v = in_valid;
+        end else begin : g_lv
+            wire v = v_reg[gl-2];
+        end
         // the children: the leaves (level 1) or the node registers of the level below
         for (gi = 0; gi < NP; gi = gi + 1) begin : g_kid
             wire [LW-1:0] v;
@@ -92,12 +109,21 @@ generate
             end
             wire [LW-1:0] k0 = g_kid[B].v;
             reg  [LW-1:0] s_reg;
+            reg  [LW-1:0] s_nx;  // the next sum (a blocking temporary of the process below)
             integer       j;
+            // the sum computed and loaded only on an enabled clock that brings the level a valid
+            // vector (s_reg holds otherwise); s_nx wholly assigned first, outside the if (a C++
+            // local in the Verilator model)
+            /* verilator lint_off BLKSEQ */
             always @(posedge clk) begin
-                if (ce)
+                s_nx = {LW{1'b0}};
+                if (ce && g_lv.v) begin
                     for (j = 0; j < LANES; j = j + 1)
-                        s_reg[j*W +: W] <= k0[j*W +: W] + g_k1.k[j*W +: W] + g_k2.k[j*W +: W] + g_k3.k[j*W +: W];
+                        s_nx[j*W +: W] = k0[j*W +: W] + g_k1.k[j*W +: W] + g_k2.k[j*W +: W] + g_k3.k[j*W +: W];
+                    s_reg <= s_nx;
+                end
             end
+            /* verilator lint_on BLKSEQ */
         end
     end
 
@@ -106,9 +132,7 @@ generate
         assign out_valid = in_valid;
     end else begin : g_sum_node
         assign sum_out = g_lvl[LATENCY].g_node[0].s_reg;
-        // valid through the tree (reset: no spurious sum after rst); LATENCY + 1 bits so that
-        // one level still has a legal shift expression
-        reg [LATENCY:0] v_reg;
+        // valid through the tree (reset: no spurious sum after rst)
         always @(posedge clk) begin
             if (rst)
                 v_reg <= {(LATENCY+1){1'b0}};

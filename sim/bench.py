@@ -186,6 +186,9 @@ STEPS = [
     # stop 51: the default runs the scheduler's NBA region alone at a rising edge where no input
     # changed (sim/frame_main.cpp tick); this step runs its whole loop every clock, as before
     ("the scheduler's whole loop every clock (+NBA_ONLY=0)", None, None, ["+NBA_ONLY=0"]),
+    # stop 52: the default verilates with -fdfg-synthesize-all (sim/frame_rtl.py RTL_ONLY_ARGS); this step without
+    ("without -fdfg-synthesize-all", [a for a in frame_rtl.VERILATOR_ARGS if a not in frame_rtl.RTL_ONLY_ARGS],
+     {**O2, **CLANG}),
 ]
 
 

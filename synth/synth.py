@@ -131,12 +131,19 @@ def ys_name(rtlil_id):
     return rtlil_id[1:] if rtlil_id.startswith("\\") else rtlil_id
 
 
+# Yosys warnings that mean it read the RTL otherwise than the simulators do, made errors (`yosys -e`): a
+# name it could not resolve (a hierarchical reference into a generate block declared further down, which
+# Icarus and Verilator resolve) becomes a new undriven wire, and the logic behind it is optimised away
+# (stop 52: sum_tree's level valids; full's FPGA build lost every multiplier). synth/fpga.py uses it too.
+READ_ERRORS = r"is implicitly declared|Range select out of bounds|Select out of bounds"
+
+
 def run_yosys(yosys, script, workdir, logname):
     path = os.path.join(workdir, logname + ".ys")
     with open(path, "w") as f:
         f.write(script)
     log = os.path.join(workdir, logname + ".log")
-    proc = subprocess.run([yosys, "-q", "-l", log, "-s", path],
+    proc = subprocess.run([yosys, "-q", "-e", READ_ERRORS, "-l", log, "-s", path],
                           cwd=workdir, stdout=subprocess.PIPE,
                           stderr=subprocess.STDOUT, universal_newlines=True)
     if proc.returncode != 0:

@@ -72,3 +72,16 @@ def test_doc_lists_every_task():
         m = re.search(rf"^\| `{re.escape(name)}` \|.*\| (\w+) \| (\d+) \| (\w+) \| [\d.]+ \| (?:yes)? \|$", section, flags=re.M)
         assert m, f"docs/verification.md: no row for {name} (rerun make formal)"
         assert (m.group(1), int(m.group(2)), m.group(3)) == (t.mode, t.depth, "PASS"), f"{name}: {m.groups()}"
+
+
+def test_rtl_yosys_misreads_is_an_error(tmp_path):
+    """A name Yosys does not resolve as the simulators do (a reference into a generate block declared further
+    down, as tests/data/forward_ref.v has; here planted in axis_skid) makes the job an ERROR, not a proof of
+    other logic (formal/run.py, synth/synth.py READ_ERRORS)."""
+    src = (ROOT / "rtl" / "axis_skid.v").read_text()
+    assert src.count("\nendmodule") == 1
+    plant = ("generate\n    if (1) begin : g_use\n        wire v = g_def.r;\n    end\n"
+             "    if (1) begin : g_def\n        reg r;\n        always @(posedge clk) r <= 1'b0;\n    end\nendgenerate\n")
+    r = run_task(TASKS["axis_skid.stream"], override={"axis_skid.v": src.replace("\nendmodule", "\n" + plant + "endmodule")},
+                 workdir=tmp_path)
+    assert r.status == "ERROR" and "implicitly declared" in r.log.read_text(), r.log.read_text()[-2000:]

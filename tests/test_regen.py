@@ -90,3 +90,13 @@ def test_mark_marks_stale_sections_and_unmarks_current_ones(tmp_path, monkeypatc
     assert doc.read_text() == once
     doc.write_text(once.replace("rtl=000000000000", "rtl=" + now))
     assert R.mark() == [] and doc.read_text() == text.replace("rtl=000000000000", "rtl=" + now)
+
+
+def test_validate_commands_name_configurations_that_load():
+    """Each `make validate CONFIG=...` line of docs/validation.md (what the validate job reruns) names a
+    configuration the command loads: config/<name>.toml by its name, a candidate by its path (stop 52: a
+    candidate's section named it by its name alone, and the job failed)."""
+    cmds = R._validate_commands()
+    assert len(cmds) > 1
+    for c in cmds:
+        load_config(c.split("CONFIG=", 1)[1].split()[0])
