@@ -24,10 +24,10 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from hdlbuild import READ_ERRORS
 from hdlbuild.params import block_params
 from model.cli import Parser, UserError, run_main
 from model.hw.config import ROOT, doc_stamp, load_config, variant
-from synth.synth import READ_ERRORS
 
 RTL = ROOT / "rtl"
 FORMAL = ROOT / "formal"
@@ -240,7 +240,7 @@ def run_task(task: Task, override: dict | None = None, workdir: Path | None = No
     status = m.group(1) if m else "ERROR"
     if status == "UNKNOWN":
         status = "FAIL"  # an induction that does not close is no proof
-    # a name Yosys did not resolve as the simulators do (synth/synth.py READ_ERRORS): a proof of other logic
+    # a name Yosys did not resolve as the simulators do (hdlbuild READ_ERRORS): a proof of other logic
     misread = [ln.strip() for p in sorted((work / "job").rglob("*.log"))
                for ln in p.read_text(errors="replace").splitlines() if re.search(READ_ERRORS, ln)]
     if misread:

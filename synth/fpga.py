@@ -43,11 +43,10 @@ import threading
 import time
 from pathlib import Path
 
-from hdlbuild import ROOT, gen_dir
+from hdlbuild import READ_ERRORS, ROOT, gen_dir
 from model.cli import Parser  # one-line errors, exit 2
 from model.hw.config import CONFIG_NAMES, clocks_per_pixel, doc_stamp, latency, load_config, rtl_source_hash, variant
 from synth import dsp_regs
-from synth.synth import READ_ERRORS
 
 REPORTS = ROOT / "synth" / "reports"
 DOC = ROOT / "docs" / "fpga.md"

@@ -66,6 +66,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # run as a script: the repository's root
+from hdlbuild import READ_ERRORS  # noqa: E402  (Yosys warnings made errors: `yosys -e`)
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 DEFAULT_LIBERTY = os.path.join(HERE, "cells.lib")
 
@@ -129,13 +132,6 @@ def ys_quote(s):
 def ys_name(rtlil_id):
     """RTLIL id (\\foo or $paramod...) -> the form stat/log_id prints."""
     return rtlil_id[1:] if rtlil_id.startswith("\\") else rtlil_id
-
-
-# Yosys warnings that mean it read the RTL otherwise than the simulators do, made errors (`yosys -e`): a
-# name it could not resolve (a hierarchical reference into a generate block declared further down, which
-# Icarus and Verilator resolve) becomes a new undriven wire, and the logic behind it is optimised away
-# (stop 52: sum_tree's level valids; full's FPGA build lost every multiplier). synth/fpga.py uses it too.
-READ_ERRORS = r"is implicitly declared|Range select out of bounds|Select out of bounds"
 
 
 def run_yosys(yosys, script, workdir, logname):

@@ -77,7 +77,7 @@ def test_doc_lists_every_task():
 def test_rtl_yosys_misreads_is_an_error(tmp_path):
     """A name Yosys does not resolve as the simulators do (a reference into a generate block declared further
     down, as tests/data/forward_ref.v has; here planted in axis_skid) makes the job an ERROR, not a proof of
-    other logic (formal/run.py, synth/synth.py READ_ERRORS)."""
+    other logic (formal/run.py, hdlbuild READ_ERRORS)."""
     src = (ROOT / "rtl" / "axis_skid.v").read_text()
     assert src.count("\nendmodule") == 1
     plant = ("generate\n    if (1) begin : g_use\n        wire v = g_def.r;\n    end\n"

